@@ -1,0 +1,148 @@
+#include "core/config/yaml.h"
+
+#include <cmath>
+#include <fstream>
+
+namespace enact::config {
+namespace {
+
+std::string where(const std::string& file, const YAML::Node& at) {
+  const YAML::Mark mark = at.IsDefined() ? at.Mark() : YAML::Mark::null_mark();
+  if (mark.is_null()) return file;
+  return file + ":" + std::to_string(mark.line + 1);
+}
+
+std::string joined(const std::vector<std::string>& keys) {
+  std::string out;
+  for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
+  return out;
+}
+
+double finite_number(const std::string& file, const YAML::Node& n, const std::string& what) {
+  double value = 0.0;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, value)) {
+    fail(file, n, what + " must be a number, got '" + (n.IsScalar() ? n.Scalar() : std::string("a list or map")) + "'",
+         "write a plain number in SI units, e.g. 0.01");
+  }
+  if (!std::isfinite(value)) fail(file, n, what + " must be finite, got " + n.Scalar(), "write a finite number");
+  return value;
+}
+
+}  // namespace
+
+void fail(const std::string& file, const YAML::Node& at, const std::string& problem, const std::string& fix) {
+  throw Error(where(file, at) + ": " + problem + "\n  fix: " + fix);
+}
+
+YAML::Node load_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open the file\n  fix: check the path (relative paths start from the current directory)");
+  try {
+    YAML::Node root = YAML::Load(in);
+    if (!root.IsMap()) fail(path, root, "the file must be a YAML mapping (key: value lines)", "see the format in README.md");
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw Error(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg +
+                "\n  fix: correct the YAML syntax on that line (indentation, ':' after keys, closed brackets)");
+  }
+}
+
+Map::Map(const YAML::Node& node, std::string file, std::string what, std::initializer_list<const char*> keys)
+    : node_(node), file_(std::move(file)), what_(std::move(what)) {
+  if (!node_.IsMap()) config::fail(file_, node_, what_ + " must be a mapping (key: value)", "see the format in README.md");
+  std::vector<std::string> allowed(keys.begin(), keys.end());
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    bool known = false;
+    for (const auto& a : allowed) known = known || a == key;
+    if (!known) config::fail(file_, kv.first, "unknown key '" + key + "' in " + what_, "use one of: " + joined(allowed));
+  }
+}
+
+bool Map::has(const char* key) const { return static_cast<bool>(node_[key]); }
+
+int Map::line() const { return node_.Mark().is_null() ? 0 : node_.Mark().line + 1; }
+
+YAML::Node Map::get(const char* key) const {
+  YAML::Node n = node_[key];
+  if (!n) config::fail(file_, node_, what_ + " is missing '" + key + "'", std::string("add '") + key + ": ...'");
+  return n;
+}
+
+double Map::number(const char* key) const { return finite_number(file_, get(key), what_ + "." + key); }
+
+double Map::number(const char* key, double fallback) const { return has(key) ? number(key) : fallback; }
+
+double Map::positive(const char* key, double fallback, bool zero_ok) const {
+  if (!has(key)) return fallback;
+  const double v = number(key);
+  if (v < 0.0 || (!zero_ok && v == 0.0)) {
+    fail(key, what_ + "." + key + " must be " + (zero_ok ? ">= 0" : "> 0") + ", got " + node_[key].Scalar(),
+         std::string("give a ") + (zero_ok ? "non-negative" : "positive") + " value");
+  }
+  return v;
+}
+
+double Map::positive(const char* key) const {
+  get(key);
+  return positive(key, 0.0);
+}
+
+int Map::integer(const char* key, int fallback, int min, int max) const {
+  if (!has(key)) return fallback;
+  const YAML::Node n = node_[key];
+  int value = 0;
+  if (!n.IsScalar() || !YAML::convert<int>::decode(n, value) || value < min || value > max) {
+    fail(key, what_ + "." + key + " must be a whole number from " + std::to_string(min) + " to " + std::to_string(max),
+         "write a whole number in that range");
+  }
+  return value;
+}
+
+std::string Map::text(const char* key) const {
+  const YAML::Node n = get(key);
+  if (!n.IsScalar()) fail(key, what_ + "." + key + " must be a single word or string", "write e.g. " + std::string(key) + ": name");
+  return n.Scalar();
+}
+
+std::string Map::text(const char* key, const std::string& fallback) const { return has(key) ? text(key) : fallback; }
+
+std::array<double, 3> Map::vec3(const char* key) const {
+  const auto v = numbers(file_, get(key), 3, what_ + "." + key);
+  return {v[0], v[1], v[2]};
+}
+
+std::array<double, 3> Map::vec3(const char* key, std::array<double, 3> fallback) const {
+  return has(key) ? vec3(key) : fallback;
+}
+
+bool Map::flag(const char* key, bool fallback) const {
+  if (!has(key)) return fallback;
+  bool value = false;
+  if (!YAML::convert<bool>::decode(node_[key], value)) fail(key, what_ + "." + key + " must be true or false", "write true or false");
+  return value;
+}
+
+std::vector<YAML::Node> Map::list(const char* key) const {
+  std::vector<YAML::Node> out;
+  if (!has(key)) return out;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) fail(key, what_ + "." + key + " must be a list", std::string("write each entry on a line starting with '- '"));
+  for (const auto& item : n) out.push_back(item);
+  return out;
+}
+
+void Map::fail(const char* key, const std::string& problem, const std::string& fix) const {
+  config::fail(file_, has(key) ? node_[key] : node_, problem, fix);
+}
+
+std::vector<double> numbers(const std::string& file, const YAML::Node& node, std::size_t count, const std::string& what) {
+  if (!node.IsSequence() || node.size() != count) {
+    fail(file, node, what + " must be a list of " + std::to_string(count) + " numbers", "write e.g. [0, 0, 0.01]");
+  }
+  std::vector<double> out;
+  for (const auto& item : node) out.push_back(finite_number(file, item, what));
+  return out;
+}
+
+}  // namespace enact::config

@@ -1,0 +1,28 @@
+#pragma once
+// Device profiles: what a force-feedback device can do, for safety limits, the simulated
+// device (later) and the passivity bound. Figures and their sources are in the .cpp.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/physics/vec3.h"
+
+namespace enact::haptics {
+
+struct DeviceProfile {
+  std::string name;
+  physics::Vec3 workspace_min_m;
+  physics::Vec3 workspace_max_m;
+  double peak_force_n = 0.0;
+  double continuous_force_n = 0.0;
+  double max_speed_m_per_s = 0.0;
+  double max_acceleration_m_per_s2 = 0.0;
+  double resolution_m = 0.0;
+  double moving_mass_kg = 0.0;       // assumed; identify your device
+  double damping_n_s_per_m = 0.0;    // physical damping b (passivity bound); assumed
+};
+
+std::optional<DeviceProfile> find_device_profile(const std::string& name);
+std::vector<std::string> device_profile_names();
+
+}  // namespace enact::haptics

@@ -1,0 +1,148 @@
+#include "core/physics/stability.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "core/physics/contact.h"
+
+namespace enact::physics {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+struct Element {
+  std::string name;
+  double k = 0.0;
+  double z = 0.0;
+};
+
+// every link and contact that can act on point i at once, at its peak stiffness: all its
+// links, and the contacts with the object whose group of overlapping objects is stiffest
+// (a point cannot be inside two objects whose volumes are disjoint)
+std::vector<Element> elements_on(const Model& m, int i) {
+  std::vector<Element> out;
+  for (const Link& l : m.links) {
+    if (l.a == i || l.b == i) out.push_back({"link '" + l.name + "'", l.peak_stiffness_n_per_m(), l.damping_n_s_per_m});
+  }
+  std::vector<const ContactPair*> pairs;
+  for (const ContactPair& c : m.contacts) {
+    if (c.point == i) pairs.push_back(&c);
+  }
+  std::vector<Element> best;
+  double best_demand = -1.0;
+  for (const ContactPair* c : pairs) {
+    std::vector<Element> group;
+    double demand = 0.0;
+    for (const ContactPair* o : pairs) {
+      if (o != c && !objects_overlap(m, m.objects[c->object], m.objects[o->object])) continue;
+      group.push_back({"contact of '" + m.points[i].name + "' with '" + m.objects[o->object].name + "'", o->stiffness_n_per_m, o->damping_n_s_per_m});
+      demand += o->stiffness_n_per_m + 2.0 * o->damping_n_s_per_m / m.dt_s;
+    }
+    if (demand > best_demand) {
+      best_demand = demand;
+      best = group;
+    }
+  }
+  out.insert(out.end(), best.begin(), best.end());
+  return out;
+}
+
+}  // namespace
+
+bool StabilityReport::stable() const {
+  for (const auto& m : masses) {
+    if (!m.stable) return false;
+  }
+  return true;
+}
+
+bool StabilityReport::passive() const {
+  for (const auto& d : devices) {
+    if (!d.passive) return false;
+  }
+  return true;
+}
+
+StabilityReport analyze_stability(const Model& m, double device_b) {
+  StabilityReport report;
+  const double dt = m.dt_s;
+  const bool explicit_scheme = m.integrator != Integrator::implicit_euler;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    if (p.kind != PointKind::dynamic) continue;
+    MassStability s;
+    s.point = static_cast<int>(i);
+    double largest = -1.0;
+    for (const Element& e : elements_on(m, s.point)) {
+      s.stiffness_n_per_m += e.k;
+      s.damping_n_s_per_m += e.z;
+      if (e.k > largest) {
+        largest = e.k;
+        s.largest_element = e.name;
+      }
+    }
+    s.demand = s.stiffness_n_per_m + 2.0 * s.damping_n_s_per_m / dt;
+    s.limit = explicit_scheme ? 4.0 * p.mass_kg / (dt * dt) : std::numeric_limits<double>::infinity();
+    s.stable = s.demand < s.limit;
+    s.largest_stable_stiffness_n_per_m = std::max(0.0, s.limit - (s.demand - std::max(largest, 0.0)));
+    // 4 m f^2 - 2 z f - K > 0
+    const double z = s.damping_n_s_per_m, k = s.stiffness_n_per_m, mass = p.mass_kg;
+    s.min_stable_rate_hz = explicit_scheme ? (2.0 * z + std::sqrt(4.0 * z * z + 16.0 * mass * k)) / (8.0 * mass) : 0.0;
+    report.masses.push_back(s);
+  }
+  if (device_b < 0.0) return report;
+  for (std::size_t pi = 0; pi < m.proxies.size(); ++pi) {
+    DevicePassivity d;
+    d.proxy = static_cast<int>(pi);
+    for (std::size_t i = 0; i < m.points.size(); ++i) {
+      const Point& p = m.points[i];
+      if (p.kind != PointKind::kinematic || p.proxy != d.proxy || !p.feeds_device) continue;
+      for (const Element& e : elements_on(m, static_cast<int>(i))) {
+        d.stiffness_n_per_m += e.k;
+        d.damping_n_s_per_m += e.z;
+      }
+    }
+    d.device_damping_n_s_per_m = device_b;
+    d.required_n_s_per_m = d.stiffness_n_per_m * dt / 2.0 + d.damping_n_s_per_m;
+    d.passive = device_b > d.required_n_s_per_m || d.stiffness_n_per_m + d.damping_n_s_per_m == 0.0;
+    d.largest_passive_stiffness_n_per_m = std::max(0.0, 2.0 * (device_b - d.damping_n_s_per_m) / dt);
+    d.min_passive_rate_hz = device_b > d.damping_n_s_per_m ? d.stiffness_n_per_m / (2.0 * (device_b - d.damping_n_s_per_m))
+                                                           : std::numeric_limits<double>::infinity();
+    report.devices.push_back(d);
+  }
+  return report;
+}
+
+std::string instability_message(const Model& m, const StabilityReport& r) {
+  for (const MassStability& s : r.masses) {
+    if (s.stable) continue;
+    const Point& p = m.points[s.point];
+    return m.source + ":" + std::to_string(p.line) + ": mass '" + p.name + "' is unstable with " + to_string(m.integrator) +
+           format(" at %.0f Hz: K + 2Z = %.4g N/m exceeds 4M = %.4g N/m", m.rate_hz, s.demand, s.limit) +
+           "\n  fix: lower the stiffness of " + s.largest_element +
+           format(" to below %.4g N/m, or run at %.0f Hz or more, or use integrator: implicit_euler", s.largest_stable_stiffness_n_per_m,
+                  std::ceil(s.min_stable_rate_hz)) +
+           " (--force runs it anyway)";
+  }
+  return {};
+}
+
+std::string passivity_message(const Model& m, const StabilityReport& r, const std::string& device) {
+  for (const DevicePassivity& d : r.devices) {
+    if (d.passive) continue;
+    const Proxy& p = m.proxies[d.proxy];
+    return m.source + ":" + std::to_string(p.line) + ": body '" + p.name + "' is not guaranteed passive on " + device +
+           format(" at %.0f Hz: K T / 2 + B = %.4g N s/m exceeds the device damping b = %.4g N s/m", m.rate_hz,
+                  d.required_n_s_per_m, d.device_damping_n_s_per_m) +
+           format("\n  fix: keep the summed contact stiffness below %.4g N/m, or run at %.0f Hz or more",
+                  d.largest_passive_stiffness_n_per_m, std::ceil(d.min_passive_rate_hz));
+  }
+  return {};
+}
+
+}  // namespace enact::physics

@@ -1,0 +1,57 @@
+#pragma once
+// The per-step state of a scene: everything that changes while it runs. Sized once from
+// the Model (make_state); trivial to reset, copy and log.
+#include <cstdint>
+#include <vector>
+
+#include "core/physics/model.h"
+
+namespace enact::physics {
+
+// one contact pair. A point inside an object is pushed out through the shallowest face
+// of the object's surface, except the face opposite the one it entered through: it is
+// never pushed on towards the far side, however fast it came in (README, "Contact guarantees").
+struct ContactState {
+  bool active = false;
+  Vec3 entry_normal;      // outward normal of the face the point entered through
+  Vec3 normal;            // outward normal of the face pushing now (unit)
+  double depth_m = 0.0;   // penetration below that face (> 0 while active)
+};
+
+enum class Fault : std::uint8_t { none, nonfinite_input, nonfinite_state, runaway_position, runaway_speed };
+
+struct State {
+  // per point
+  std::vector<Vec3> x;       // position (m)
+  std::vector<Vec3> x_prev;  // position one step earlier (m)
+  std::vector<Vec3> v;       // velocity (m/s)
+  std::vector<Vec3> f;       // force accumulated this step (N)
+  std::vector<std::uint8_t> in_contact;  // penetrating an object or a contact link (threshold ignored)
+  std::vector<double> k_diag;  // implicit integrator: stiffness acting on the point this step (N/m)
+  std::vector<double> z_diag;  // implicit integrator: damping acting on the point this step (N s/m)
+  // per contact pair
+  std::vector<ContactState> contacts;
+  // per proxy: input (device position) and output (force to send to the device)
+  std::vector<Vec3> proxy_position_m;
+  std::vector<Vec3> proxy_force_n;
+
+  std::int64_t steps = 0;
+  double time_s = 0.0;
+  std::uint64_t faults = 0;  // divergence guard trips since make_state
+  Fault last_fault = Fault::none;
+  int last_fault_point = -1;
+};
+
+// a state sized for the model, at its initial conditions
+State make_state(const Model& model);
+// back to initial conditions (fault counters are kept)
+void reset(const Model& model, State& state);
+// one step of dt: kinematic points follow state.proxy_position_m, forces, integration,
+// divergence guard, proxy forces. Allocates nothing, never throws; a fault zeroes the
+// proxy forces, resets the dynamic points and is counted.
+void step(const Model& model, State& state);
+
+const char* to_string(Fault fault);
+const char* to_string(Integrator integrator);
+
+}  // namespace enact::physics

@@ -1,0 +1,283 @@
+#include <algorithm>
+#include <cmath>
+
+#include "core/physics/contact.h"
+#include "core/physics/state.h"
+
+namespace enact::physics {
+namespace {
+
+// below this distance (m) a link with a rest length has no defined direction
+constexpr double kMinDirection_m = 1e-12;
+
+void add_stiffness(State& s, int i, double k, double z) {
+  s.k_diag[i] += k;
+  s.z_diag[i] += z;
+}
+
+// nonlinear spring force for elongation e, and its incremental stiffness
+double nonlinear_force(const Link& l, double e, double& stiffness) {
+  const double a = std::abs(e);
+  if (a <= l.clip_elongation_m) {
+    stiffness = l.stiffness_n_per_m + 3.0 * l.cubic_n_per_m3 * e * e;
+    return l.stiffness_n_per_m * e + l.cubic_n_per_m3 * e * e * e;
+  }
+  const double ec = l.clip_elongation_m;
+  stiffness = l.max_stiffness_n_per_m;
+  const double at_clip = l.stiffness_n_per_m * ec + l.cubic_n_per_m3 * ec * ec * ec;
+  return std::copysign(at_clip + l.max_stiffness_n_per_m * (a - ec), e);
+}
+
+// force on point a of a link (b gets the opposite); positive tension pulls a towards b
+void link_force(const Link& l, State& s) {
+  const Vec3 d = s.x[l.b] - s.x[l.a];
+  const Vec3 dv = s.v[l.b] - s.v[l.a];
+  const double dist = norm(d);
+  Vec3 force;
+  double k = 0.0;
+  double z = 0.0;
+  if (l.type == LinkType::contact) {
+    // buttee: push only, while closer than the threshold
+    if (dist >= l.threshold_m || dist < kMinDirection_m) return;
+    const Vec3 u = d * (1.0 / dist);
+    const double tension = std::min(0.0, l.stiffness_n_per_m * (dist - l.threshold_m) + l.damping_n_s_per_m * dot(dv, u));
+    force = u * tension;
+    k = l.stiffness_n_per_m;
+    z = l.damping_n_s_per_m;
+    s.in_contact[l.a] = s.in_contact[l.b] = 1;
+  } else if (l.rest_length_m == 0.0) {
+    // isotropic: f = k (xb - xa) + z (vb - va)
+    k = l.type == LinkType::damper ? 0.0 : l.stiffness_n_per_m;
+    z = l.type == LinkType::spring ? 0.0 : l.damping_n_s_per_m;
+    if (l.type == LinkType::nonlinear_spring) {
+      const double f = dist < kMinDirection_m ? 0.0 : nonlinear_force(l, dist, k);
+      force = dist < kMinDirection_m ? Vec3{} : d * (f / dist);
+    } else {
+      force = d * k + dv * z;
+    }
+  } else {
+    // along the link: f = k (|d| - l0) + z d'
+    if (dist < kMinDirection_m) return;
+    const Vec3 u = d * (1.0 / dist);
+    const double e = dist - l.rest_length_m;
+    double tension = 0.0;
+    if (l.type == LinkType::nonlinear_spring) {
+      tension = nonlinear_force(l, e, k);
+    } else if (l.type != LinkType::damper) {
+      k = l.stiffness_n_per_m;
+      tension = k * e;
+    }
+    if (l.type == LinkType::damper || l.type == LinkType::spring_damper) {
+      z = l.damping_n_s_per_m;
+      tension += z * dot(dv, u);
+    }
+    force = u * tension;
+  }
+  s.f[l.a] += force;
+  s.f[l.b] -= force;
+  add_stiffness(s, l.a, k, z);
+  add_stiffness(s, l.b, k, z);
+}
+
+// unilateral visco-elastic contact of a point against a rigid object
+void contact_force(const Model& m, const ContactPair& c, State& s) {
+  ContactState& cs = s.contacts[&c - m.contacts.data()];
+  const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], cs);
+  if (depth <= 0.0) return;
+  s.in_contact[c.point] = 1;
+  const double felt = depth - m.points[c.point].contact_threshold_m;
+  if (felt <= 0.0) return;
+  // push only: damping may slow the separation but never pulls the point in
+  const double push = std::max(0.0, c.stiffness_n_per_m * felt - c.damping_n_s_per_m * dot(s.v[c.point], cs.normal));
+  s.f[c.point] += cs.normal * push;
+  add_stiffness(s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
+}
+
+void integrate(const Model& m, State& s) {
+  const double dt = m.dt_s;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    if (p.kind != PointKind::dynamic) continue;
+    const Vec3 x = s.x[i];
+    switch (m.integrator) {
+      case Integrator::cordis:
+        s.x[i] = x * 2.0 - s.x_prev[i] + s.f[i] * (dt * dt / p.mass_kg);
+        s.v[i] = (s.x[i] - x) * (1.0 / dt);
+        break;
+      case Integrator::symplectic_euler:
+        s.v[i] += s.f[i] * (dt / p.mass_kg);
+        s.x[i] = x + s.v[i] * dt;
+        break;
+      case Integrator::implicit_euler: {
+        // (m + dt z + dt^2 k) v+ = m v + dt F + dt z v: stiffness and damping taken at the new state
+        const double zd = s.z_diag[i];
+        const double denom = p.mass_kg + dt * zd + dt * dt * s.k_diag[i];
+        s.v[i] = (s.v[i] * (p.mass_kg + dt * zd) + s.f[i] * dt) * (1.0 / denom);
+        s.x[i] = x + s.v[i] * dt;
+        break;
+      }
+    }
+    s.x_prev[i] = x;
+  }
+}
+
+// divergence guard: the first dynamic point that is not finite or runs away
+Fault check(const Model& m, const State& s, int& point) {
+  const double max_x2 = m.limits.max_position_m * m.limits.max_position_m;
+  const double max_v2 = m.limits.max_speed_m_per_s * m.limits.max_speed_m_per_s;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    if (m.points[i].kind != PointKind::dynamic) continue;
+    point = static_cast<int>(i);
+    if (!finite(s.x[i]) || !finite(s.v[i])) return Fault::nonfinite_state;
+    if (dot(s.x[i], s.x[i]) > max_x2) return Fault::runaway_position;
+    if (dot(s.v[i], s.v[i]) > max_v2) return Fault::runaway_speed;
+  }
+  point = -1;
+  return Fault::none;
+}
+
+void set_initial(const Model& m, State& s) {
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    s.x[i] = p.kind == PointKind::kinematic ? s.proxy_position_m[p.proxy] + p.offset_m : p.position_m;
+    s.v[i] = p.kind == PointKind::dynamic ? p.velocity_m_per_s : Vec3{};
+    s.x_prev[i] = s.x[i] - s.v[i] * m.dt_s;
+  }
+  std::fill(s.contacts.begin(), s.contacts.end(), ContactState{});
+}
+
+void accumulate_forces(const Model& m, State& s) {
+  std::fill(s.f.begin(), s.f.end(), Vec3{});
+  std::fill(s.in_contact.begin(), s.in_contact.end(), std::uint8_t{0});
+  std::fill(s.k_diag.begin(), s.k_diag.end(), 0.0);
+  std::fill(s.z_diag.begin(), s.z_diag.end(), 0.0);
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    if (m.points[i].kind == PointKind::dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
+  }
+  for (const Link& l : m.links) link_force(l, s);
+  for (const ContactPair& c : m.contacts) contact_force(m, c, s);
+}
+
+void fault(const Model& m, State& s, Fault kind, int point) {
+  ++s.faults;
+  s.last_fault = kind;
+  s.last_fault_point = point;
+  set_initial(m, s);
+  std::fill(s.proxy_force_n.begin(), s.proxy_force_n.end(), Vec3{});
+}
+
+}  // namespace
+
+void Model::set_rate(double hz) {
+  rate_hz = hz;
+  dt_s = 1.0 / hz;
+}
+
+int Model::find_point(const std::string& n) const {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].name == n) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Model::find_object(const std::string& n) const {
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (objects[i].name == n) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+State make_state(const Model& m) {
+  State s;
+  const std::size_t n = m.points.size();
+  s.x.resize(n);
+  s.x_prev.resize(n);
+  s.v.resize(n);
+  s.f.resize(n);
+  s.in_contact.resize(n);
+  s.k_diag.resize(n);
+  s.z_diag.resize(n);
+  s.contacts.resize(m.contacts.size());
+  s.proxy_position_m.resize(m.proxies.size());
+  s.proxy_force_n.resize(m.proxies.size());
+  for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
+  reset(m, s);
+  return s;
+}
+
+void reset(const Model& m, State& s) {
+  set_initial(m, s);
+  s.steps = 0;
+  s.time_s = 0.0;
+  std::fill(s.proxy_force_n.begin(), s.proxy_force_n.end(), Vec3{});
+  if (m.integrator != Integrator::cordis) return;
+  // second-order start for the position recurrence: x(-1) = x0 - v0 dt + a0 dt^2 / 2
+  accumulate_forces(m, s);
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    if (p.kind == PointKind::dynamic) s.x_prev[i] += s.f[i] * (0.5 * m.dt_s * m.dt_s / p.mass_kg);
+  }
+  std::fill(s.contacts.begin(), s.contacts.end(), ContactState{});
+}
+
+void step(const Model& m, State& s) {
+  const double dt = m.dt_s;
+  // a non-finite device position is refused: the proxy holds its last position
+  for (std::size_t p = 0; p < m.proxies.size(); ++p) {
+    if (!finite(s.proxy_position_m[p])) {
+      s.proxy_position_m[p] = s.x[m.proxies[p].point];
+      ++s.faults;
+      s.last_fault = Fault::nonfinite_input;
+      s.last_fault_point = m.proxies[p].point;
+    }
+  }
+  // kinematic points follow their proxies; velocities as backward differences
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    if (p.kind != PointKind::kinematic) continue;
+    s.x_prev[i] = s.x[i];
+    s.x[i] = s.proxy_position_m[p.proxy] + p.offset_m;
+    s.v[i] = (s.x[i] - s.x_prev[i]) * (1.0 / dt);
+  }
+  accumulate_forces(m, s);
+  // what each device feels: the forces on its proxy and body points that feed it
+  std::fill(s.proxy_force_n.begin(), s.proxy_force_n.end(), Vec3{});
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const Point& p = m.points[i];
+    if (p.kind == PointKind::kinematic && p.feeds_device) s.proxy_force_n[p.proxy] += s.f[i];
+  }
+  integrate(m, s);
+  ++s.steps;
+  s.time_s = static_cast<double>(s.steps) * dt;
+  int point = -1;
+  Fault kind = check(m, s, point);
+  for (std::size_t p = 0; kind == Fault::none && p < m.proxies.size(); ++p) {
+    if (!finite(s.proxy_force_n[p])) {
+      kind = Fault::nonfinite_state;
+      point = m.proxies[p].point;
+    }
+  }
+  if (kind != Fault::none) fault(m, s, kind, point);
+}
+
+const char* to_string(Fault fault) {
+  switch (fault) {
+    case Fault::none: return "none";
+    case Fault::nonfinite_input: return "non-finite device position";
+    case Fault::nonfinite_state: return "non-finite state";
+    case Fault::runaway_position: return "runaway position";
+    case Fault::runaway_speed: return "runaway speed";
+  }
+  return "?";
+}
+
+const char* to_string(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::cordis: return "cordis";
+    case Integrator::symplectic_euler: return "symplectic_euler";
+    case Integrator::implicit_euler: return "implicit_euler";
+  }
+  return "?";
+}
+
+}  // namespace enact::physics

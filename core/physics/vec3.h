@@ -1,0 +1,54 @@
+#pragma once
+// Small fixed-size vector and rotation types for the physics engine (header only, no heap).
+#include <cmath>
+
+namespace enact::physics {
+
+struct Vec3 {
+  double x = 0.0;
+  double y = 0.0;
+  double z = 0.0;
+
+  constexpr Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  constexpr Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
+  constexpr Vec3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+  friend constexpr Vec3 operator+(Vec3 a, const Vec3& b) { return a += b; }
+  friend constexpr Vec3 operator-(Vec3 a, const Vec3& b) { return a -= b; }
+  friend constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+  friend constexpr Vec3 operator*(Vec3 a, double s) { return a *= s; }
+  friend constexpr Vec3 operator*(double s, Vec3 a) { return a *= s; }
+  friend constexpr bool operator==(const Vec3&, const Vec3&) = default;
+};
+
+constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline bool finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+
+// rotation matrix stored by rows; columns are the rotated frame's axes in world coordinates
+struct Mat3 {
+  Vec3 r0{1, 0, 0};
+  Vec3 r1{0, 1, 0};
+  Vec3 r2{0, 0, 1};
+
+  constexpr Vec3 operator*(const Vec3& v) const { return {dot(r0, v), dot(r1, v), dot(r2, v)}; }
+  // transpose times v: world -> local for a rotation
+  constexpr Vec3 transpose_times(const Vec3& v) const {
+    return {r0.x * v.x + r1.x * v.y + r2.x * v.z, r0.y * v.x + r1.y * v.y + r2.y * v.z,
+            r0.z * v.x + r1.z * v.y + r2.z * v.z};
+  }
+  constexpr Vec3 column(int i) const {
+    return i == 0 ? Vec3{r0.x, r1.x, r2.x} : i == 1 ? Vec3{r0.y, r1.y, r2.y} : Vec3{r0.z, r1.z, r2.z};
+  }
+};
+
+// rotation from roll (about x), pitch (about y), yaw (about z), applied in that order: R = Rz Ry Rx
+inline Mat3 rotation_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
+  const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
+  const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
+  const double cy = std::cos(yaw_rad), sy = std::sin(yaw_rad);
+  return {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+          {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+          {-sp, cp * sr, cp * cr}};
+}
+
+}  // namespace enact::physics

@@ -1,0 +1,206 @@
+#include "core/sim/offline.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <ostream>
+#include <sstream>
+
+#include "core/config/yaml.h"
+
+namespace enact::sim {
+namespace {
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+[[noreturn]] void bad_row(const std::string& path, int line, const std::string& problem) {
+  throw config::Error(path + ":" + std::to_string(line) + ": " + problem +
+                      "\n  fix: each row is t_s,x_m,y_m,z_m: four finite numbers, times increasing");
+}
+
+// scripted hand: a timeline of keyframes in path coordinates (arc length, lateral offset,
+// height above the top), linearly interpolated
+struct Key {
+  double t_s;
+  double s_m;
+  double lateral_m;
+  double dz_m;
+  bool wobble;
+};
+
+}  // namespace
+
+physics::Vec3 Trajectory::at(double t) const {
+  if (t <= t_s.front()) return position_m.front();
+  if (t >= t_s.back()) return position_m.back();
+  const auto it = std::upper_bound(t_s.begin(), t_s.end(), t);
+  const std::size_t i = static_cast<std::size_t>(it - t_s.begin());
+  const double a = (t - t_s[i - 1]) / (t_s[i] - t_s[i - 1]);
+  return position_m[i - 1] + (position_m[i] - position_m[i - 1]) * a;
+}
+
+Trajectory load_trajectory(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw config::Error(path + ": cannot open the trajectory\n  fix: check the path");
+  Trajectory tr;
+  std::string row;
+  int line = 0;
+  if (!std::getline(in, row) || (++line, row.rfind("t_s,x_m,y_m,z_m", 0) != 0)) {
+    throw config::Error(path + ":1: the first line must be the header t_s,x_m,y_m,z_m\n  fix: add that header line");
+  }
+  while (std::getline(in, row)) {
+    ++line;
+    if (row.empty() || row == "\r") continue;
+    double v[4];
+    std::stringstream ss(row);
+    std::string cell;
+    for (int i = 0; i < 4; ++i) {
+      if (!std::getline(ss, cell, ',')) bad_row(path, line, "expected 4 columns");
+      char* end = nullptr;
+      v[i] = std::strtod(cell.c_str(), &end);
+      if (end == cell.c_str()) bad_row(path, line, "'" + cell + "' is not a number");
+      if (!std::isfinite(v[i])) bad_row(path, line, "'" + cell + "' is not finite (NaN or Inf)");
+    }
+    if (!tr.t_s.empty() && v[0] <= tr.t_s.back()) bad_row(path, line, "time " + cell + " does not increase");
+    tr.t_s.push_back(v[0]);
+    tr.position_m.push_back({v[1], v[2], v[3]});
+  }
+  if (tr.t_s.size() < 2) throw config::Error(path + ": a trajectory needs at least 2 rows\n  fix: add rows t_s,x_m,y_m,z_m");
+  return tr;
+}
+
+void write_trajectory(const Trajectory& tr, std::ostream& out) {
+  out << "t_s,x_m,y_m,z_m\n";
+  for (std::size_t i = 0; i < tr.t_s.size(); ++i) {
+    const auto& p = tr.position_m[i];
+    out << number(tr.t_s[i]) << ',' << number(p.x) << ',' << number(p.y) << ',' << number(p.z) << '\n';
+  }
+}
+
+Trajectory scripted_path(const Simulator& sim) {
+  if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <path object>} or give --input");
+  const physics::Object& surface = sim.model().objects[sim.model().find_object(sim.model().task_surface)];
+  const task::Polyline& path = sim.path();
+  const double length = path.length_m();
+  const double top = surface.path.top_z_m;
+  const double press = 0.0001;                 // pressed 0.1 mm into the top
+  const double speed = 0.010;                  // 10 mm/s along the path
+  const physics::Proxy& body = sim.model().proxies[0];
+  const double body_half = body.pitch_m * std::hypot(body.rows - 1, body.cols - 1) / 2.0;  // any orientation
+  const double off_edge = surface.path.width_m / 2 + body_half + 0.001;  // whole grid off the top
+  const double above = 0.001;
+  std::vector<Key> keys;
+  double t = 0.0, s = 0.002;
+  auto add = [&](double dt, double lateral, double dz, bool wobble) {
+    t += dt;
+    keys.push_back({t, s, lateral, dz, wobble});
+  };
+  auto travel_to = [&](double s_to) {
+    const double dt = (s_to - s) / speed;
+    s = s_to;
+    add(dt, 0.0, -press, true);
+  };
+  // slide off sideways, stay off (sinking by `drop`), climb over the edge and land back on the top
+  auto excursion = [&](double off_s, double drop) {
+    add(0.15, off_edge, -press, false);
+    add(0.05, off_edge, -press - drop, false);
+    add(off_s, off_edge, -press - drop, false);
+    add(0.05, off_edge, above, false);
+    add(0.10, 0.0, above, false);
+    add(0.05, 0.0, -press, false);
+  };
+  keys.push_back({0.0, s, 0.0, above, false});
+  add(0.3, 0.0, -press, false);
+  // off the outer side in the middle of the 1st and 2nd segments
+  travel_to(length / 6.0);
+  excursion(0.05, 0.0);   // off the top for about 0.3 s: not a fall
+  travel_to(length / 2.0);
+  excursion(1.6, 0.003);  // off for about 2 s: a fall
+  travel_to(length);
+  add(0.3, 0.0, -press, false);
+
+  Trajectory tr;
+  const double sample_s = 0.01;
+  std::size_t k = 1;
+  for (double time = 0.0; time <= t + 1e-9; time += sample_s) {
+    while (k + 1 < keys.size() && keys[k].t_s < time) ++k;
+    const Key& a = keys[k - 1];
+    const Key& b = keys[k];
+    const double w = std::clamp((time - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
+    const double arc = a.s_m + (b.s_m - a.s_m) * w;
+    double lateral = a.lateral_m + (b.lateral_m - a.lateral_m) * w;
+    if (b.wobble) lateral += 0.0008 * std::sin(2.0 * std::numbers::pi * 0.7 * time);
+    const task::Point2 c = path.at(arc);
+    const task::Point2 d = path.direction_at(arc);
+    const double z = top + a.dz_m + (b.dz_m - a.dz_m) * w;
+    tr.t_s.push_back(time);
+    // lateral is to the right of the direction of travel
+    tr.position_m.push_back({c.x_m + d.y_m * lateral, c.y_m - d.x_m * lateral, z});
+  }
+  return tr;
+}
+
+RunSummary run_offline(Simulator& sim, const Trajectory& tr, std::ostream* csv) {
+  RunSummary sum;
+  sum.model = sim.computer_model().name;
+  const double dt = sim.model().dt_s;
+  const auto steps = static_cast<std::int64_t>(std::floor((tr.end_s() - tr.start_s()) / dt + 1e-9)) + 1;
+  const int masses = sim.grid_masses();
+  if (csv) *csv << "t_s,x_m,y_m,z_m,fx_n,fy_n,fz_n,contacts,pins,on_top,progress,fault\n";
+  std::string pins(static_cast<std::size_t>(masses), '0');
+  sim.activate(0);
+  double force_sum = 0.0, pins_sum = 0.0;
+  std::int64_t touching = 0;
+  for (std::int64_t n = 0; n < steps; ++n) {
+    const double t = static_cast<double>(n) * dt;
+    const physics::Vec3 p = tr.at(tr.start_s() + t);
+    const StepOutput& o = sim.step(static_cast<std::int64_t>(std::llround(t * 1e9)), p);
+    const double f = physics::norm(o.force_n);
+    force_sum += f;
+    sum.peak_force_n = std::max(sum.peak_force_n, f);
+    pins_sum += std::popcount(o.pins);
+    touching += o.contacts > 0;
+    if (!csv) continue;
+    for (int i = 0; i < masses; ++i) pins[static_cast<std::size_t>(i)] = (o.pins >> i) & 1u ? '1' : '0';
+    *csv << number(t) << ',' << number(p.x) << ',' << number(p.y) << ',' << number(p.z) << ',' << number(o.force_n.x) << ','
+         << number(o.force_n.y) << ',' << number(o.force_n.z) << ',' << o.contacts << ',' << pins << ',' << (o.on_top ? 1 : 0)
+         << ',' << number(o.progress) << ',' << (o.fault ? 1 : 0) << '\n';
+  }
+  sum.steps = steps;
+  sum.faults = sim.state().faults;
+  sum.mean_force_n = force_sum / static_cast<double>(steps);
+  sum.mean_pins_up = pins_sum / static_cast<double>(steps);
+  sum.contact_fraction = static_cast<double>(touching) / static_cast<double>(steps);
+  sum.metrics = sim.metrics();
+  return sum;
+}
+
+void write_metrics_json(const RunSummary& s, const Simulator& sim, std::ostream& out) {
+  const task::Metrics& m = s.metrics;
+  out << "{\n"
+      << "  \"scene\": \"" << sim.model().name << "\",\n"
+      << "  \"model\": \"" << s.model << "\",\n"
+      << "  \"rate_hz\": " << number(sim.model().rate_hz) << ",\n"
+      << "  \"steps\": " << s.steps << ",\n"
+      << "  \"faults\": " << s.faults << ",\n"
+      << "  \"falls\": " << m.falls << ",\n"
+      << "  \"time_total_s\": " << number(m.time_total_s) << ",\n"
+      << "  \"time_out_s\": " << number(m.time_out_s) << ",\n"
+      << "  \"ratio\": " << number(m.ratio) << ",\n"
+      << "  \"completed\": " << (m.completed ? "true" : "false") << ",\n"
+      << "  \"progress\": " << number(m.progress) << ",\n"
+      << "  \"mean_force_n\": " << number(s.mean_force_n) << ",\n"
+      << "  \"peak_force_n\": " << number(s.peak_force_n) << ",\n"
+      << "  \"mean_pins_up\": " << number(s.mean_pins_up) << ",\n"
+      << "  \"contact_fraction\": " << number(s.contact_fraction) << "\n"
+      << "}\n";
+}
+
+}  // namespace enact::sim

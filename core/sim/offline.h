@@ -1,0 +1,48 @@
+#pragma once
+// Offline simulation: a device trajectory from CSV (or the built-in scripted path) through
+// the simulator component, no processes, deterministic: identical input gives
+// byte-identical output.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "core/physics/model.h"
+#include "core/sim/simulator.h"
+
+namespace enact::sim {
+
+// device positions over time, linearly interpolated between samples
+struct Trajectory {
+  std::vector<double> t_s;
+  std::vector<physics::Vec3> position_m;
+  physics::Vec3 at(double t_s) const;  // clamped to the ends
+  double start_s() const { return t_s.front(); }
+  double end_s() const { return t_s.back(); }
+};
+
+// CSV with the header t_s,x_m,y_m,z_m, times strictly increasing; errors name file:line
+Trajectory load_trajectory(const std::string& path);
+void write_trajectory(const Trajectory& trajectory, std::ostream& out);
+
+// a scripted hand along the task path of the scene (README, "The scripted path"): it presses
+// 0.1 mm into the top, wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
+// about 2 s (a fall), climbs back, and reaches the end
+Trajectory scripted_path(const Simulator& simulator);
+
+struct RunSummary {
+  std::string model;
+  std::int64_t steps = 0;
+  std::uint64_t faults = 0;
+  double mean_force_n = 0.0;    // mean |F| over all steps
+  double peak_force_n = 0.0;    // max |F|
+  double mean_pins_up = 0.0;    // mean number of raised pins over all steps
+  double contact_fraction = 0.0;  // fraction of steps with a grid mass touching
+  task::Metrics metrics;
+};
+
+// one step per 1/rate from the trajectory's start to its end; writes one CSV row per step
+// when csv is not null
+RunSummary run_offline(Simulator& simulator, const Trajectory& trajectory, std::ostream* csv);
+void write_metrics_json(const RunSummary& summary, const Simulator& simulator, std::ostream& out);
+
+}  // namespace enact::sim

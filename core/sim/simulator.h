@@ -1,0 +1,81 @@
+#pragma once
+// The simulator component: one physical model stepped once per device sample, giving the
+// force for the FFD and the pins for the tactile display from the same contacts, and the
+// bridge task's state. Lifecycle: configure (load, validate, allocate) -> activate ->
+// step ... -> deactivate. The same class runs in its own process or in a real-time
+// container; step() allocates nothing, locks nothing and never throws.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/haptics/computer_model.h"
+#include "core/haptics/tactile.h"
+#include "core/physics/model.h"
+#include "core/physics/stability.h"
+#include "core/physics/state.h"
+#include "core/task/bridge_task.h"
+#include "core/task/polyline.h"
+
+namespace enact::sim {
+
+struct SimParams {
+  std::string scene;               // scene file (YAML)
+  double rate_hz = 0.0;            // 0: the scene's rate_hz
+  std::string model = "CM1";       // computer model: preset name or YAML file
+  haptics::TactileParams tactile;  // pin frame down-sampling
+  task::TaskParams task;           // fall rule and completion
+  bool force = false;              // run a scene that fails the stability check anyway
+};
+
+struct StepOutput {
+  physics::Vec3 force_n;           // force for the device (N)
+  int contacts = 0;                // grid masses touching
+  std::uint32_t pins = 0;          // pin levels this step (bit i = pin i up)
+  bool frame_due = false;          // a down-sampled tactile frame is due
+  std::uint32_t frame = 0;         // that frame
+  bool on_top = false;             // the body touches the task surface's top
+  double progress = 0.0;           // position along the task path, [0, 1]
+  task::TaskEvent event;           // a task event certain at this step
+  bool fault = false;              // the divergence guard tripped this step (force is zero)
+};
+
+enum class Lifecycle : std::uint8_t { unconfigured, inactive, active };
+
+class Simulator {
+ public:
+  // load and validate everything; throws config::Error (file:line and fix). An unstable
+  // scene is refused unless params.force.
+  void configure(const SimParams& params);
+  void activate(std::int64_t start_ns = 0);
+  void deactivate();
+  const StepOutput& step(std::int64_t time_ns, const physics::Vec3& device_position_m);
+
+  // between steps: switch the computer model
+  void set_computer_model(const haptics::ComputerModel& cm);
+
+  Lifecycle lifecycle() const { return lifecycle_; }
+  const physics::Model& model() const { return model_; }
+  const physics::State& state() const { return state_; }
+  const haptics::ComputerModel& computer_model() const { return cm_; }
+  const physics::StabilityReport& stability() const { return stability_; }
+  task::Metrics metrics() const { return task_.metrics(); }
+  bool has_task() const { return !top_pairs_.empty(); }
+  const task::Polyline& path() const { return path_; }
+  int grid_masses() const;
+  const StepOutput& output() const { return out_; }
+
+ private:
+  SimParams params_;
+  Lifecycle lifecycle_ = Lifecycle::unconfigured;
+  physics::Model model_;
+  physics::State state_;
+  physics::StabilityReport stability_;
+  haptics::ComputerModel cm_;
+  haptics::TactileDownsampler tactile_;
+  task::BridgeTask task_;
+  task::Polyline path_;
+  std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
+  StepOutput out_;
+};
+
+}  // namespace enact::sim

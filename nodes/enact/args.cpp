@@ -1,0 +1,58 @@
+#include "nodes/enact/args.h"
+
+#include <cmath>
+#include <cstdlib>
+
+namespace enact::cli {
+
+std::string Args::get(const std::string& name, const std::string& fallback) const {
+  const auto it = options.find(name);
+  return it == options.end() ? fallback : it->second;
+}
+
+double Args::number(const std::string& name, double fallback) const {
+  if (!has(name)) return fallback;
+  const std::string text = get(name);
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError("--" + name + " needs a number, got '" + text + "'");
+  return v;
+}
+
+Args parse(int argc, char** argv, int first, const std::set<std::string>& valued, const std::set<std::string>& switches) {
+  Args a;
+  for (int i = first; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      a.flags.insert("help");
+      continue;
+    }
+    if (arg == "-o") arg = "--out";
+    if (arg.rfind("--", 0) != 0 || arg.size() == 2) {
+      a.positional.push_back(arg);
+      continue;
+    }
+    std::string name = arg.substr(2);
+    std::string value;
+    const auto eq = name.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    if (switches.count(name) && !inline_value) {
+      a.flags.insert(name);
+    } else if (valued.count(name)) {
+      if (!inline_value) {
+        if (i + 1 >= argc) throw UsageError("--" + name + " needs a value");
+        value = argv[++i];
+      }
+      a.options[name] = value;
+    } else {
+      throw UsageError("unknown option --" + name);
+    }
+  }
+  return a;
+}
+
+}  // namespace enact::cli

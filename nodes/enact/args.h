@@ -1,0 +1,31 @@
+#pragma once
+// A small command-line parser: positionals, --name value, --name=value and flags.
+// Unknown options and missing values are errors that name the option.
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace enact::cli {
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Args {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> options;
+  std::set<std::string> flags;
+
+  bool flag(const std::string& name) const { return flags.count(name) != 0; }
+  bool has(const std::string& name) const { return options.count(name) != 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  double number(const std::string& name, double fallback) const;
+};
+
+// `valued`: options that take a value; `switches`: flags; -h/--help is always a flag
+Args parse(int argc, char** argv, int first, const std::set<std::string>& valued, const std::set<std::string>& switches);
+
+}  // namespace enact::cli

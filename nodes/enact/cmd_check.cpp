@@ -1,0 +1,154 @@
+// enact check SCENE: load, validate, stability table; --json adds the geometry.
+#include <cstdio>
+#include <iostream>
+
+#include "core/config/yaml.h"
+#include "core/haptics/computer_model.h"
+#include "core/haptics/device_profile.h"
+#include "core/physics/scene.h"
+#include "core/physics/stability.h"
+#include "nodes/enact/commands.h"
+#include "nodes/enact/json.h"
+
+namespace enact::cli {
+namespace {
+
+constexpr const char* kHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json]
+
+Load and validate a scene file, then print its stability table: for each mass the
+integrator's discrete stability bound at the rate (K + 2Z < 4M for the explicit
+schemes), and for each body the device passivity bound (b > K T/2 + B).
+Exit status: 0 stable, 1 unstable or invalid (the message names file:line and the fix).
+
+options:
+  --rate HZ      loop rate (default: the scene's rate_hz)
+  --model CM     computer model deciding which masses feed the device (default CM1)
+  --device NAME  device profile for the passivity bound (default: the scene's
+                 device_profile; ergos, falcon)
+  --json         print JSON instead: settings, stability, and the geometry (path
+                 centerlines, widths, top heights, the body's grid offsets)
+)";
+
+void json_vec(Json& j, const physics::Vec3& v) { j.begin_array().value(v.x).value(v.y).value(v.z).end_array(); }
+
+void write_json(const physics::Model& m, const physics::StabilityReport& r, const std::string& device) {
+  Json j;
+  j.begin_object().field("scene", m.name).field("source", m.source).field("rate_hz", m.rate_hz).field("dt_s", m.dt_s);
+  j.field("integrator", physics::to_string(m.integrator)).field("device_profile", device);
+  j.field("stable", r.stable()).field("passive", r.passive());
+  j.key("objects").begin_array();
+  for (const auto& o : m.objects) {
+    j.begin_object().field("name", o.name).field("type", o.type == physics::ObjectType::plane ? "plane" : o.is_path ? "path" : "boxes");
+    if (o.is_path) {
+      j.key("centerline_m").begin_array();
+      for (const auto& p : o.path.centerline_m) j.begin_array().value(p.x).value(p.y).end_array();
+      j.end_array().field("width_m", o.path.width_m).field("top_z_m", o.path.top_z_m).field("bottom_z_m", o.path.bottom_z_m);
+    }
+    if (o.type == physics::ObjectType::plane) {
+      j.key("point_m");
+      json_vec(j, o.plane_point_m);
+      j.key("normal");
+      json_vec(j, o.plane_normal);
+    }
+    j.end_object();
+  }
+  j.end_array();
+  j.key("bodies").begin_array();
+  for (const auto& p : m.proxies) {
+    j.begin_object().field("name", p.name).field("rows", p.rows).field("cols", p.cols).field("pitch_m", p.pitch_m);
+    j.key("position_m");
+    json_vec(j, m.points[p.point].position_m);
+    j.key("offsets_m").begin_array();
+    for (int i = 0; i < p.rows * p.cols; ++i) json_vec(j, m.points[p.first_body + i].offset_m);
+    j.end_array().end_object();
+  }
+  j.end_array();
+  j.key("masses").begin_array();
+  for (const auto& s : r.masses) {
+    j.begin_object().field("name", m.points[s.point].name).field("stiffness_n_per_m", s.stiffness_n_per_m);
+    j.field("damping_n_s_per_m", s.damping_n_s_per_m).field("demand_n_per_m", s.demand).field("limit_n_per_m", s.limit);
+    j.field("stable", s.stable).field("largest_element", s.largest_element);
+    j.field("largest_stable_stiffness_n_per_m", s.largest_stable_stiffness_n_per_m).field("min_stable_rate_hz", s.min_stable_rate_hz).end_object();
+  }
+  j.end_array();
+  j.key("devices").begin_array();
+  for (const auto& d : r.devices) {
+    j.begin_object().field("body", m.proxies[d.proxy].name).field("stiffness_n_per_m", d.stiffness_n_per_m);
+    j.field("damping_n_s_per_m", d.damping_n_s_per_m).field("required_n_s_per_m", d.required_n_s_per_m);
+    j.field("device_damping_n_s_per_m", d.device_damping_n_s_per_m).field("passive", d.passive);
+    j.field("largest_passive_stiffness_n_per_m", d.largest_passive_stiffness_n_per_m).field("min_passive_rate_hz", d.min_passive_rate_hz).end_object();
+  }
+  j.end_array().end_object();
+  std::cout << j.str() << "\n";
+}
+
+void write_table(const physics::Model& m, const physics::StabilityReport& r, const std::string& device) {
+  int dynamic = 0, fixed = 0, body = 0;
+  for (const auto& p : m.points) {
+    dynamic += p.kind == physics::PointKind::dynamic;
+    fixed += p.kind == physics::PointKind::fixed;
+    body += p.kind == physics::PointKind::kinematic;
+  }
+  std::printf("scene       %s (%s)\n", m.name.c_str(), m.source.c_str());
+  std::printf("loop        %.0f Hz (dt %.3g us), integrator %s\n", m.rate_hz, m.dt_s * 1e6, physics::to_string(m.integrator));
+  std::printf("elements    %d masses, %d fixed points, %d body points, %zu links, %zu objects (%zu boxes), %zu contact pairs\n",
+              dynamic, fixed, body, m.links.size(), m.objects.size(), m.boxes.size(), m.contacts.size());
+  for (const auto& p : m.proxies) {
+    std::printf("body        %s: %d x %d grid, pitch %.3g mm, centre at (%.4g, %.4g, %.4g) m\n", p.name.c_str(), p.rows, p.cols,
+                p.pitch_m * 1e3, m.points[p.point].position_m.x, m.points[p.point].position_m.y, m.points[p.point].position_m.z);
+  }
+  std::printf("\nintegrator stability (%s)\n", m.integrator == physics::Integrator::implicit_euler ? "implicit: unconditional" : "explicit: K + 2Z < 4M, Z = z/dt, M = m/dt^2");
+  if (r.masses.empty()) std::printf("  no dynamic masses (the body follows the device)\n");
+  else std::printf("  %-16s %12s %12s %12s %8s  %s\n", "mass", "K+2Z (N/m)", "4M (N/m)", "min rate Hz", "margin", "verdict");
+  for (const auto& s : r.masses) {
+    std::printf("  %-16s %12.4g %12.4g %12.0f %7.1f%%  %s\n", m.points[s.point].name.c_str(), s.demand, s.limit,
+                std::ceil(s.min_stable_rate_hz), 100.0 * (1.0 - s.demand / s.limit), s.stable ? "stable" : "UNSTABLE");
+  }
+  if (!r.devices.empty()) {
+    std::printf("\ndevice passivity on %s (Colgate & Schenkel 1997: b > K T/2 + B)\n", device.c_str());
+    std::printf("  %-10s %12s %10s %12s %10s %14s %12s  %s\n", "body", "K (N/m)", "B (N s/m)", "KT/2+B", "b (N s/m)", "max K (N/m)",
+                "min rate Hz", "verdict");
+    for (const auto& d : r.devices) {
+      std::printf("  %-10s %12.4g %10.4g %12.4g %10.4g %14.4g %12.0f  %s\n", m.proxies[d.proxy].name.c_str(), d.stiffness_n_per_m,
+                  d.damping_n_s_per_m, d.required_n_s_per_m, d.device_damping_n_s_per_m, d.largest_passive_stiffness_n_per_m,
+                  std::ceil(d.min_passive_rate_hz), d.passive ? "passive" : "not guaranteed passive (warning)");
+    }
+  }
+  std::printf("\nverdict     %s\n", r.stable() ? "stable" : "UNSTABLE");
+}
+
+}  // namespace
+
+int check(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {"rate", "model", "device"}, {"json"});
+  if (a.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1) throw UsageError("give exactly one scene file");
+  physics::Model m = physics::load_scene(a.positional[0]);
+  if (a.has("rate")) {
+    const double rate = a.number("rate", 0.0);
+    if (rate < 1.0 || rate > 1.0e6) throw UsageError("--rate must be from 1 to 1000000 Hz");
+    m.set_rate(rate);
+  }
+  if (!m.proxies.empty()) haptics::apply(haptics::resolve_computer_model(a.get("model", "CM1"), m.proxies[0].rows * m.proxies[0].cols), m);
+  const std::string device = a.get("device", m.device_profile);
+  double b = -1.0;
+  if (!device.empty()) {
+    const auto profile = haptics::find_device_profile(device);
+    if (!profile) throw UsageError("unknown device profile '" + device + "' (ergos, falcon)");
+    b = profile->damping_n_s_per_m;
+  }
+  const physics::StabilityReport r = physics::analyze_stability(m, b);
+  if (a.flag("json")) write_json(m, r, device);
+  else write_table(m, r, device);
+  if (!r.stable()) {
+    std::fprintf(stderr, "enact check: %s\n", physics::instability_message(m, r).c_str());
+    return 1;
+  }
+  if (!r.passive() && !a.flag("json")) std::fprintf(stderr, "enact check: warning: %s\n", physics::passivity_message(m, r, device).c_str());
+  return 0;
+}
+
+}  // namespace enact::cli

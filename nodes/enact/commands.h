@@ -1,0 +1,12 @@
+#pragma once
+// The subcommands of the `enact` command line; each returns the process exit code.
+#include "nodes/enact/args.h"
+
+namespace enact::cli {
+
+int check(int argc, char** argv);
+int simulate(int argc, char** argv);
+int path(int argc, char** argv);
+int bench(int argc, char** argv);
+
+}  // namespace enact::cli

@@ -1,0 +1,54 @@
+// enact: the command line of the enact haptics framework.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "core/config/yaml.h"
+#include "nodes/enact/commands.h"
+
+namespace {
+
+constexpr const char* kUsage = R"(enact - integrated tactile + force-feedback haptics
+
+usage: enact <command> [options]      (enact <command> --help for its options)
+
+commands:
+  check SCENE       load and validate a scene, print its stability table
+  simulate SCENE    offline, deterministic run of a device path through the simulator
+  path SCENE        write the built-in scripted hand path of a scene as CSV
+  bench physics     integrator speed against error, bridge step cost
+
+Files: scenes and computer models are YAML, paths are CSV (README.md).
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "help")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  if (!std::strcmp(argv[1], "--version")) {
+    std::puts("enact 0.1.0");
+    return 0;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "check") return enact::cli::check(argc, argv);
+    if (command == "simulate") return enact::cli::simulate(argc, argv);
+    if (command == "path") return enact::cli::path(argc, argv);
+    if (command == "bench") return enact::cli::bench(argc, argv);
+    std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+    return 2;
+  } catch (const enact::cli::UsageError& e) {
+    std::fprintf(stderr, "enact %s: %s\n  (enact %s --help lists the options)\n", command.c_str(), e.what(), command.c_str());
+    return 2;
+  } catch (const enact::config::Error& e) {
+    std::fprintf(stderr, "enact %s: error: %s\n", command.c_str(), e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "enact %s: error: %s\n", command.c_str(), e.what());
+    return 1;
+  }
+}

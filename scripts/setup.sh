@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Install every system dependency of enact from Debian packages, when missing.
+# Idempotent: prints nothing and touches nothing when all are present;
+# runs `apt-get update` once first when something must be installed.
+set -euo pipefail
+
+packages=(
+  # build
+  cmake ninja-build g++ pkg-config
+  # bus: ZeroMQ + cppzmq, Protobuf + protoc
+  libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
+  # devices, config
+  libusb-1.0-0-dev libyaml-cpp-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # analysis and plotting scripts (run under /usr/bin/python3)
+  python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "setup.sh: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "setup.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup.sh: done"

@@ -1,0 +1,73 @@
+#include "tests/support/alloc_guard.h"
+
+#include <cerrno>
+#include <cstdlib>
+
+// glibc's own allocator entry points, under their internal names
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t n, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* __libc_memalign(std::size_t alignment, std::size_t size);
+void __libc_free(void* p);
+}
+
+namespace {
+
+thread_local bool counting = false;
+thread_local std::size_t count = 0;
+
+void note() {
+  if (counting) ++count;
+}
+
+}  // namespace
+
+extern "C" {
+
+void* malloc(std::size_t size) {
+  note();
+  return __libc_malloc(size);
+}
+
+void* calloc(std::size_t n, std::size_t size) {
+  note();
+  return __libc_calloc(n, size);
+}
+
+void* realloc(void* p, std::size_t size) {
+  note();
+  return __libc_realloc(p, size);
+}
+
+void free(void* p) { __libc_free(p); }
+
+void* aligned_alloc(std::size_t alignment, std::size_t size) {
+  note();
+  return __libc_memalign(alignment, size);
+}
+
+void* memalign(std::size_t alignment, std::size_t size) {
+  note();
+  return __libc_memalign(alignment, size);
+}
+
+int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
+  note();
+  void* p = __libc_memalign(alignment, size);
+  if (!p) return ENOMEM;
+  *out = p;
+  return 0;
+}
+
+}  // extern "C"
+
+namespace enact::test {
+
+AllocGuard::AllocGuard() : start_(count), was_counting_(counting) { counting = true; }
+
+AllocGuard::~AllocGuard() { counting = was_counting_; }
+
+std::size_t AllocGuard::allocations() const { return count - start_; }
+
+}  // namespace enact::test
