@@ -1,6 +1,7 @@
 #include "core/config/yaml.h"
 
 #include <cmath>
+#include <algorithm>
 #include <fstream>
 
 namespace enact::config {
@@ -28,6 +29,40 @@ double finite_number(const std::string& file, const YAML::Node& n, const std::st
   return value;
 }
 
+// the line of the first flow bracket that is never closed (0: none); skips comments and quotes
+int unclosed_bracket_line(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<int> open;
+  std::string text;
+  int line = 0;
+  while (std::getline(in, text)) {
+    ++line;
+    char quote = 0;
+    for (char c : text) {
+      if (quote) {
+        quote = c == quote ? 0 : quote;
+      } else if (c == '\'' || c == '"') {
+        quote = c;
+      } else if (c == '#') {
+        break;
+      } else if (c == '[' || c == '{') {
+        open.push_back(line);
+      } else if ((c == ']' || c == '}') && !open.empty()) {
+        open.pop_back();
+      }
+    }
+  }
+  return open.empty() ? 0 : open.front();
+}
+
+int line_count(const std::string& path) {
+  std::ifstream in(path);
+  std::string text;
+  int lines = 0;
+  while (std::getline(in, text)) ++lines;
+  return std::max(lines, 1);
+}
+
 }  // namespace
 
 void fail(const std::string& file, const YAML::Node& at, const std::string& problem, const std::string& fix) {
@@ -42,8 +77,13 @@ YAML::Node load_file(const std::string& path) {
     if (!root.IsMap()) fail(path, root, "the file must be a YAML mapping (key: value lines)", "see the format in README.md");
     return root;
   } catch (const YAML::Exception& e) {
-    throw Error(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg +
-                "\n  fix: correct the YAML syntax on that line (indentation, ':' after keys, closed brackets)");
+    const int open_line = unclosed_bracket_line(path);
+    if (open_line > 0) {
+      throw Error(path + ":" + std::to_string(open_line) + ": malformed YAML: a '[' or '{' opened on this line is never closed" +
+                  "\n  fix: close it with the matching ']' or '}'");
+    }
+    throw Error(path + ":" + std::to_string(std::min(e.mark.line + 1, line_count(path))) + ": malformed YAML: " + e.msg +
+                "\n  fix: correct the YAML syntax on or just before that line (indentation, ':' after keys, quotes)");
   }
 }
 

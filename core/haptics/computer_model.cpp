@@ -7,23 +7,32 @@ namespace {
 
 std::uint32_t all(int masses) { return masses >= 32 ? 0xffffffffu : (1u << masses) - 1u; }
 
+// a list of grid mass indices (row-major) as a bitmask
+std::uint32_t parse_indices(const config::Map& m, const char* key, int masses) {
+  const YAML::Node n = m.get(key);
+  if (!n.IsSequence()) m.fail(key, std::string(key) + " must be a list of grid mass indices", "write e.g. " + std::string(key) + ": [0, 1, 2, 3] (row-major)");
+  std::uint32_t mask = 0;
+  for (const auto& item : n) {
+    int i = -1;
+    if (!item.IsScalar() || !YAML::convert<int>::decode(item, i) || i < 0 || i >= masses) {
+      config::fail(m.file(), item, std::string(key) + " index must be from 0 to " + std::to_string(masses - 1), "list grid mass indices, row-major");
+    }
+    mask |= 1u << i;
+  }
+  return mask;
+}
+
 // "grid", "center", "all", "none" or a list of grid indices
 void parse_force(const config::Map& m, int masses, ComputerModel& cm) {
   const YAML::Node n = m.get("force");
-  if (n.IsScalar()) {
-    const std::string s = n.Scalar();
-    if (s != "grid" && s != "center" && s != "all" && s != "none") m.fail("force", "unknown force source '" + s + "'", "use grid, center, all, none or a list of grid mass indices");
-    cm.force_grid_mask = (s == "grid" || s == "all") ? all(masses) : 0;
-    cm.force_center = s == "center" || s == "all";
+  if (!n.IsScalar()) {
+    cm.force_grid_mask = parse_indices(m, "force", masses);
     return;
   }
-  for (const auto& item : n) {
-    int i = -1;
-    if (!YAML::convert<int>::decode(item, i) || i < 0 || i >= masses) {
-      config::fail(m.file(), item, "force mass index must be from 0 to " + std::to_string(masses - 1), "list grid mass indices, row-major");
-    }
-    cm.force_grid_mask |= 1u << i;
-  }
+  const std::string s = n.Scalar();
+  if (s != "grid" && s != "center" && s != "all" && s != "none") m.fail("force", "unknown force source '" + s + "'", "use grid, center, all, none or a list of grid mass indices");
+  cm.force_grid_mask = (s == "grid" || s == "all") ? all(masses) : 0;
+  cm.force_center = s == "center" || s == "all";
 }
 
 }  // namespace
@@ -65,16 +74,7 @@ ComputerModel resolve_computer_model(const std::string& name_or_path, int masses
   else if (pins == "inverted") cm.pins = PinDrive::inverted;
   else m.fail("pins", "unknown pin drive '" + pins + "'", "use none, contact or inverted");
   cm.pin_mask = cm.pins == PinDrive::none ? 0 : all(masses);
-  if (m.has("pin_masses")) {
-    cm.pin_mask = 0;
-    for (const auto& item : m.get("pin_masses")) {
-      int i = -1;
-      if (!YAML::convert<int>::decode(item, i) || i < 0 || i >= masses) {
-        config::fail(name_or_path, item, "pin mass index must be from 0 to " + std::to_string(masses - 1), "list grid mass indices, row-major");
-      }
-      cm.pin_mask |= 1u << i;
-    }
-  }
+  if (m.has("pin_masses")) cm.pin_mask = parse_indices(m, "pin_masses", masses);
   cm.threshold_m = m.positive("threshold_m", 0.0, true);
   return cm;
 }

@@ -100,7 +100,8 @@ bool shallowest_face(const Model& model, const Object& object, const Vec3& x, co
     std::swap(c[tried], c[best]);
     const Box& box = model.boxes[c[tried].box];
     const Vec3 normal = face_normal(box, c[tried].face);
-    if (tried + 1 < n && !exposed(model, object, c[tried].box, x + normal * c[tried].depth_m)) continue;
+    const bool always = (box.exposed >> c[tried].face) & 1u;
+    if (!always && tried + 1 < n && !exposed(model, object, c[tried].box, x + normal * c[tried].depth_m)) continue;
     contact.normal = normal;
     contact.depth_m = c[tried].depth_m;
     return true;
@@ -135,6 +136,29 @@ bool boxes_may_overlap(const Box& a, const Box& b) {
 }
 
 }  // namespace
+
+void Model::index_boxes() {
+  for (const Object& o : objects) {
+    for (int i = o.first_box; i < o.first_box + o.box_count; ++i) {
+      Box& box = boxes[i];
+      box.exposed = 0;
+      for (int face = 0; face < 6; ++face) {
+        // exposed when every other box lies behind the face's plane
+        const Vec3 n = face_normal(box, face);
+        const double plane = dot(n, box.center_m) + component(box.half_extents_m, face / 2);
+        bool behind = true;
+        for (int j = o.first_box; j < o.first_box + o.box_count; ++j) {
+          if (j == i) continue;
+          const Box& other = boxes[j];
+          double reach = dot(n, other.center_m);
+          for (int k = 0; k < 3; ++k) reach += std::abs(dot(n, other.rotation.column(k))) * component(other.half_extents_m, k);
+          behind = behind && reach <= plane + kTolerance_m;
+        }
+        if (behind) box.exposed |= static_cast<std::uint8_t>(1u << face);
+      }
+    }
+  }
+}
 
 bool objects_overlap(const Model& m, const Object& a, const Object& b) {
   if (a.type == ObjectType::plane && b.type == ObjectType::plane) return true;

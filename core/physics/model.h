@@ -71,6 +71,7 @@ struct Box {
   Vec3 half_extents_m;
   Mat3 rotation;  // columns: the box axes in world coordinates
   std::uint8_t faces = 0x3f;  // bit f: face f (+x, -x, +y, -y, +z, -z) can push (a path's base cannot)
+  std::uint8_t exposed = 0;   // bit f: no other box of the union can cover face f (set by index_boxes)
 };
 
 enum class ObjectType : std::uint8_t { plane, boxes };
@@ -144,6 +145,9 @@ struct Model {
   void set_rate(double hz);
   int find_point(const std::string& name) const;   // -1 when absent
   int find_object(const std::string& name) const;  // -1 when absent
+  // precompute which box faces no other box of their union can cover (a speed-up only:
+  // without it every face is checked each step)
+  void index_boxes();
 };
 
 }  // namespace enact::physics

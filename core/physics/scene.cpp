@@ -305,6 +305,7 @@ Model load_scene(const std::string& path) {
   loader.objects(scene);
   loader.contacts(scene);
   loader.task(scene);
+  loader.model.index_boxes();
   if (loader.model.points.empty()) scene.fail("masses", "the scene has no masses and no body", "add masses: or body:");
   return loader.model;
 }

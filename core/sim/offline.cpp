@@ -68,7 +68,7 @@ Trajectory load_trajectory(const std::string& path) {
       if (end == cell.c_str()) bad_row(path, line, "'" + cell + "' is not a number");
       if (!std::isfinite(v[i])) bad_row(path, line, "'" + cell + "' is not finite (NaN or Inf)");
     }
-    if (!tr.t_s.empty() && v[0] <= tr.t_s.back()) bad_row(path, line, "time " + cell + " does not increase");
+    if (!tr.t_s.empty() && v[0] <= tr.t_s.back()) bad_row(path, line, "time " + row.substr(0, row.find(',')) + " does not increase");
     tr.t_s.push_back(v[0]);
     tr.position_m.push_back({v[1], v[2], v[3]});
   }

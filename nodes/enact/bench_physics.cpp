@@ -1,5 +1,616 @@
-// enact bench physics: placeholder until the benchmark lands
+// enact bench physics: speed against error of the integrators, the bridge step's cost and
+// the scaling of a chain. Timing runs under Google Benchmark; errors are computed apart,
+// deterministically, on scenes built in code.
+#include <benchmark/benchmark.h>
+#include <sched.h>
+#include <sys/utsname.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/haptics/computer_model.h"
+#include "core/physics/scene.h"
+#include "core/physics/state.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/json.h"
+
 namespace enact::cli {
-int bench(int, char**) { return 2; }
+namespace {
+
+using physics::Integrator;
+using physics::Model;
+using physics::Vec3;
+
+constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
+
+Speed against error of the three integrators (cordis, symplectic_euler, implicit_euler)
+at 1, 2, 5, 10, 20 and 44 kHz, the cost of one bridge step, and how a chain scales.
+About a minute (--quick: about 15 s); progress goes to stderr, the table to stdout.
+
+timing (Google Benchmark; medians of 5 repetitions of at least 0.05 s, wall-clock):
+  oscillator  one step of a mass on a spring to a fixed point: ns per step and the
+              real-time factor, period / ns per step (state restarted every 1 s simulated)
+  bridge      one step of SCENE at 44 kHz with computer model CM1, the body resting
+              0.1 mm into the top near the first turn and wobbling +-2.5 mm (2 and 3 Hz);
+              share of the 22.7 us period (target: 227 ns, 1 %)
+  chain       N = 10, 100, 1000 masses in a line of springs, one end fixed (cordis):
+              ns per step and per element (mass + link)
+
+errors (deterministic, no damping added):
+  oscillator  m = 0.01 kg, f0 = 50 Hz, released from A = 1 mm at rest, 1 s:
+    error       max |x - A cos(w t)| / A over the run (the plotted error)
+    amp err     | max |x| over the last period - A | / A
+    phase       numerical minus exact phase at the last zero crossing (rad; > 0: ahead)
+    freq/pred   measured frequency (zero crossings) / predicted discrete one - 1;
+                predicted w_d: (2/dt) asin(w dt/2) for cordis and symplectic_euler,
+                atan(w dt)/dt for implicit_euler; warping = w_d / w - 1 (JSON)
+  damped      the same with zeta = 0.05: max |x - x_exact| / A
+  bounce      0.01 kg dropped from 5 mm onto a plane (2000 N/m, undamped), g = 9.81:
+    peak pen    first impact's peak penetration / (mg/k + sqrt((mg/k)^2 + m v^2/k)) - 1
+    E drift     (E - E0) / E0 after 10^6 steps (--quick 10^5), and max |E - E0| / E0;
+                E = m v^2/2 + m g z + k d^2/2 with v the state's velocity, which for all
+                three integrators is the backward difference (x(n) - x(n-1)) / dt
+  Extrema (amplitude, peak penetration) are refined by a parabola through the three
+  samples around them; zero crossings are interpolated linearly.
+
+options:
+  --json FILE   also write the results as JSON (plot: scripts/plot_bench.py FILE)
+  --quick       3 repetitions of at least 0.02 s, 10^5 bounce steps
+  --scene PATH  bridge scene (default launch/scenes/bridge.yaml, from the current
+                directory, else from the source tree above the executable)
+)";
+
+constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler};
+constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
+constexpr std::array kChainMasses{10, 100, 1000};
+
+// the test oscillator and the bouncing mass
+constexpr double kMass_kg = 0.01;
+constexpr double kOmega_rad_per_s = 2.0 * std::numbers::pi * 50.0;
+constexpr double kAmplitude_m = 1e-3;
+constexpr double kHorizon_s = 1.0;
+constexpr double kZeta = 0.05;
+constexpr double kGravity_m_per_s2 = 9.81;
+constexpr double kDropHeight_m = 0.005;
+constexpr double kContactStiffness_n_per_m = 2000.0;
+
+// the bridge step: its rate, the hand's depth into the top and its wobble
+constexpr double kBridgeRate_hz = 44000.0;
+constexpr double kBridgeTarget_ns = 227.0;
+constexpr double kPressDepth_m = 1e-4;
+constexpr double kWobble_m = 2.5e-3;
+
+struct Settings {
+  int repetitions = 5;
+  double min_time_s = 0.05;
+  long bounce_steps = 1000000;
+};
+
+// ---- scenes built in code ----
+
+physics::Point fixed_point(const std::string& name, const Vec3& position_m) {
+  physics::Point p;
+  p.name = name;
+  p.kind = physics::PointKind::fixed;
+  p.position_m = position_m;
+  return p;
+}
+
+physics::Point mass_point(const std::string& name, double mass_kg, const Vec3& position_m) {
+  physics::Point p = fixed_point(name, position_m);
+  p.kind = physics::PointKind::dynamic;
+  p.mass_kg = mass_kg;
+  return p;
+}
+
+physics::Link spring_damper(int a, int b, double stiffness_n_per_m, double damping_n_s_per_m, double rest_length_m) {
+  return {.name = "spring" + std::to_string(b),
+          .type = physics::LinkType::spring_damper,
+          .a = a,
+          .b = b,
+          .stiffness_n_per_m = stiffness_n_per_m,
+          .damping_n_s_per_m = damping_n_s_per_m,
+          .rest_length_m = rest_length_m};
+}
+
+// a mass (point 1) on an isotropic spring to a fixed point at the origin, released at rest from A
+Model oscillator(Integrator integrator, double rate_hz, double zeta) {
+  const double k = kMass_kg * kOmega_rad_per_s * kOmega_rad_per_s;
+  Model m;
+  m.name = "oscillator";
+  m.integrator = integrator;
+  m.points = {fixed_point("anchor", {}), mass_point("mass", kMass_kg, {kAmplitude_m, 0.0, 0.0})};
+  m.links = {spring_damper(0, 1, k, 2.0 * zeta * std::sqrt(k * kMass_kg), 0.0)};
+  m.set_rate(rate_hz);
+  return m;
+}
+
+// a mass (point 0) at rest above an undamped plane at z = 0, under gravity
+Model bounce(Integrator integrator, double rate_hz) {
+  Model m;
+  m.name = "bounce";
+  m.integrator = integrator;
+  m.gravity_m_per_s2 = {0.0, 0.0, -kGravity_m_per_s2};
+  m.points = {mass_point("ball", kMass_kg, {0.0, 0.0, kDropHeight_m})};
+  physics::Object floor;
+  floor.name = "floor";
+  floor.type = physics::ObjectType::plane;
+  floor.plane_normal = {0.0, 0.0, 1.0};
+  m.objects = {floor};
+  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m}};
+  m.set_rate(rate_hz);
+  return m;
+}
+
+// n masses 1 mm apart on undamped springs from a fixed point, stretched by 1 % and released
+Model chain(int masses) {
+  constexpr double spacing_m = 1e-3;
+  Model m;
+  m.name = "chain";
+  m.points = {fixed_point("anchor", {})};
+  for (int i = 1; i <= masses; ++i) {
+    m.points.push_back(mass_point("mass" + std::to_string(i), kMass_kg, {1.01 * spacing_m * i, 0.0, 0.0}));
+    m.links.push_back(spring_damper(i - 1, i, 1000.0, 0.0, spacing_m));
+  }
+  m.set_rate(kBridgeRate_hz);
+  return m;
+}
+
+// ---- errors, computed outside the timing ----
+
+std::size_t steps_in(double seconds, double rate_hz) { return static_cast<std::size_t>(std::lround(seconds * rate_hz)); }
+
+// x of point 1 at steps 0 .. steps
+std::vector<double> positions(const Model& m, std::size_t steps) {
+  physics::State s = physics::make_state(m);
+  std::vector<double> x{s.x[1].x};
+  for (std::size_t n = 0; n < steps; ++n) {
+    physics::step(m, s);
+    x.push_back(s.x[1].x);
+  }
+  return x;
+}
+
+// the vertex of the parabola through y[i-1], y[i], y[i+1] (y[i] at the ends or when flat)
+double refined_extremum(const std::vector<double>& y, std::size_t i) {
+  if (i == 0 || i + 1 >= y.size()) return y[i];
+  const double curvature = y[i + 1] - 2.0 * y[i] + y[i - 1];
+  const double slope = y[i + 1] - y[i - 1];
+  return curvature == 0.0 ? y[i] : y[i] - slope * slope / (8.0 * curvature);
+}
+
+// times of the sign changes of x, interpolated linearly between samples
+std::vector<double> zero_crossings(const std::vector<double>& x, double dt_s) {
+  std::vector<double> t_s;
+  for (std::size_t n = 0; n + 1 < x.size(); ++n) {
+    if ((x[n] > 0.0) != (x[n + 1] > 0.0)) t_s.push_back((static_cast<double>(n) + x[n] / (x[n] - x[n + 1])) * dt_s);
+  }
+  return t_s;
+}
+
+// the discrete angular frequency the recurrence x(n+1) = 2x(n) - x(n-1) - w^2 dt^2 x(n)
+// (explicit) or (M + K) x(n+1) = 2M x(n) - M x(n-1) (implicit) gives
+double predicted_omega(Integrator integrator, double dt_s) {
+  const double w_dt = kOmega_rad_per_s * dt_s;
+  return (integrator == Integrator::implicit_euler ? std::atan(w_dt) : 2.0 * std::asin(w_dt / 2.0)) / dt_s;
+}
+
+struct OscillatorErrors {
+  double global = 0.0;
+  double amplitude = 0.0;
+  double phase_rad = 0.0;
+  double freq_vs_predicted = 0.0;
+  double freq_warping = 0.0;
+};
+
+OscillatorErrors undamped_errors(Integrator integrator, double rate_hz) {
+  const Model m = oscillator(integrator, rate_hz, 0.0);
+  const std::size_t steps = steps_in(kHorizon_s, rate_hz);
+  const std::vector<double> x = positions(m, steps);
+  OscillatorErrors e;
+  // global error against A cos(w t)
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    const double exact = kAmplitude_m * std::cos(kOmega_rad_per_s * static_cast<double>(n) * m.dt_s);
+    e.global = std::max(e.global, std::abs(x[n] - exact) / kAmplitude_m);
+  }
+  // amplitude: the largest |x| over the last period
+  const std::size_t last_period = steps - steps_in(2.0 * std::numbers::pi / kOmega_rad_per_s, rate_hz);
+  std::size_t peak = last_period;
+  for (std::size_t n = last_period; n < x.size(); ++n) peak = std::abs(x[n]) > std::abs(x[peak]) ? n : peak;
+  e.amplitude = std::abs(std::abs(refined_extremum(x, peak)) - kAmplitude_m) / kAmplitude_m;
+  // phase at the last zero crossing, frequency from the first to the last
+  const std::vector<double> t = zero_crossings(x, m.dt_s);
+  const double crossings = static_cast<double>(t.size());
+  e.phase_rad = (crossings - 0.5) * std::numbers::pi - kOmega_rad_per_s * t.back();
+  const double measured = std::numbers::pi * (crossings - 1.0) / (t.back() - t.front());
+  const double predicted = predicted_omega(integrator, m.dt_s);
+  e.freq_vs_predicted = measured / predicted - 1.0;
+  e.freq_warping = predicted / kOmega_rad_per_s - 1.0;
+  return e;
+}
+
+double damped_error(Integrator integrator, double rate_hz) {
+  const Model m = oscillator(integrator, rate_hz, kZeta);
+  const std::vector<double> x = positions(m, steps_in(kHorizon_s, rate_hz));
+  const double root = std::sqrt(1.0 - kZeta * kZeta);
+  const double wd = kOmega_rad_per_s * root;
+  double error = 0.0;
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    const double t = static_cast<double>(n) * m.dt_s;
+    const double exact = kAmplitude_m * std::exp(-kZeta * kOmega_rad_per_s * t) * (std::cos(wd * t) + kZeta / root * std::sin(wd * t));
+    error = std::max(error, std::abs(x[n] - exact) / kAmplitude_m);
+  }
+  return error;
+}
+
+struct BounceErrors {
+  double peak_penetration = 0.0;  // relative, signed
+  double energy_drift = 0.0;      // relative, signed, at the last step
+  double energy_drift_max = 0.0;  // relative, largest |E - E0| / E0
+};
+
+// kinetic (state velocity) + gravity + contact potential of the bouncing mass
+double bounce_energy_j(const physics::State& s) {
+  const double depth_m = std::max(0.0, -s.x[0].z);
+  return 0.5 * kMass_kg * physics::dot(s.v[0], s.v[0]) + kMass_kg * kGravity_m_per_s2 * s.x[0].z +
+         0.5 * kContactStiffness_n_per_m * depth_m * depth_m;
+}
+
+BounceErrors bounce_errors(Integrator integrator, double rate_hz, long steps) {
+  const Model m = bounce(integrator, rate_hz);
+  physics::State s = physics::make_state(m);
+  const double e0 = bounce_energy_j(s);
+  BounceErrors r;
+  // heights kept until the first impact is over; energy followed over every step
+  std::vector<double> z{s.x[0].z};
+  bool impact_over = false;
+  for (long n = 0; n < steps; ++n) {
+    physics::step(m, s);
+    r.energy_drift = (bounce_energy_j(s) - e0) / e0;
+    r.energy_drift_max = std::max(r.energy_drift_max, std::abs(r.energy_drift));
+    if (impact_over) continue;
+    z.push_back(s.x[0].z);
+    impact_over = z.back() >= 0.0 && z[z.size() - 2] < 0.0;
+  }
+  // the first impact's deepest point against the elastic solution
+  const double static_m = kMass_kg * kGravity_m_per_s2 / kContactStiffness_n_per_m;
+  const double impact_speed2 = 2.0 * kGravity_m_per_s2 * kDropHeight_m;
+  const double exact_m = static_m + std::sqrt(static_m * static_m + kMass_kg * impact_speed2 / kContactStiffness_n_per_m);
+  const auto lowest = static_cast<std::size_t>(std::min_element(z.begin(), z.end()) - z.begin());
+  r.peak_penetration = -refined_extremum(z, lowest) / exact_m - 1.0;
+  return r;
+}
+
+// ---- the bridge: scene, hand motion ----
+
+// the scene as given, else relative to the source tree above the executable (build/nodes/enact/enact)
+std::string resolve_scene(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(path, ec) || fs::path(path).is_absolute()) return path;
+  const fs::path candidate = fs::read_symlink("/proc/self/exe", ec).parent_path() / "../../.." / path;
+  return !ec && fs::exists(candidate, ec) ? candidate.lexically_normal().string() : path;
+}
+
+Vec3 unit(const Vec3& v) { return v * (1.0 / physics::norm(v)); }
+
+// the path object the body explores: the task surface, else the first path
+const physics::Object& bridge_path(const Model& m) {
+  const int task = m.find_object(m.task_surface);
+  if (task >= 0 && m.objects[task].is_path && m.objects[task].path.centerline_m.size() >= 3) return m.objects[task];
+  for (const auto& o : m.objects) {
+    if (o.is_path && o.path.centerline_m.size() >= 3) return o;
+  }
+  throw std::runtime_error(m.source + ": the bridge benchmark needs a path object with a turn (3 points or more)");
+}
+
+// the hand resting 0.1 mm into the top inside the first turn, where the whole grid fits,
+// wobbling along both segments (2 and 3 Hz: one period of 1 s), sampled at the model's rate
+std::vector<Vec3> bridge_motion(const Model& m) {
+  const physics::PathGeometry& g = bridge_path(m).path;
+  const Vec3 along_first = unit(g.centerline_m[1] - g.centerline_m[0]);
+  const Vec3 along_second = unit(g.centerline_m[2] - g.centerline_m[1]);
+  Vec3 centre = g.centerline_m[1] + (along_second - along_first) * kWobble_m;
+  centre.z = g.top_z_m - kPressDepth_m;
+  std::vector<Vec3> motion(steps_in(1.0, m.rate_hz));
+  for (std::size_t n = 0; n < motion.size(); ++n) {
+    const double phase = 2.0 * std::numbers::pi * static_cast<double>(n) * m.dt_s;
+    motion[n] = centre + along_first * (kWobble_m * std::sin(2.0 * phase)) + along_second * (kWobble_m * std::sin(3.0 * phase));
+  }
+  return motion;
+}
+
+// the bridge at 44 kHz under CM1, the body starting 1 mm above the motion's first position
+Model bridge(const std::string& scene, const std::vector<Vec3>& start) {
+  Model m = physics::load_scene(resolve_scene(scene));
+  if (m.proxies.empty()) throw std::runtime_error(m.source + ": the bridge benchmark needs a body");
+  m.set_rate(kBridgeRate_hz);
+  haptics::apply(*haptics::preset("CM1", m.proxies[0].rows * m.proxies[0].cols), m);
+  if (!start.empty()) m.points[m.proxies[0].point].position_m = start.front() + Vec3{0.0, 0.0, 1e-3};
+  return m;
+}
+
+struct GridContacts {
+  double mean = 0.0;      // grid masses touching, mean over the motion
+  double all_share = 0.0; // share of steps with every grid mass touching
+  int masses = 0;
+};
+
+GridContacts grid_contacts(const Model& m, const std::vector<Vec3>& motion) {
+  physics::State s = physics::make_state(m);
+  const physics::Proxy& body = m.proxies[0];
+  GridContacts c{.masses = body.rows * body.cols};
+  for (const Vec3& p : motion) {
+    s.proxy_position_m[0] = p;
+    physics::step(m, s);
+    const auto first = s.in_contact.begin() + body.first_body;
+    const auto touching = std::count(first, first + c.masses, std::uint8_t{1});
+    c.mean += static_cast<double>(touching);
+    c.all_share += touching == c.masses ? 1.0 : 0.0;
+  }
+  c.mean /= static_cast<double>(motion.size());
+  c.all_share /= static_cast<double>(motion.size());
+  return c;
+}
+
+// ---- timing ----
+
+// the timed loop: one step per iteration. A motion drives proxy 0, its index wrapping every
+// `period` steps; with `restart` the state also returns to its initial conditions then
+// (by copy, no allocation), so a decaying oscillator never reaches denormal numbers
+void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion, std::size_t period, bool restart) {
+  const physics::State initial = physics::make_state(m);
+  physics::State s = initial;
+  std::size_t n = 0;
+  for (auto _ : timer) {
+    if (!motion.empty()) s.proxy_position_m[0] = motion[n];
+    physics::step(m, s);
+    if (++n < period) continue;
+    n = 0;
+    if (restart) s = initial;
+  }
+}
+
+// keeps the median wall-clock time of each benchmark (ns) and echoes it to stderr; nothing on stdout
+class MedianReporter : public benchmark::BenchmarkReporter {
+ public:
+  bool ReportContext(const Context&) override { return true; }
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      if (r.run_type != Run::RT_Aggregate || r.aggregate_name != "median") continue;
+      if (r.error_occurred) {
+        std::fprintf(stderr, "  %-28s failed: %s\n", r.run_name.function_name.c_str(), r.error_message.c_str());
+        continue;
+      }
+      medians_ns_[r.run_name.function_name] = r.GetAdjustedRealTime();
+      std::fprintf(stderr, "  %-28s %10.1f ns\n", r.run_name.function_name.c_str(), r.GetAdjustedRealTime());
+    }
+  }
+  double median_ns(const std::string& name) const {
+    const auto it = medians_ns_.find(name);
+    return it == medians_ns_.end() ? NAN : it->second;
+  }
+
+ private:
+  std::map<std::string, double> medians_ns_;
+};
+
+std::string oscillator_name(Integrator integrator, double rate_hz) {
+  return std::string("oscillator/") + physics::to_string(integrator) + "/" + std::to_string(std::lround(rate_hz));
+}
+
+std::string chain_name(int masses) { return "chain/" + std::to_string(masses); }
+
+void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& motion) {
+  for (Integrator integrator : kIntegrators) {
+    for (double rate_hz : kRates_hz) {
+      const Model m = oscillator(integrator, rate_hz, 0.0);
+      const std::size_t one_second = steps_in(1.0, rate_hz);
+      benchmark::RegisterBenchmark(oscillator_name(integrator, rate_hz).c_str(),
+                                   [m, one_second](benchmark::State& t) { step_loop(t, m, {}, one_second, true); });
+    }
+  }
+  benchmark::RegisterBenchmark("bridge", [&bridge_model, &motion](benchmark::State& t) { step_loop(t, bridge_model, motion, motion.size(), false); });
+  for (int masses : kChainMasses) {
+    const Model m = chain(masses);
+    benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
+  }
+}
+
+// Google Benchmark with synthetic flags: repetitions, aggregates only, minimum time each
+void run_benchmarks(const Settings& settings, MedianReporter& reporter) {
+  char min_time[32];
+  std::snprintf(min_time, sizeof min_time, "%g", settings.min_time_s);
+  std::vector<std::string> flags{"enact", "--benchmark_repetitions=" + std::to_string(settings.repetitions),
+                                 "--benchmark_report_aggregates_only=true", std::string("--benchmark_min_time=") + min_time};
+  std::vector<char*> argv;
+  for (std::string& f : flags) argv.push_back(f.data());
+  int argc = static_cast<int>(argv.size());
+  benchmark::Initialize(&argc, argv.data());
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::ClearRegisteredBenchmarks();
+  benchmark::Shutdown();
+}
+
+// ---- results ----
+
+struct Row {
+  Integrator integrator = Integrator::cordis;
+  double rate_hz = 0.0;
+  double ns_per_step = 0.0;
+  OscillatorErrors oscillator;
+  double damped_error = 0.0;
+  BounceErrors bounce;
+  double realtime_factor() const { return 1e9 / rate_hz / ns_per_step; }
+};
+
+struct ChainRow {
+  int masses = 0;
+  double ns_per_step = 0.0;
+  double ns_per_element() const { return ns_per_step / (2.0 * masses); }  // masses + links
+};
+
+struct Machine {
+  std::string arch;
+  std::string cpu = "unknown";
+  int cores = 0;
+};
+
+struct Results {
+  Machine machine;
+  Settings settings;
+  std::vector<Row> rows;
+  std::vector<ChainRow> chain;
+  double bridge_ns = 0.0;
+  GridContacts bridge_contacts;
+  double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
+};
+
+// `uname -m`, the CPU model from /proc/cpuinfo, `nproc`
+Machine machine() {
+  Machine m;
+  utsname u{};
+  if (uname(&u) == 0) m.arch = u.machine;
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    const auto colon = line.find(':');
+    if (line.rfind("model name", 0) == 0 && colon != std::string::npos) {
+      m.cpu = line.substr(line.find_first_not_of(" \t", colon + 1));
+      break;
+    }
+  }
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  m.cores = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
+  return m;
+}
+
+// observed order of the global error: slope of log(error) against log(rate), least squares
+double convergence_order(const std::vector<Row>& rows, Integrator integrator) {
+  double n = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (const Row& r : rows) {
+    if (r.integrator != integrator) continue;
+    const double lx = std::log(r.rate_hz), ly = std::log(r.oscillator.global);
+    n += 1.0;
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return -(n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+void print_table(const Results& r) {
+  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
+              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max");
+  for (const Row& w : r.rows) {
+    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e\n", physics::to_string(w.integrator),
+                w.rate_hz / 1e3, w.ns_per_step, w.realtime_factor(), w.oscillator.global, w.oscillator.amplitude,
+                w.oscillator.phase_rad, w.oscillator.freq_vs_predicted, w.damped_error, w.bounce.peak_penetration,
+                w.bounce.energy_drift, w.bounce.energy_drift_max);
+  }
+  std::printf("\nobserved order of the global error (1 to 44 kHz):");
+  for (Integrator integrator : kIntegrators) std::printf(" %s %.2f", physics::to_string(integrator), convergence_order(r.rows, integrator));
+  const GridContacts& c = r.bridge_contacts;
+  std::printf("\nbridge step  %.1f ns median at 44 kHz: %.2f %% of the 22.7 us period (target %.0f ns: %s); "
+              "%.1f of %d grid masses touching on average, all on %.0f %% of steps\n",
+              r.bridge_ns, 100.0 * r.bridge_share(), kBridgeTarget_ns, r.bridge_ns <= kBridgeTarget_ns ? "met" : "NOT met", c.mean,
+              c.masses, 100.0 * c.all_share);
+  for (const ChainRow& w : r.chain) {
+    std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
+  }
+  std::printf("machine      %s, %s, %d cores; times are wall-clock medians of %d repetitions (min %g s each)\n",
+              r.machine.arch.c_str(), r.machine.cpu.c_str(), r.machine.cores, r.settings.repetitions, r.settings.min_time_s);
+}
+
+void write_json(const Results& r, const std::string& path) {
+  Json j;
+  j.begin_object().key("machine").begin_object().field("arch", r.machine.arch).field("cpu", r.machine.cpu);
+  j.field("cores", r.machine.cores).end_object();
+  j.field("repetitions", r.settings.repetitions).field("min_time_s", r.settings.min_time_s);
+  j.field("bounce_steps", static_cast<long long>(r.settings.bounce_steps));
+  j.field("bridge_step_ns_median", r.bridge_ns).field("bridge_share_of_44khz_period", r.bridge_share());
+  j.field("bridge_grid_contacts_mean", r.bridge_contacts.mean).field("bridge_all_grid_contacts_share", r.bridge_contacts.all_share);
+  j.key("chain").begin_array();
+  for (const ChainRow& w : r.chain) {
+    j.begin_object().field("masses", w.masses).field("ns_per_step", w.ns_per_step).field("ns_per_element", w.ns_per_element()).end_object();
+  }
+  j.end_array().key("rows").begin_array();
+  for (const Row& w : r.rows) {
+    j.begin_object().field("integrator", physics::to_string(w.integrator)).field("rate_hz", w.rate_hz);
+    j.field("ns_per_step", w.ns_per_step).field("realtime_factor", w.realtime_factor()).field("error", w.oscillator.global);
+    j.field("amplitude_error", w.oscillator.amplitude).field("phase_error_rad", w.oscillator.phase_rad);
+    j.field("freq_error_vs_predicted", w.oscillator.freq_vs_predicted).field("freq_warping", w.oscillator.freq_warping);
+    j.field("damped_error", w.damped_error).field("bounce_peak_penetration_error", w.bounce.peak_penetration);
+    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max).end_object();
+  }
+  j.end_array().end_object();
+  std::ofstream out(path);
+  out << j.str() << "\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// the deterministic error part of every row
+std::vector<Row> error_rows(const Settings& settings) {
+  std::vector<Row> rows;
+  for (Integrator integrator : kIntegrators) {
+    std::fprintf(stderr, "enact bench: errors of %s\n", physics::to_string(integrator));
+    for (double rate_hz : kRates_hz) {
+      rows.push_back({.integrator = integrator,
+                      .rate_hz = rate_hz,
+                      .oscillator = undamped_errors(integrator, rate_hz),
+                      .damped_error = damped_error(integrator, rate_hz),
+                      .bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps)});
+    }
+  }
+  return rows;
+}
+
+Results run_physics(const Settings& settings, const std::string& scene) {
+  Results r;
+  r.machine = machine();
+  r.settings = settings;
+  r.rows = error_rows(settings);
+  // the bridge: motion at its rate, contacts counted outside the timing
+  const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
+  const Model bridge_model = bridge(scene, motion);
+  r.bridge_contacts = grid_contacts(bridge_model, motion);
+  std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
+               kIntegrators.size() * kRates_hz.size() + 1 + kChainMasses.size(), settings.repetitions);
+  MedianReporter reporter;
+  register_benchmarks(bridge_model, motion);
+  run_benchmarks(settings, reporter);
+  for (Row& w : r.rows) w.ns_per_step = reporter.median_ns(oscillator_name(w.integrator, w.rate_hz));
+  r.bridge_ns = reporter.median_ns("bridge");
+  for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});
+  return r;
+}
+
+}  // namespace
+
+int bench(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {"json", "scene"}, {"quick"});
+  if (a.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1 || a.positional[0] != "physics") {
+    throw UsageError(a.positional.empty() ? "give a benchmark: physics" : "unknown benchmark '" + a.positional[0] + "' (physics)");
+  }
+  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.02, .bounce_steps = 100000} : Settings{};
+  const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
+  print_table(r);
+  if (a.has("json")) write_json(r, a.get("json"));
+  return 0;
+}
+
 }  // namespace enact::cli

@@ -1,0 +1,196 @@
+#include "core/sim/offline.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/test_util.h"
+
+namespace enact::sim {
+namespace {
+
+SimParams bridge(const std::string& model = "CM1", double rate_hz = 0.0) {
+  SimParams p;
+  p.scene = test::source_path("launch/scenes/bridge.yaml");
+  p.model = model;
+  p.rate_hz = rate_hz;
+  return p;
+}
+
+// one step's output, kept from a run
+struct Row {
+  double force_n;
+  int contacts;
+  std::uint32_t pins;
+  bool on_top;
+};
+
+struct ScriptedRun {
+  RunSummary summary;
+  std::vector<Row> rows;
+};
+
+// the scripted path through the bridge, stepping by hand to keep every output
+ScriptedRun run_scripted(const std::string& model, double rate_hz = 0.0) {
+  Simulator sim;
+  sim.configure(bridge(model, rate_hz));
+  const Trajectory tr = scripted_path(sim);
+  ScriptedRun run;
+  sim.activate(0);
+  const double dt = sim.model().dt_s;
+  for (double t = 0.0; t <= tr.end_s(); t = static_cast<double>(run.rows.size()) * dt) {
+    const StepOutput& o = sim.step(std::llround(t * 1e9), tr.at(t));
+    run.rows.push_back({physics::norm(o.force_n), o.contacts, o.pins, o.on_top});
+  }
+  run.summary.metrics = sim.metrics();
+  return run;
+}
+
+TEST(ScriptedPath, OneFallCompletedForCM1) {
+  Simulator sim;
+  sim.configure(bridge("CM1"));
+  const RunSummary s = run_offline(sim, scripted_path(sim), nullptr);
+  EXPECT_EQ(s.metrics.falls, 1);
+  EXPECT_TRUE(s.metrics.completed);
+  EXPECT_GE(s.metrics.time_out_s, 1.5);
+  EXPECT_LE(s.metrics.time_out_s, 2.5);
+  EXPECT_GT(s.metrics.time_total_s, s.metrics.time_out_s);
+  EXPECT_NEAR(s.metrics.ratio, s.metrics.time_out_s / s.metrics.time_total_s, 1e-12);
+  EXPECT_EQ(s.faults, 0u);
+}
+
+// the step-by-step runs below see the same trial as run_offline
+TEST(ScriptedPath, ManualSteppingMatchesRunOffline) {
+  Simulator sim;
+  sim.configure(bridge("CM1"));
+  const task::Metrics offline = run_offline(sim, scripted_path(sim), nullptr).metrics;
+  const task::Metrics manual = run_scripted("CM1").summary.metrics;
+  EXPECT_EQ(manual.falls, offline.falls);
+  EXPECT_EQ(manual.completed, offline.completed);
+  EXPECT_DOUBLE_EQ(manual.time_out_s, offline.time_out_s);
+  EXPECT_DOUBLE_EQ(manual.time_total_s, offline.time_total_s);
+}
+
+TEST(ScriptedPath, CM1ForceIsNonzeroWhileOnTop) {
+  const ScriptedRun run = run_scripted("CM1");
+  int on_top = 0, zero_on_top = 0;
+  for (const Row& r : run.rows) {
+    on_top += r.on_top;
+    zero_on_top += r.on_top && r.force_n == 0.0;
+  }
+  EXPECT_GT(on_top, static_cast<int>(run.rows.size()) / 2);
+  EXPECT_EQ(zero_on_top, 0);
+}
+
+TEST(ScriptedPath, TGivesNoForceButPins) {
+  const ScriptedRun run = run_scripted("T");
+  int on_top = 0, pins_up = 0;
+  for (const Row& r : run.rows) {
+    EXPECT_EQ(r.force_n, 0.0);
+    on_top += r.on_top;
+    pins_up += r.pins != 0;
+  }
+  EXPECT_GT(on_top, 0);
+  EXPECT_GT(pins_up, 0);
+}
+
+TEST(ScriptedPath, CM2RaisesPinsWhileForceIsZero) {
+  // the path presses 0.1 mm, below CM2's 3 mm threshold: touch without force
+  const ScriptedRun run = run_scripted("CM2");
+  int pins_up = 0;
+  for (const Row& r : run.rows) {
+    EXPECT_EQ(r.force_n, 0.0);
+    if (r.pins == 0) continue;
+    ++pins_up;
+    EXPECT_GT(r.contacts, 0);
+  }
+  EXPECT_GT(pins_up, static_cast<int>(run.rows.size()) / 2);
+}
+
+TEST(ScriptedPath, NotOnTopWhenNoGridMassTouches) {
+  const ScriptedRun run = run_scripted("CM1");
+  int untouched = 0;
+  for (const Row& r : run.rows) {
+    if (r.contacts != 0) continue;
+    ++untouched;
+    EXPECT_FALSE(r.on_top);
+  }
+  EXPECT_GT(untouched, 0);  // the path does leave the top
+}
+
+std::string csv_of(const std::string& model, double rate_hz = 0.0) {
+  Simulator sim;
+  sim.configure(bridge(model, rate_hz));
+  std::ostringstream out;
+  run_offline(sim, scripted_path(sim), &out);
+  return out.str();
+}
+
+TEST(RunOffline, IsDeterministic) {
+  const std::string a = csv_of("CM1");
+  const std::string b = csv_of("CM1");
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == b);
+  EXPECT_NE(a, csv_of("CM3"));  // the output depends on the model: the comparison is not vacuous
+}
+
+TEST(RunOffline, CsvHasOneRowPerStep) {
+  Simulator sim;
+  sim.configure(bridge("CM1"));
+  std::ostringstream out;
+  const RunSummary s = run_offline(sim, scripted_path(sim), &out);
+  const std::string csv = out.str();
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "t_s,x_m,y_m,z_m,fx_n,fy_n,fz_n,contacts,pins,on_top,progress,fault");
+  std::int64_t lines = 0;
+  for (char c : csv) lines += c == '\n';
+  EXPECT_EQ(lines, s.steps + 1);
+}
+
+TEST(RunOffline, MetricsAreRateIndependent) {
+  const double rates[] = {1000.0, 5000.0, 20000.0};
+  std::vector<task::Metrics> m;
+  for (double rate : rates) {
+    Simulator sim;
+    sim.configure(bridge("CM1", rate));
+    m.push_back(run_offline(sim, scripted_path(sim), nullptr).metrics);
+  }
+  for (std::size_t i = 1; i < m.size(); ++i) {
+    SCOPED_TRACE(rates[i]);
+    EXPECT_EQ(m[i].falls, m[0].falls);
+    EXPECT_EQ(m[i].completed, m[0].completed);
+    EXPECT_NEAR(m[i].time_out_s, m[0].time_out_s, 0.002);
+    EXPECT_NEAR(m[i].time_total_s, m[0].time_total_s, 0.002);
+  }
+  EXPECT_EQ(m[0].falls, 1);
+}
+
+TEST(Trajectory, InterpolatesAndClamps) {
+  Trajectory tr;
+  tr.t_s = {1.0, 2.0};
+  tr.position_m = {{0, 0, 0}, {2, 4, 6}};
+  EXPECT_DOUBLE_EQ(tr.at(1.5).y, 2.0);
+  EXPECT_DOUBLE_EQ(tr.at(0.0).z, 0.0);
+  EXPECT_DOUBLE_EQ(tr.at(9.0).z, 6.0);
+}
+
+TEST(Trajectory, WriteThenLoadRoundTrips) {
+  Simulator sim;
+  sim.configure(bridge());
+  const Trajectory tr = scripted_path(sim);
+  const test::TempDir dir;
+  std::ostringstream out;
+  write_trajectory(tr, out);
+  test::write_file(dir.file("path.csv"), out.str());
+  const Trajectory back = load_trajectory(dir.file("path.csv"));
+  ASSERT_EQ(back.t_s.size(), tr.t_s.size());
+  for (std::size_t i = 0; i < tr.t_s.size(); ++i) {
+    EXPECT_NEAR(back.t_s[i], tr.t_s[i], 1e-9);
+    EXPECT_NEAR(back.position_m[i].x, tr.position_m[i].x, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace enact::sim

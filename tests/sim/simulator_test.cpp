@@ -1,0 +1,95 @@
+#include "core/sim/simulator.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "core/config/yaml.h"
+#include "tests/support/test_util.h"
+
+namespace enact::sim {
+namespace {
+
+SimParams bridge(const std::string& model = "CM1") {
+  SimParams p;
+  p.scene = test::source_path("launch/scenes/bridge.yaml");
+  p.model = model;
+  return p;
+}
+
+// a point pressed 1 mm into the middle of the first segment's top. The segment runs at 45
+// degrees and is 10 mm wide, so the grid's far-left (r0c0) and near-right (r3c3) corners,
+// 5.2 mm from its centreline, overhang: 14 grid masses touch.
+const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
+constexpr std::uint32_t kPressedPins = 0xffffu & ~((1u << 0) | (1u << 15));
+
+TEST(Simulator, StepBeforeActivateGivesZeroForce) {
+  Simulator sim;
+  EXPECT_EQ(sim.lifecycle(), Lifecycle::unconfigured);
+  EXPECT_EQ(sim.step(0, kPressed).force_n.z, 0.0);
+  sim.configure(bridge());
+  EXPECT_EQ(sim.lifecycle(), Lifecycle::inactive);
+  const StepOutput& out = sim.step(0, kPressed);
+  EXPECT_EQ(out.force_n.x, 0.0);
+  EXPECT_EQ(out.force_n.y, 0.0);
+  EXPECT_EQ(out.force_n.z, 0.0);
+  EXPECT_EQ(out.contacts, 0);
+  EXPECT_EQ(sim.state().steps, 0);  // nothing was stepped
+}
+
+TEST(Simulator, ActiveStepPushesUpAndDeactivateStopsIt) {
+  Simulator sim;
+  sim.configure(bridge());
+  sim.activate(0);
+  EXPECT_EQ(sim.lifecycle(), Lifecycle::active);
+  const StepOutput& out = sim.step(0, kPressed);
+  EXPECT_GT(out.force_n.z, 0.0);
+  EXPECT_EQ(out.contacts, 14);
+  EXPECT_EQ(out.pins, kPressedPins);
+  EXPECT_TRUE(out.on_top);
+  sim.deactivate();
+  EXPECT_EQ(sim.lifecycle(), Lifecycle::inactive);
+  EXPECT_EQ(sim.output().force_n.z, 0.0);
+  EXPECT_EQ(sim.step(200000, kPressed).force_n.z, 0.0);
+}
+
+TEST(Simulator, ActivateBeforeConfigureIsALogicError) {
+  Simulator sim;
+  EXPECT_THROW(sim.activate(0), std::logic_error);
+}
+
+TEST(Simulator, MissingSceneThrowsNamingTheFile) {
+  const test::TempDir dir;
+  SimParams p = bridge();
+  p.scene = dir.file("no-such-scene.yaml");
+  Simulator sim;
+  try {
+    sim.configure(p);
+    FAIL() << "configure accepted a missing scene";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(p.scene), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fix:"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sim.lifecycle(), Lifecycle::unconfigured);
+}
+
+TEST(Simulator, UnknownComputerModelThrows) {
+  Simulator sim;
+  EXPECT_THROW(sim.configure(bridge("CM7")), config::Error);
+}
+
+TEST(Simulator, SetComputerModelChangesTheForceBetweenSteps) {
+  Simulator sim;
+  sim.configure(bridge("CM1"));
+  sim.activate(0);
+  EXPECT_GT(sim.step(0, kPressed).force_n.z, 0.0);
+  sim.set_computer_model(*haptics::preset("T"));
+  const StepOutput& out = sim.step(200000, kPressed);
+  EXPECT_EQ(out.force_n.z, 0.0);
+  EXPECT_EQ(out.pins, kPressedPins);
+}
+
+}  // namespace
+}  // namespace enact::sim
