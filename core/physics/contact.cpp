@@ -1,6 +1,5 @@
 #include "core/physics/contact.h"
 
-#include <array>
 #include <limits>
 
 namespace enact::physics {
@@ -10,8 +9,8 @@ namespace {
 constexpr double kTolerance_m = 1e-9;
 // a face whose normal is within 120 degrees of the entry face's may push (not the opposite face)
 constexpr double kOppositeCos = -0.5;
-// faces considered at once: 6 for each of up to 8 boxes containing the point
-constexpr int kMaxCandidates = 48;
+// faces whose normals are this close to the entry face's continue it (coplanar tops of a union)
+constexpr double kParallelCos = 0.999;
 
 double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
@@ -70,45 +69,56 @@ bool crossed_face(const Model& model, const Object& object, const Vec3& x_prev, 
   return best_t < std::numeric_limits<double>::infinity();
 }
 
-struct Candidate {
-  double depth_m;
-  int box;
-  int face;
+// a face's candidacy: its depth, normal, and whether it is exposed (computed on demand)
+struct Best {
+  double depth_m = std::numeric_limits<double>::infinity();
+  Vec3 normal;
+  bool found() const { return depth_m < std::numeric_limits<double>::infinity(); }
+  void take(double depth_m_, const Vec3& normal_) {
+    depth_m = depth_m_;
+    normal = normal_;
+  }
 };
 
-// the shallowest exposed pushing face of the boxes containing x, not opposite `entry`
-// (entry zero: any face); false when x is in no box
-bool shallowest_face(const Model& model, const Object& object, const Vec3& x, const Vec3& entry, ContactState& contact) {
-  std::array<Candidate, kMaxCandidates> c;
-  int n = 0;
+// the face that pushes a point at x out of a union of boxes, given the normal of the face it
+// entered through (zero: none). It keeps pushing out through faces parallel to the entry face;
+// another face takes over only when the point is less than `skin_m` below it and shallower
+// (riding over an edge); the face opposite the entry face never pushes, and a face covered by
+// another box of the union only when nothing else is left. false when x is in no box.
+bool choose_face(const Model& model, const Object& object, const Vec3& x, const Vec3& entry, double skin_m,
+                 ContactState& contact) {
+  Best parallel, edge, any, covered;
   bool in_any = false;
-  for (int i = object.first_box; i < object.first_box + object.box_count && n + 6 <= kMaxCandidates; ++i) {
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
     const Box& box = model.boxes[i];
     const Vec3 local = to_local(box, x);
     if (!inside_local(box, local, 0.0)) continue;
     in_any = true;
     for (int face = 0; face < 6; ++face) {
-      if (!((box.faces >> face) & 1u) || dot(face_normal(box, face), entry) < kOppositeCos) continue;
-      c[n++] = {-face_distance(box, local, face), i, face};
+      if (!((box.faces >> face) & 1u)) continue;
+      const Vec3 normal = face_normal(box, face);
+      const double along = dot(normal, entry);
+      if (along < kOppositeCos) continue;
+      const double depth = -face_distance(box, local, face);
+      const bool is_parallel = along > kParallelCos;
+      const bool wins = (is_parallel && depth < parallel.depth_m) || (depth <= skin_m && depth < edge.depth_m) || depth < any.depth_m;
+      if (!wins) continue;
+      if (!((box.exposed >> face) & 1u) && !exposed(model, object, i, x + normal * depth)) {
+        if (depth < covered.depth_m) covered.take(depth, normal);
+        continue;
+      }
+      if (is_parallel && depth < parallel.depth_m) parallel.take(depth, normal);
+      if (depth <= skin_m && depth < edge.depth_m) edge.take(depth, normal);
+      if (depth < any.depth_m) any.take(depth, normal);
     }
   }
   if (!in_any) return false;
-  // shallowest first; a face covered by another box of the union is skipped
-  for (int tried = 0; tried < n; ++tried) {
-    int best = tried;
-    for (int j = tried + 1; j < n; ++j) best = c[j].depth_m < c[best].depth_m ? j : best;
-    std::swap(c[tried], c[best]);
-    const Box& box = model.boxes[c[tried].box];
-    const Vec3 normal = face_normal(box, c[tried].face);
-    const bool always = (box.exposed >> c[tried].face) & 1u;
-    if (!always && tried + 1 < n && !exposed(model, object, c[tried].box, x + normal * c[tried].depth_m)) continue;
-    contact.normal = normal;
-    contact.depth_m = c[tried].depth_m;
-    return true;
-  }
-  // inside, but every face is opposite the entry face: keep pushing back along the entry normal
-  contact.normal = entry;
-  contact.depth_m = 0.0;
+  const Best& chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge
+                       : parallel.found()                                                   ? parallel
+                       : any.found()                                                        ? any
+                                                                                            : covered;
+  contact.normal = chosen.found() ? chosen.normal : entry;
+  contact.depth_m = chosen.found() ? chosen.depth_m : 0.0;
   return true;
 }
 
@@ -138,9 +148,23 @@ bool boxes_may_overlap(const Box& a, const Box& b) {
 }  // namespace
 
 void Model::index_boxes() {
-  for (const Object& o : objects) {
+  for (Object& o : objects) {
+    if (o.type != ObjectType::boxes) continue;
+    o.bounded = true;
+    o.bounds_min_m = Vec3{1, 1, 1} * std::numeric_limits<double>::infinity();
+    o.bounds_max_m = -o.bounds_min_m;
     for (int i = o.first_box; i < o.first_box + o.box_count; ++i) {
       Box& box = boxes[i];
+      // world bounding box: centre -/+ the sum of |axis| * half extent
+      Vec3 reach;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 a = box.rotation.column(k);
+        reach += Vec3{std::abs(a.x), std::abs(a.y), std::abs(a.z)} * component(box.half_extents_m, k);
+      }
+      o.bounds_min_m = {std::min(o.bounds_min_m.x, box.center_m.x - reach.x), std::min(o.bounds_min_m.y, box.center_m.y - reach.y),
+                        std::min(o.bounds_min_m.z, box.center_m.z - reach.z)};
+      o.bounds_max_m = {std::max(o.bounds_max_m.x, box.center_m.x + reach.x), std::max(o.bounds_max_m.y, box.center_m.y + reach.y),
+                        std::max(o.bounds_max_m.z, box.center_m.z + reach.z)};
       box.exposed = 0;
       for (int face = 0; face < 6; ++face) {
         // exposed when every other box lies behind the face's plane
@@ -150,9 +174,9 @@ void Model::index_boxes() {
         for (int j = o.first_box; j < o.first_box + o.box_count; ++j) {
           if (j == i) continue;
           const Box& other = boxes[j];
-          double reach = dot(n, other.center_m);
-          for (int k = 0; k < 3; ++k) reach += std::abs(dot(n, other.rotation.column(k))) * component(other.half_extents_m, k);
-          behind = behind && reach <= plane + kTolerance_m;
+          double extent = dot(n, other.center_m);
+          for (int k = 0; k < 3; ++k) extent += std::abs(dot(n, other.rotation.column(k))) * component(other.half_extents_m, k);
+          behind = behind && extent <= plane + kTolerance_m;
         }
         if (behind) box.exposed |= static_cast<std::uint8_t>(1u << face);
       }
@@ -180,13 +204,18 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
 
 bool inside(const Model& model, const Object& object, const Vec3& x) {
   if (object.type == ObjectType::plane) return dot(object.plane_normal, x - object.plane_point_m) < 0.0;
+  if (object.bounded && (x.x < object.bounds_min_m.x || x.y < object.bounds_min_m.y || x.z < object.bounds_min_m.z ||
+                         x.x > object.bounds_max_m.x || x.y > object.bounds_max_m.y || x.z > object.bounds_max_m.z)) {
+    return false;
+  }
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
     if (inside_box(model.boxes[i], x, 0.0)) return true;
   }
   return false;
 }
 
-double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, ContactState& contact) {
+double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
+                      ContactState& contact) {
   if (object.type == ObjectType::plane) {
     contact.normal = contact.entry_normal = object.plane_normal;
     contact.depth_m = std::max(0.0, dot(object.plane_normal, object.plane_point_m - x));
@@ -197,12 +226,14 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
     if (!inside(model, object, x)) return 0.0;
     if (!crossed_face(model, object, x_prev, x, contact.entry_normal)) {
-      shallowest_face(model, object, x, Vec3{}, contact);
+      choose_face(model, object, x, Vec3{}, std::numeric_limits<double>::infinity(), contact);
       contact.entry_normal = contact.normal;
     }
   }
-  contact.active = shallowest_face(model, object, x, contact.entry_normal, contact) && contact.depth_m > 0.0;
-  if (!contact.active) contact.depth_m = 0.0;
+  contact.active = choose_face(model, object, x, contact.entry_normal, skin_m, contact) && contact.depth_m > 0.0;
+  // riding over an edge moves the contact to the new face
+  if (contact.active) contact.entry_normal = contact.normal;
+  else contact.depth_m = 0.0;
   return contact.depth_m;
 }
 

@@ -93,6 +93,9 @@ struct Object {
   int box_count = 0;
   bool is_path = false;      // boxes built from a path: `path` holds its centerline
   PathGeometry path;
+  bool bounded = false;      // boxes: bounds_*_m hold the union's world bounding box (index_boxes)
+  Vec3 bounds_min_m;
+  Vec3 bounds_max_m;
   int line = 0;
 };
 
@@ -102,6 +105,7 @@ struct ContactPair {
   int object = -1;
   double stiffness_n_per_m = 0.0;
   double damping_n_s_per_m = 0.0;
+  double edge_skin_m = 0.001;  // a point this close below another face rides over the edge onto it
   int line = 0;
 };
 
@@ -145,8 +149,8 @@ struct Model {
   void set_rate(double hz);
   int find_point(const std::string& name) const;   // -1 when absent
   int find_object(const std::string& name) const;  // -1 when absent
-  // precompute which box faces no other box of their union can cover (a speed-up only:
-  // without it every face is checked each step)
+  // precompute each union's bounding box and which box faces no other box of the union can
+  // cover (speed-ups only: without them every box and face is checked each step)
   void index_boxes();
 };
 

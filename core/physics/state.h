@@ -27,8 +27,8 @@ struct State {
   std::vector<Vec3> v;       // velocity (m/s)
   std::vector<Vec3> f;       // force accumulated this step (N)
   std::vector<std::uint8_t> in_contact;  // penetrating an object or a contact link (threshold ignored)
-  std::vector<double> k_diag;  // implicit integrator: stiffness acting on the point this step (N/m)
-  std::vector<double> z_diag;  // implicit integrator: damping acting on the point this step (N s/m)
+  std::vector<double> k_diag;  // implicit_euler: stiffness acting on the point this step (N/m)
+  std::vector<double> z_diag;  // implicit_euler: damping acting on the point this step (N s/m)
   // per contact pair
   std::vector<ContactState> contacts;
   // per proxy: input (device position) and output (force to send to the device)

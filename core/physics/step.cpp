@@ -10,7 +10,9 @@ namespace {
 // below this distance (m) a link with a rest length has no defined direction
 constexpr double kMinDirection_m = 1e-12;
 
-void add_stiffness(State& s, int i, double k, double z) {
+// the implicit integrator's per-point stiffness and damping (not needed by the explicit ones)
+void add_stiffness(const Model& m, State& s, int i, double k, double z) {
+  if (m.integrator != Integrator::implicit_euler) return;
   s.k_diag[i] += k;
   s.z_diag[i] += z;
 }
@@ -29,7 +31,7 @@ double nonlinear_force(const Link& l, double e, double& stiffness) {
 }
 
 // force on point a of a link (b gets the opposite); positive tension pulls a towards b
-void link_force(const Link& l, State& s) {
+void link_force(const Model& m, const Link& l, State& s) {
   const Vec3 d = s.x[l.b] - s.x[l.a];
   const Vec3 dv = s.v[l.b] - s.v[l.a];
   const double dist = norm(d);
@@ -75,14 +77,14 @@ void link_force(const Link& l, State& s) {
   }
   s.f[l.a] += force;
   s.f[l.b] -= force;
-  add_stiffness(s, l.a, k, z);
-  add_stiffness(s, l.b, k, z);
+  add_stiffness(m, s, l.a, k, z);
+  add_stiffness(m, s, l.b, k, z);
 }
 
 // unilateral visco-elastic contact of a point against a rigid object
 void contact_force(const Model& m, const ContactPair& c, State& s) {
   ContactState& cs = s.contacts[&c - m.contacts.data()];
-  const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], cs);
+  const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs);
   if (depth <= 0.0) return;
   s.in_contact[c.point] = 1;
   const double felt = depth - m.points[c.point].contact_threshold_m;
@@ -90,7 +92,7 @@ void contact_force(const Model& m, const ContactPair& c, State& s) {
   // push only: damping may slow the separation but never pulls the point in
   const double push = std::max(0.0, c.stiffness_n_per_m * felt - c.damping_n_s_per_m * dot(s.v[c.point], cs.normal));
   s.f[c.point] += cs.normal * push;
-  add_stiffness(s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
+  add_stiffness(m, s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
 }
 
 void integrate(const Model& m, State& s) {
@@ -149,12 +151,14 @@ void set_initial(const Model& m, State& s) {
 void accumulate_forces(const Model& m, State& s) {
   std::fill(s.f.begin(), s.f.end(), Vec3{});
   std::fill(s.in_contact.begin(), s.in_contact.end(), std::uint8_t{0});
-  std::fill(s.k_diag.begin(), s.k_diag.end(), 0.0);
-  std::fill(s.z_diag.begin(), s.z_diag.end(), 0.0);
+  if (m.integrator == Integrator::implicit_euler) {
+    std::fill(s.k_diag.begin(), s.k_diag.end(), 0.0);
+    std::fill(s.z_diag.begin(), s.z_diag.end(), 0.0);
+  }
   for (std::size_t i = 0; i < m.points.size(); ++i) {
     if (m.points[i].kind == PointKind::dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
   }
-  for (const Link& l : m.links) link_force(l, s);
+  for (const Link& l : m.links) link_force(m, l, s);
   for (const ContactPair& c : m.contacts) contact_force(m, c, s);
 }
 

@@ -90,7 +90,7 @@ Trajectory scripted_path(const Simulator& sim) {
   const task::Polyline& path = sim.path();
   const double length = path.length_m();
   const double top = surface.path.top_z_m;
-  const double press = 0.0001;                 // pressed 0.1 mm into the top
+  const double press = 0.00005;                // pressed 0.05 mm into the top
   const double speed = 0.010;                  // 10 mm/s along the path
   const physics::Proxy& body = sim.model().proxies[0];
   const double body_half = body.pitch_m * std::hypot(body.rows - 1, body.cols - 1) / 2.0;  // any orientation

@@ -25,7 +25,7 @@ Trajectory load_trajectory(const std::string& path);
 void write_trajectory(const Trajectory& trajectory, std::ostream& out);
 
 // a scripted hand along the task path of the scene (README, "The scripted path"): it presses
-// 0.1 mm into the top, wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
+// 0.05 mm into the top, wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
 // about 2 s (a fall), climbs back, and reaches the end
 Trajectory scripted_path(const Simulator& simulator);
 

@@ -36,11 +36,11 @@ Speed against error of the three integrators (cordis, symplectic_euler, implicit
 at 1, 2, 5, 10, 20 and 44 kHz, the cost of one bridge step, and how a chain scales.
 About a minute (--quick: about 15 s); progress goes to stderr, the table to stdout.
 
-timing (Google Benchmark; medians of 5 repetitions of at least 0.05 s, wall-clock):
+timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock):
   oscillator  one step of a mass on a spring to a fixed point: ns per step and the
               real-time factor, period / ns per step (state restarted every 1 s simulated)
   bridge      one step of SCENE at 44 kHz with computer model CM1, the body resting
-              0.1 mm into the top near the first turn and wobbling +-2.5 mm (2 and 3 Hz);
+              0.1 mm into the top near the first turn and wobbling +-1.2 mm (2 and 3 Hz);
               share of the 22.7 us period (target: 227 ns, 1 %)
   chain       N = 10, 100, 1000 masses in a line of springs, one end fixed (cordis):
               ns per step and per element (mass + link)
@@ -64,7 +64,7 @@ errors (deterministic, no damping added):
 
 options:
   --json FILE   also write the results as JSON (plot: scripts/plot_bench.py FILE)
-  --quick       3 repetitions of at least 0.02 s, 10^5 bounce steps
+  --quick       3 repetitions of at least 0.05 s, 10^5 bounce steps
   --scene PATH  bridge scene (default launch/scenes/bridge.yaml, from the current
                 directory, else from the source tree above the executable)
 )";
@@ -87,11 +87,13 @@ constexpr double kContactStiffness_n_per_m = 2000.0;
 constexpr double kBridgeRate_hz = 44000.0;
 constexpr double kBridgeTarget_ns = 227.0;
 constexpr double kPressDepth_m = 1e-4;
-constexpr double kWobble_m = 2.5e-3;
+constexpr double kPastTurn_m = 1.5e-3;     // along the second segment
+constexpr double kBeforeTurn_m = 2.5e-3;   // back along the first
+constexpr double kWobble_m = 1.2e-3;
 
 struct Settings {
   int repetitions = 5;
-  double min_time_s = 0.05;
+  double min_time_s = 0.2;
   long bounce_steps = 1000000;
 };
 
@@ -319,7 +321,7 @@ std::vector<Vec3> bridge_motion(const Model& m) {
   const physics::PathGeometry& g = bridge_path(m).path;
   const Vec3 along_first = unit(g.centerline_m[1] - g.centerline_m[0]);
   const Vec3 along_second = unit(g.centerline_m[2] - g.centerline_m[1]);
-  Vec3 centre = g.centerline_m[1] + (along_second - along_first) * kWobble_m;
+  Vec3 centre = g.centerline_m[1] + along_second * kPastTurn_m - along_first * kBeforeTurn_m;
   centre.z = g.top_z_m - kPressDepth_m;
   std::vector<Vec3> motion(steps_in(1.0, m.rate_hz));
   for (std::size_t n = 0; n < motion.size(); ++n) {
@@ -388,11 +390,11 @@ class MedianReporter : public benchmark::BenchmarkReporter {
     for (const Run& r : runs) {
       if (r.run_type != Run::RT_Aggregate || r.aggregate_name != "median") continue;
       if (r.error_occurred) {
-        std::fprintf(stderr, "  %-28s failed: %s\n", r.run_name.function_name.c_str(), r.error_message.c_str());
+        std::fprintf(stderr, "  %-34s failed: %s\n", r.run_name.function_name.c_str(), r.error_message.c_str());
         continue;
       }
       medians_ns_[r.run_name.function_name] = r.GetAdjustedRealTime();
-      std::fprintf(stderr, "  %-28s %10.1f ns\n", r.run_name.function_name.c_str(), r.GetAdjustedRealTime());
+      std::fprintf(stderr, "  %-34s %10.1f ns\n", r.run_name.function_name.c_str(), r.GetAdjustedRealTime());
     }
   }
   double median_ns(const std::string& name) const {
@@ -606,7 +608,7 @@ int bench(int argc, char** argv) {
   if (a.positional.size() != 1 || a.positional[0] != "physics") {
     throw UsageError(a.positional.empty() ? "give a benchmark: physics" : "unknown benchmark '" + a.positional[0] + "' (physics)");
   }
-  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.02, .bounce_steps = 100000} : Settings{};
+  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000} : Settings{};
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
   print_table(r);
   if (a.has("json")) write_json(r, a.get("json"));

@@ -38,7 +38,7 @@ options:
 constexpr const char* kPathHelp = R"(usage: enact path SCENE [-o OUT.csv]
 
 Write the built-in scripted hand path of a scene with a task path (the bridge): pressed
-0.1 mm into the top at 10 mm/s with a small lateral wobble, one slide off the edge for
+0.05 mm into the top at 10 mm/s with a small lateral wobble, one slide off the edge for
 under 1 s (not a fall) and one for about 2 s (a fall), then on to the end. Columns
 t_s,x_m,y_m,z_m at 100 Hz; edit it and pass it to `enact simulate --input`.
 )";
