@@ -11,115 +11,200 @@ constexpr double kTolerance_m = 1e-9;
 constexpr double kOppositeCos = -0.5;
 // faces whose normals are this close to the entry face's continue it (coplanar tops of a union)
 constexpr double kParallelCos = 0.999;
+// the near-box cache of a contact holds while the point stays this close to where it was made
+constexpr double kNearMargin_m = 0.002;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+double sign_of(int face) { return face % 2 == 0 ? 1.0 : -1.0; }
+Vec3 face_normal(const Box& box, int face) { return box.rotation.column(face / 2) * sign_of(face); }
 
-// signed distance from a point in box coordinates to the plane of face 0..5 (+x, -x, +y, -y, +z, -z):
-// positive outside
-double face_distance(const Box& box, const Vec3& local, int face) {
-  const int axis = face / 2;
-  const double sign = face % 2 == 0 ? 1.0 : -1.0;
-  return sign * component(local, axis) - component(box.half_extents_m, axis);
+// x in box coordinates, one axis at a time (most boxes are rejected after one or two dot
+// products); false when x is not inside the box grown by margin_m
+bool local_coordinates(const Box& box, const Vec3& x, double local[3], double margin_m = 0.0) {
+  const Vec3 d = x - box.center_m;
+  local[1] = dot(box.rotation.c1, d);
+  if (std::abs(local[1]) >= box.half_extents_m.y + margin_m) return false;
+  local[0] = dot(box.rotation.c0, d);
+  if (std::abs(local[0]) >= box.half_extents_m.x + margin_m) return false;
+  local[2] = dot(box.rotation.c2, d);
+  return std::abs(local[2]) < box.half_extents_m.z + margin_m;
 }
 
-Vec3 face_normal(const Box& box, int face) { return box.rotation.column(face / 2) * (face % 2 == 0 ? 1.0 : -1.0); }
-
-Vec3 to_local(const Box& box, const Vec3& x) { return box.rotation.transpose_times(x - box.center_m); }
-
-bool inside_local(const Box& box, const Vec3& p, double margin_m) {
-  const Vec3& h = box.half_extents_m;
-  return std::abs(p.x) < h.x - margin_m && std::abs(p.y) < h.y - margin_m && std::abs(p.z) < h.z - margin_m;
+bool inside_box(const Box& box, const Vec3& x, double margin_m) {
+  double local[3];
+  return local_coordinates(box, x, local, margin_m);
 }
 
-bool inside_box(const Box& box, const Vec3& x, double margin_m) { return inside_local(box, to_local(box, x), margin_m); }
+// depth of a point (box coordinates) below face 0..5 (+x, -x, +y, -y, +z, -z): positive inside
+double depth_below(const Box& box, const double local[3], int face) {
+  return component(box.half_extents_m, face / 2) - sign_of(face) * local[face / 2];
+}
+
+// the boxes of `object` selected by `mask`, as indices into Model::boxes (objects of more
+// than 64 boxes are not cached: all of them)
+bool selected(const Object& object, std::uint64_t mask, int box) {
+  const int k = box - object.first_box;
+  return k >= 64 || ((mask >> k) & 1u);
+}
+constexpr std::uint64_t kAllBoxes = ~std::uint64_t{0};
 
 // a point on a face is exposed unless another box of the same union covers it
 bool exposed(const Model& model, const Object& object, int face_box, const Vec3& x) {
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-    if (i != face_box && inside_box(model.boxes[i], x, kTolerance_m)) return false;
+    if (i != face_box && inside_box(model.boxes[i], x, -kTolerance_m)) return false;
   }
   return true;
 }
 
 // the exposed face the segment x_prev -> x crossed first, among the boxes containing x
-bool crossed_face(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, Vec3& normal) {
-  double best_t = std::numeric_limits<double>::infinity();
+bool crossed_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x_prev, const Vec3& x,
+                  Vec3& normal) {
+  double best_t = kInfinity;
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
     const Box& box = model.boxes[i];
-    const Vec3 now = to_local(box, x);
-    if (!inside_local(box, now, 0.0)) continue;
-    const Vec3 before = to_local(box, x_prev);
+    double now[3];
+    if (!selected(object, near, i) || !local_coordinates(box, x, now)) continue;
+    const Vec3 b = box.rotation.transpose_times(x_prev - box.center_m);
+    const double before[3] = {b.x, b.y, b.z};
     for (int face = 0; face < 6; ++face) {
-      const double d_before = face_distance(box, before, face);
-      const double d_now = face_distance(box, now, face);
+      const double d_before = -depth_below(box, before, face);
+      const double d_now = -depth_below(box, now, face);
       if (d_before < 0.0 || d_now >= 0.0) continue;
       const double t = d_before / (d_before - d_now);
       if (t >= best_t) continue;
       // the crossing point must lie on the face rectangle and on the union's surface
-      const Vec3 hit = before + (now - before) * t;
+      double hit[3];
       bool on_face = true;
-      for (int other = 0; other < 3; ++other) {
-        on_face = on_face && (other == face / 2 || std::abs(component(hit, other)) <= component(box.half_extents_m, other) + kTolerance_m);
+      for (int axis = 0; axis < 3; ++axis) {
+        hit[axis] = before[axis] + (now[axis] - before[axis]) * t;
+        on_face = on_face && (axis == face / 2 || std::abs(hit[axis]) <= component(box.half_extents_m, axis) + kTolerance_m);
       }
-      if (!on_face || !exposed(model, object, i, box.rotation * hit + box.center_m)) continue;
+      if (!on_face || !exposed(model, object, i, box.rotation * Vec3{hit[0], hit[1], hit[2]} + box.center_m)) continue;
       best_t = t;
       normal = face_normal(box, face);
     }
   }
-  return best_t < std::numeric_limits<double>::infinity();
+  return best_t < kInfinity;
 }
 
-// a face's candidacy: its depth, normal, and whether it is exposed (computed on demand)
-struct Best {
-  double depth_m = std::numeric_limits<double>::infinity();
-  Vec3 normal;
-  bool found() const { return depth_m < std::numeric_limits<double>::infinity(); }
-  void take(double depth_m_, const Vec3& normal_) {
-    depth_m = depth_m_;
-    normal = normal_;
-  }
+// the best face found so far in a category
+struct Pick {
+  double depth_m = kInfinity;
+  int box = -1;
+  int face = -1;
+  bool found() const { return box >= 0; }
 };
+
+// over the boxes containing x: the shallowest face within `skin_m` (edge) and the shallowest
+// face parallel to `entry` (parallel), never the face opposite `entry`; covered faces are
+// skipped when `exposed_only`. false when x is in no box.
+bool pick_faces(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
+                double skin_m, bool exposed_only, Pick& edge, Pick& parallel) {
+  bool in_any = false;
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+    const Box& box = model.boxes[i];
+    double local[3];
+    if (!selected(object, near, i) || !local_coordinates(box, x, local)) continue;
+    in_any = true;
+    const Vec3 e = box.rotation.transpose_times(entry);  // the entry normal in box axes
+    for (int face = 0; face < 6; ++face) {
+      const double along = sign_of(face) * component(e, face / 2);
+      if (!((box.faces >> face) & 1u) || along < kOppositeCos) continue;
+      const double depth = depth_below(box, local, face);
+      const bool to_edge = depth <= skin_m && depth < edge.depth_m;
+      const bool to_parallel = along > kParallelCos && depth < parallel.depth_m;
+      if (!to_edge && !to_parallel) continue;
+      if (exposed_only && !((box.exposed >> face) & 1u) && !exposed(model, object, i, x + face_normal(box, face) * depth)) continue;
+      if (to_edge) edge = {depth, i, face};
+      if (to_parallel) parallel = {depth, i, face};
+    }
+  }
+  return in_any;
+}
 
 // the face that pushes a point at x out of a union of boxes, given the normal of the face it
 // entered through (zero: none). It keeps pushing out through faces parallel to the entry face;
 // another face takes over only when the point is less than `skin_m` below it and shallower
 // (riding over an edge); the face opposite the entry face never pushes, and a face covered by
 // another box of the union only when nothing else is left. false when x is in no box.
-bool choose_face(const Model& model, const Object& object, const Vec3& x, const Vec3& entry, double skin_m,
-                 ContactState& contact) {
-  Best parallel, edge, any, covered;
-  bool in_any = false;
-  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-    const Box& box = model.boxes[i];
-    const Vec3 local = to_local(box, x);
-    if (!inside_local(box, local, 0.0)) continue;
-    in_any = true;
-    for (int face = 0; face < 6; ++face) {
-      if (!((box.faces >> face) & 1u)) continue;
-      const Vec3 normal = face_normal(box, face);
-      const double along = dot(normal, entry);
-      if (along < kOppositeCos) continue;
-      const double depth = -face_distance(box, local, face);
-      const bool is_parallel = along > kParallelCos;
-      const bool wins = (is_parallel && depth < parallel.depth_m) || (depth <= skin_m && depth < edge.depth_m) || depth < any.depth_m;
-      if (!wins) continue;
-      if (!((box.exposed >> face) & 1u) && !exposed(model, object, i, x + normal * depth)) {
-        if (depth < covered.depth_m) covered.take(depth, normal);
-        continue;
-      }
-      if (is_parallel && depth < parallel.depth_m) parallel.take(depth, normal);
-      if (depth <= skin_m && depth < edge.depth_m) edge.take(depth, normal);
-      if (depth < any.depth_m) any.take(depth, normal);
-    }
-  }
-  if (!in_any) return false;
-  const Best& chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge
-                       : parallel.found()                                                   ? parallel
-                       : any.found()                                                        ? any
-                                                                                            : covered;
-  contact.normal = chosen.found() ? chosen.normal : entry;
+bool choose_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
+                 double skin_m, ContactState& contact) {
+  Pick edge, parallel;
+  if (!pick_faces(model, object, near, x, entry, skin_m, true, edge, parallel)) return false;
+  Pick chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge : parallel;
+  // rarely: no face continues the entry face; then the shallowest exposed face, else any face
+  Pick unused;
+  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, true, chosen, unused);
+  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, false, chosen, unused);
+  contact.normal = chosen.found() ? face_normal(model.boxes[chosen.box], chosen.face) : entry;
   contact.depth_m = chosen.found() ? chosen.depth_m : 0.0;
+  contact.box = chosen.box;
+  contact.face = chosen.face;
   return true;
+}
+
+// would a face of `box` (containing the point at `local`) take over from a face `own_m` deep
+// with outward normal `normal`? choose_face's rule: within the skin or parallel, shallower,
+// never the opposite face
+bool competes(const Box& box, const double local[3], const Vec3& normal, double own_m, double skin_m) {
+  const Vec3 e = box.rotation.transpose_times(normal);
+  for (int face = 0; face < 6; ++face) {
+    const double along = sign_of(face) * component(e, face / 2);
+    const double depth = depth_below(box, local, face);
+    if (((box.faces >> face) & 1u) && along >= kOppositeCos && (depth <= skin_m || along > kParallelCos) && depth < own_m) return true;
+  }
+  return false;
+}
+
+// the common case in a few dot products: the point is still inside the box of the face that
+// pushed it last step, that face is always exposed, and no face of any box containing the
+// point would take over; then that face still pushes (choose_face would pick it). false:
+// take the general path.
+bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m,
+               ContactState& contact) {
+  const Box& own_box = model.boxes[contact.box];
+  if (!((own_box.exposed >> contact.face) & 1u)) return false;
+  // depths below the six faces of the own box, straight from its axes
+  const Vec3 d = x - own_box.center_m;
+  const double lx = dot(own_box.rotation.c0, d), ly = dot(own_box.rotation.c1, d), lz = dot(own_box.rotation.c2, d);
+  const Vec3& h = own_box.half_extents_m;
+  const double depth[6] = {h.x - lx, h.x + lx, h.y - ly, h.y + ly, h.z - lz, h.z + lz};
+  const double own = depth[contact.face];
+  const int own_axis = contact.face / 2;
+  // in its own box the other faces are perpendicular or opposite: they take over only within the skin
+  for (int face = 0; face < 6; ++face) {
+    if (depth[face] <= 0.0) return false;  // left the box
+    if (face / 2 != own_axis && ((own_box.faces >> face) & 1u) && depth[face] <= skin_m && depth[face] < own) return false;
+  }
+  double local[3];
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+    if (i == contact.box || !selected(object, near, i) || !local_coordinates(model.boxes[i], x, local)) continue;
+    if (competes(model.boxes[i], local, contact.normal, own, skin_m)) return false;
+  }
+  contact.depth_m = own;
+  return true;
+}
+
+// the boxes the point can be inside: cached per contact, refreshed when it moved too far
+std::uint64_t near_boxes(const Model& model, const Object& object, const Vec3& x, ContactState& contact) {
+  if (object.box_count > 64) return kAllBoxes;
+  const Vec3 moved = x - contact.near_at_m;
+  if (contact.near_valid && dot(moved, moved) < kNearMargin_m * kNearMargin_m) return contact.near_boxes;
+  contact.near_boxes = 0;
+  for (int k = 0; k < object.box_count; ++k) {
+    if (inside_box(model.boxes[object.first_box + k], x, kNearMargin_m)) contact.near_boxes |= std::uint64_t{1} << k;
+  }
+  contact.near_at_m = x;
+  contact.near_valid = true;
+  return contact.near_boxes;
+}
+
+bool inside_near(const Model& model, const Object& object, std::uint64_t near, const Vec3& x) {
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+    if (selected(object, near, i) && inside_box(model.boxes[i], x, 0.0)) return true;
+  }
+  return false;
 }
 
 // a box strictly below a plane somewhere (some corner under the surface)
@@ -132,15 +217,17 @@ bool box_under_plane(const Box& box, const Object& plane) {
   return false;
 }
 
-// separating-axis test restricted to world axes on the boxes' bounding boxes: conservative
+// how far a box reaches along a unit direction from the origin
+double reach_along(const Box& box, const Vec3& n) {
+  double r = dot(n, box.center_m);
+  for (int k = 0; k < 3; ++k) r += std::abs(dot(n, box.rotation.column(k))) * component(box.half_extents_m, k);
+  return r;
+}
+
+// separating-axis test on the world axes only: conservative (may say yes for disjoint boxes)
 bool boxes_may_overlap(const Box& a, const Box& b) {
-  for (int axis = 0; axis < 3; ++axis) {
-    double ra = 0.0, rb = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      ra += std::abs(component(a.rotation.column(k), axis)) * component(a.half_extents_m, k);
-      rb += std::abs(component(b.rotation.column(k), axis)) * component(b.half_extents_m, k);
-    }
-    if (std::abs(component(a.center_m, axis) - component(b.center_m, axis)) >= ra + rb - kTolerance_m) return false;
+  for (const Vec3& n : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}) {
+    if (reach_along(a, n) <= -reach_along(b, -n) + kTolerance_m || reach_along(b, n) <= -reach_along(a, -n) + kTolerance_m) return false;
   }
   return true;
 }
@@ -148,23 +235,9 @@ bool boxes_may_overlap(const Box& a, const Box& b) {
 }  // namespace
 
 void Model::index_boxes() {
-  for (Object& o : objects) {
-    if (o.type != ObjectType::boxes) continue;
-    o.bounded = true;
-    o.bounds_min_m = Vec3{1, 1, 1} * std::numeric_limits<double>::infinity();
-    o.bounds_max_m = -o.bounds_min_m;
+  for (const Object& o : objects) {
     for (int i = o.first_box; i < o.first_box + o.box_count; ++i) {
       Box& box = boxes[i];
-      // world bounding box: centre -/+ the sum of |axis| * half extent
-      Vec3 reach;
-      for (int k = 0; k < 3; ++k) {
-        const Vec3 a = box.rotation.column(k);
-        reach += Vec3{std::abs(a.x), std::abs(a.y), std::abs(a.z)} * component(box.half_extents_m, k);
-      }
-      o.bounds_min_m = {std::min(o.bounds_min_m.x, box.center_m.x - reach.x), std::min(o.bounds_min_m.y, box.center_m.y - reach.y),
-                        std::min(o.bounds_min_m.z, box.center_m.z - reach.z)};
-      o.bounds_max_m = {std::max(o.bounds_max_m.x, box.center_m.x + reach.x), std::max(o.bounds_max_m.y, box.center_m.y + reach.y),
-                        std::max(o.bounds_max_m.z, box.center_m.z + reach.z)};
       box.exposed = 0;
       for (int face = 0; face < 6; ++face) {
         // exposed when every other box lies behind the face's plane
@@ -172,11 +245,7 @@ void Model::index_boxes() {
         const double plane = dot(n, box.center_m) + component(box.half_extents_m, face / 2);
         bool behind = true;
         for (int j = o.first_box; j < o.first_box + o.box_count; ++j) {
-          if (j == i) continue;
-          const Box& other = boxes[j];
-          double extent = dot(n, other.center_m);
-          for (int k = 0; k < 3; ++k) extent += std::abs(dot(n, other.rotation.column(k))) * component(other.half_extents_m, k);
-          behind = behind && extent <= plane + kTolerance_m;
+          behind = behind && (j == i || reach_along(boxes[j], n) <= plane + kTolerance_m);
         }
         if (behind) box.exposed |= static_cast<std::uint8_t>(1u << face);
       }
@@ -204,33 +273,29 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
 
 bool inside(const Model& model, const Object& object, const Vec3& x) {
   if (object.type == ObjectType::plane) return dot(object.plane_normal, x - object.plane_point_m) < 0.0;
-  if (object.bounded && (x.x < object.bounds_min_m.x || x.y < object.bounds_min_m.y || x.z < object.bounds_min_m.z ||
-                         x.x > object.bounds_max_m.x || x.y > object.bounds_max_m.y || x.z > object.bounds_max_m.z)) {
-    return false;
-  }
-  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-    if (inside_box(model.boxes[i], x, 0.0)) return true;
-  }
-  return false;
+  return inside_near(model, object, kAllBoxes, x);
 }
 
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
                       ContactState& contact) {
   if (object.type == ObjectType::plane) {
-    contact.normal = contact.entry_normal = object.plane_normal;
-    contact.depth_m = std::max(0.0, dot(object.plane_normal, object.plane_point_m - x));
-    contact.active = contact.depth_m > 0.0;
+    const double depth = dot(object.plane_normal, object.plane_point_m - x);
+    contact.active = depth > 0.0;
+    contact.depth_m = contact.active ? depth : 0.0;
+    if (contact.active) contact.normal = contact.entry_normal = object.plane_normal;
     return contact.depth_m;
   }
+  const std::uint64_t near = near_boxes(model, object, x, contact);
+  if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, contact)) return contact.depth_m;
   if (!contact.active) {
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
-    if (!inside(model, object, x)) return 0.0;
-    if (!crossed_face(model, object, x_prev, x, contact.entry_normal)) {
-      choose_face(model, object, x, Vec3{}, std::numeric_limits<double>::infinity(), contact);
+    if (!inside_near(model, object, near, x)) return 0.0;
+    if (!crossed_face(model, object, near, x_prev, x, contact.entry_normal)) {
+      choose_face(model, object, near, x, Vec3{}, kInfinity, contact);
       contact.entry_normal = contact.normal;
     }
   }
-  contact.active = choose_face(model, object, x, contact.entry_normal, skin_m, contact) && contact.depth_m > 0.0;
+  contact.active = choose_face(model, object, near, x, contact.entry_normal, skin_m, contact) && contact.depth_m > 0.0;
   // riding over an edge moves the contact to the new face
   if (contact.active) contact.entry_normal = contact.normal;
   else contact.depth_m = 0.0;

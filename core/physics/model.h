@@ -93,9 +93,6 @@ struct Object {
   int box_count = 0;
   bool is_path = false;      // boxes built from a path: `path` holds its centerline
   PathGeometry path;
-  bool bounded = false;      // boxes: bounds_*_m hold the union's world bounding box (index_boxes)
-  Vec3 bounds_min_m;
-  Vec3 bounds_max_m;
   int line = 0;
 };
 
@@ -149,8 +146,8 @@ struct Model {
   void set_rate(double hz);
   int find_point(const std::string& name) const;   // -1 when absent
   int find_object(const std::string& name) const;  // -1 when absent
-  // precompute each union's bounding box and which box faces no other box of the union can
-  // cover (speed-ups only: without them every box and face is checked each step)
+  // precompute which box faces no other box of their union can cover (a speed-up only:
+  // without it such faces are checked when they matter)
   void index_boxes();
 };
 

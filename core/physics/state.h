@@ -16,6 +16,13 @@ struct ContactState {
   Vec3 entry_normal;      // outward normal of the face the point entered through
   Vec3 normal;            // outward normal of the face pushing now (unit)
   double depth_m = 0.0;   // penetration below that face (> 0 while active)
+  int box = -1;           // the box and face pushing now (boxes only; -1 for planes)
+  int face = -1;
+  // the boxes of the object within a margin of `near_at_m` (bit i: box first_box + i): while
+  // the point stays within that margin of near_at_m it can only be inside these
+  std::uint64_t near_boxes = 0;
+  Vec3 near_at_m;
+  bool near_valid = false;
 };
 
 enum class Fault : std::uint8_t { none, nonfinite_input, nonfinite_state, runaway_position, runaway_speed };
@@ -34,6 +41,10 @@ struct State {
   // per proxy: input (device position) and output (force to send to the device)
   std::vector<Vec3> proxy_position_m;
   std::vector<Vec3> proxy_force_n;
+
+  // which points the step integrates and which follow a proxy (from make_state)
+  std::vector<int> dynamic;
+  std::vector<int> kinematic;
 
   std::int64_t steps = 0;
   double time_s = 0.0;

@@ -97,9 +97,8 @@ void contact_force(const Model& m, const ContactPair& c, State& s) {
 
 void integrate(const Model& m, State& s) {
   const double dt = m.dt_s;
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
+  for (const int i : s.dynamic) {
     const Point& p = m.points[i];
-    if (p.kind != PointKind::dynamic) continue;
     const Vec3 x = s.x[i];
     switch (m.integrator) {
       case Integrator::cordis:
@@ -127,9 +126,8 @@ void integrate(const Model& m, State& s) {
 Fault check(const Model& m, const State& s, int& point) {
   const double max_x2 = m.limits.max_position_m * m.limits.max_position_m;
   const double max_v2 = m.limits.max_speed_m_per_s * m.limits.max_speed_m_per_s;
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    if (m.points[i].kind != PointKind::dynamic) continue;
-    point = static_cast<int>(i);
+  for (const int i : s.dynamic) {
+    point = i;
     if (!finite(s.x[i]) || !finite(s.v[i])) return Fault::nonfinite_state;
     if (dot(s.x[i], s.x[i]) > max_x2) return Fault::runaway_position;
     if (dot(s.v[i], s.v[i]) > max_v2) return Fault::runaway_speed;
@@ -155,9 +153,7 @@ void accumulate_forces(const Model& m, State& s) {
     std::fill(s.k_diag.begin(), s.k_diag.end(), 0.0);
     std::fill(s.z_diag.begin(), s.z_diag.end(), 0.0);
   }
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    if (m.points[i].kind == PointKind::dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
-  }
+  for (const int i : s.dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
   for (const Link& l : m.links) link_force(m, l, s);
   for (const ContactPair& c : m.contacts) contact_force(m, c, s);
 }
@@ -202,6 +198,10 @@ State make_state(const Model& m) {
   s.k_diag.resize(n);
   s.z_diag.resize(n);
   s.contacts.resize(m.contacts.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (m.points[i].kind == PointKind::dynamic) s.dynamic.push_back(static_cast<int>(i));
+    if (m.points[i].kind == PointKind::kinematic) s.kinematic.push_back(static_cast<int>(i));
+  }
   s.proxy_position_m.resize(m.proxies.size());
   s.proxy_force_n.resize(m.proxies.size());
   for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
@@ -236,19 +236,23 @@ void step(const Model& m, State& s) {
     }
   }
   // kinematic points follow their proxies; velocities as backward differences
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
+  const double rate = 1.0 / dt;
+  for (const int i : s.kinematic) {
     const Point& p = m.points[i];
-    if (p.kind != PointKind::kinematic) continue;
-    s.x_prev[i] = s.x[i];
-    s.x[i] = s.proxy_position_m[p.proxy] + p.offset_m;
-    s.v[i] = (s.x[i] - s.x_prev[i]) * (1.0 / dt);
+    const Vec3 before = s.x[i];
+    const Vec3 now = s.proxy_position_m[p.proxy] + p.offset_m;
+    s.x_prev[i] = before;
+    s.x[i] = now;
+    s.v[i] = (now - before) * rate;
   }
   accumulate_forces(m, s);
   // what each device feels: the forces on its proxy and body points that feed it
-  std::fill(s.proxy_force_n.begin(), s.proxy_force_n.end(), Vec3{});
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    const Point& p = m.points[i];
-    if (p.kind == PointKind::kinematic && p.feeds_device) s.proxy_force_n[p.proxy] += s.f[i];
+  for (std::size_t p = 0; p < m.proxies.size(); ++p) {
+    Vec3 sum;
+    for (const int i : s.kinematic) {
+      if (m.points[i].proxy == static_cast<int>(p) && m.points[i].feeds_device) sum += s.f[i];
+    }
+    s.proxy_force_n[p] = sum;
   }
   integrate(m, s);
   ++s.steps;

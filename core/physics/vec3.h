@@ -24,21 +24,17 @@ constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline bool finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
-// rotation matrix stored by rows; columns are the rotated frame's axes in world coordinates
+// rotation matrix stored by columns: the rotated frame's axes in world coordinates
 struct Mat3 {
-  Vec3 r0{1, 0, 0};
-  Vec3 r1{0, 1, 0};
-  Vec3 r2{0, 0, 1};
+  Vec3 c0{1, 0, 0};
+  Vec3 c1{0, 1, 0};
+  Vec3 c2{0, 0, 1};
 
-  constexpr Vec3 operator*(const Vec3& v) const { return {dot(r0, v), dot(r1, v), dot(r2, v)}; }
-  // transpose times v: world -> local for a rotation
-  constexpr Vec3 transpose_times(const Vec3& v) const {
-    return {r0.x * v.x + r1.x * v.y + r2.x * v.z, r0.y * v.x + r1.y * v.y + r2.y * v.z,
-            r0.z * v.x + r1.z * v.y + r2.z * v.z};
-  }
-  constexpr Vec3 column(int i) const {
-    return i == 0 ? Vec3{r0.x, r1.x, r2.x} : i == 1 ? Vec3{r0.y, r1.y, r2.y} : Vec3{r0.z, r1.z, r2.z};
-  }
+  // local -> world
+  constexpr Vec3 operator*(const Vec3& v) const { return c0 * v.x + c1 * v.y + c2 * v.z; }
+  // transpose times v: world -> local
+  constexpr Vec3 transpose_times(const Vec3& v) const { return {dot(c0, v), dot(c1, v), dot(c2, v)}; }
+  constexpr const Vec3& column(int i) const { return i == 0 ? c0 : i == 1 ? c1 : c2; }
 };
 
 // rotation from roll (about x), pitch (about y), yaw (about z), applied in that order: R = Rz Ry Rx
@@ -46,9 +42,9 @@ inline Mat3 rotation_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
   const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
   const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
   const double cy = std::cos(yaw_rad), sy = std::sin(yaw_rad);
-  return {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
-          {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
-          {-sp, cp * sr, cp * cr}};
+  return {{cy * cp, sy * cp, -sp},
+          {cy * sp * sr - sy * cr, sy * sp * sr + cy * cr, cp * sr},
+          {cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr}};
 }
 
 }  // namespace enact::physics
