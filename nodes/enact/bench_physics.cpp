@@ -40,9 +40,13 @@ About a minute (--quick: about 15 s); progress goes to stderr, the table to stdo
 timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock):
   oscillator  one step of a mass on a spring to a fixed point: ns per step and the
               real-time factor, period / ns per step (state restarted every 1 s simulated)
-  bridge      one step of SCENE at 44 kHz with computer model CM1, the body resting
-              0.1 mm into the top near the first turn and wobbling +-1.2 mm (2 and 3 Hz);
-              share of the 22.7 us period (target: 227 ns, 1 %)
+  bridge      one step of SCENE at 44 kHz with computer model CM1, share of the
+              22.7 us period (target: 227 ns, 1 %):
+                path: along the scene's scripted hand path (enact path; JSON
+                      bridge_step_ns_median)
+                turn: the body resting 0.1 mm into the top at the first turn, all 16 grid
+                      masses touching, wobbling +-1.2 mm at 2 and 3 Hz (the worst case;
+                      JSON bridge_turn_step_ns_median)
   chain       N = 10, 100, 1000 masses in a line of springs, one end fixed (cordis):
               ns per step and per element (mass + link)
 
