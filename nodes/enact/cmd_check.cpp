@@ -143,6 +143,7 @@ int check(int argc, char** argv) {
   const physics::StabilityReport r = physics::analyze_stability(m, b);
   if (a.flag("json")) write_json(m, r, device);
   else write_table(m, r, device);
+  std::fflush(stdout);  // the table before any message on stderr
   if (!r.stable()) {
     std::fprintf(stderr, "enact check: %s\n", physics::instability_message(m, r).c_str());
     return 1;
