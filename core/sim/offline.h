@@ -6,23 +6,16 @@
 #include <string>
 #include <vector>
 
+#include "core/devices/trajectory.h"
 #include "core/physics/model.h"
 #include "core/sim/simulator.h"
 
 namespace enact::sim {
 
-// device positions over time, linearly interpolated between samples
-struct Trajectory {
-  std::vector<double> t_s;
-  std::vector<physics::Vec3> position_m;
-  physics::Vec3 at(double t_s) const;  // clamped to the ends
-  double start_s() const { return t_s.front(); }
-  double end_s() const { return t_s.back(); }
-};
-
-// CSV with the header t_s,x_m,y_m,z_m, times strictly increasing; errors name file:line
-Trajectory load_trajectory(const std::string& path);
-void write_trajectory(const Trajectory& trajectory, std::ostream& out);
+// device paths live with the devices
+using devices::load_trajectory;
+using devices::Trajectory;
+using devices::write_trajectory;
 
 // a scripted hand along the task path of the scene (README, "The scripted path"): it presses
 // 0.05 mm into the top, wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
