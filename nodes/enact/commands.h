@@ -8,5 +8,6 @@ int check(int argc, char** argv);
 int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
+int launch(int argc, char** argv);
 
 }  // namespace enact::cli

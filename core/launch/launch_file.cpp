@@ -1,0 +1,273 @@
+#include "core/launch/launch_file.h"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+#include "core/config/yaml.h"
+
+namespace enact::launch {
+namespace {
+
+namespace fs = std::filesystem;
+using config::Map;
+
+// one launch file being read: its path and its arguments
+struct Scope {
+  std::string file;
+  std::map<std::string, std::string> vars;
+};
+
+// $(var NAME), $(env NAME [DEFAULT]) and $(dirname) in a scalar
+std::string substitute(const Scope& scope, const YAML::Node& at, const std::string& text) {
+  std::string out;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t open = text.find("$(", pos);
+    if (open == std::string::npos) return out + text.substr(pos);
+    const std::size_t close = text.find(')', open);
+    if (close == std::string::npos) config::fail(scope.file, at, "unclosed substitution in '" + text + "'", "write $(var NAME), $(env NAME) or $(dirname)");
+    out += text.substr(pos, open - pos);
+    std::string expr = text.substr(open + 2, close - open - 2);
+    const std::size_t space = expr.find(' ');
+    const std::string kind = expr.substr(0, space);
+    const std::string rest = space == std::string::npos ? "" : expr.substr(space + 1);
+    if (kind == "dirname") {
+      out += fs::absolute(scope.file).parent_path().string();
+    } else if (kind == "var") {
+      const auto it = scope.vars.find(rest);
+      if (it == scope.vars.end()) config::fail(scope.file, at, "unknown launch argument '" + rest + "'", "declare it first: - arg: {name: " + rest + ", default: ...}");
+      out += it->second;
+    } else if (kind == "env") {
+      const std::size_t sep = rest.find(' ');
+      const std::string name = rest.substr(0, sep);
+      const char* value = std::getenv(name.c_str());
+      if (!value && sep == std::string::npos) config::fail(scope.file, at, "environment variable '" + name + "' is not set", "set it, or give a default: $(env " + name + " DEFAULT)");
+      out += value ? value : rest.substr(sep + 1);
+    } else {
+      config::fail(scope.file, at, "unknown substitution '$(" + expr + ")'", "use $(var NAME), $(env NAME [DEFAULT]) or $(dirname)");
+    }
+    pos = close + 1;
+  }
+}
+
+std::string scalar(const Scope& scope, const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar()) config::fail(scope.file, n, what + " must be a single value", "write a string or a number");
+  return substitute(scope, n, n.Scalar());
+}
+
+// `[{name: N, value: V}, ...]`
+std::vector<Param> pairs(const Scope& scope, const Map& m, const char* key) {
+  std::vector<Param> out;
+  for (const auto& n : m.list(key)) {
+    const Map p(n, scope.file, key, {"name", "value"});
+    out.push_back({p.text("name"), scalar(scope, p.get("value"), std::string(key) + " value")});
+  }
+  return out;
+}
+
+// a YAML file of `name: value` lines
+std::vector<Param> param_file(const Scope& scope, const Map& m) {
+  const std::string path = scalar(scope, m.get("param_file"), "param_file");
+  const fs::path full = fs::path(path).is_absolute() ? fs::path(path) : fs::absolute(scope.file).parent_path() / path;
+  const YAML::Node root = config::load_file(full.string());
+  std::vector<Param> out;
+  for (const auto& kv : root) {
+    if (!kv.second.IsScalar()) config::fail(full.string(), kv.second, "parameter '" + kv.first.Scalar() + "' must be a single value", "write name: value");
+    out.push_back({kv.first.Scalar(), kv.second.Scalar()});
+  }
+  return out;
+}
+
+// params of a node or component: param_file first, then param entries (which override)
+std::vector<Param> params(const Scope& scope, const Map& m) {
+  std::vector<Param> out = m.has("param_file") ? param_file(scope, m) : std::vector<Param>{};
+  for (const Param& p : pairs(scope, m, "param")) {
+    bool replaced = false;
+    for (Param& q : out) {
+      if (q.name == p.name) {
+        q.value = p.value;
+        replaced = true;
+      }
+    }
+    if (!replaced) out.push_back(p);
+  }
+  return out;
+}
+
+bool flag(const Scope& scope, const Map& m, const char* key, bool fallback) {
+  if (!m.has(key)) return fallback;
+  const std::string v = scalar(scope, m.get(key), key);
+  if (v == "true" || v == "True") return true;
+  if (v == "false" || v == "False") return false;
+  m.fail(key, std::string(key) + " must be true or false, got '" + v + "'", "write true or false");
+}
+
+struct Loader {
+  ExecResolver resolve;
+  LaunchDescription out;
+  std::set<std::string> names;
+  int depth = 0;
+
+  void executable(const Scope& scope, const Map& m, NodeSpec& n, const std::string& fallback) {
+    n.exec = m.has("exec") ? scalar(scope, m.get("exec"), "exec") : fallback;
+    std::string exec = n.exec;
+    if (exec.find('/') != std::string::npos && !fs::path(exec).is_absolute()) exec = (fs::absolute(scope.file).parent_path() / exec).string();
+    n.path = resolve(exec);
+    if (n.path.empty()) m.fail("exec", "executable '" + n.exec + "' not found", "build it (scripts/build.sh), or give its path");
+  }
+
+  void common(const Scope& scope, const Map& m, NodeSpec& n) {
+    n.name = scalar(scope, m.get("name"), "name");
+    if (n.name.empty() || n.name.find_first_of(" /:=") != std::string::npos) m.fail("name", "node name '" + n.name + "' is not a plain word", "use letters, digits, '_' or '-'");
+    if (!names.insert(n.name).second) m.fail("name", "two nodes are named '" + n.name + "'", "give every node its own name");
+    n.source = scope.file + ":" + std::to_string(m.line());
+    n.line = m.line();
+    n.required = flag(scope, m, "required", false);
+    n.respawn = flag(scope, m, "respawn", false);
+    if (n.required && n.respawn) m.fail("respawn", "node '" + n.name + "' is both required and respawned", "choose one: a required node's exit stops the graph");
+    if (m.has("respawn_delay")) n.respawn_delay_s = m.positive("respawn_delay", 1.0, true);
+    n.env = pairs(scope, m, "env");
+    if (m.has("args")) {
+      const YAML::Node a = m.get("args");
+      if (a.IsScalar()) {
+        std::string word;
+        for (char c : scalar(scope, a, "args") + " ") {
+          if (c != ' ') word += c;
+          else if (!word.empty()) n.args.push_back(std::exchange(word, ""));
+        }
+      } else {
+        for (const auto& item : a) n.args.push_back(scalar(scope, item, "args entry"));
+      }
+    }
+  }
+
+  void node(const Scope& scope, const YAML::Node& y) {
+    const Map m(y, scope.file, "node", {"name", "exec", "param", "param_file", "args", "env", "required", "respawn", "respawn_delay"});
+    NodeSpec n;
+    common(scope, m, n);
+    executable(scope, m, n, "");
+    n.params = params(scope, m);
+    out.nodes.push_back(n);
+  }
+
+  void container(const Scope& scope, const YAML::Node& y) {
+    const Map m(y, scope.file, "container", {"name", "exec", "component", "args", "env", "required", "respawn", "respawn_delay"});
+    NodeSpec n;
+    common(scope, m, n);
+    executable(scope, m, n, "enact-rt");
+    n.container = true;
+    std::set<std::string> component_names;
+    for (const auto& c : m.list("component")) {
+      const Map cm(c, scope.file, "component", {"name", "plugin", "param", "param_file"});
+      ComponentSpec spec{scalar(scope, cm.get("name"), "name"), scalar(scope, cm.get("plugin"), "plugin"), params(scope, cm), cm.line()};
+      if (!component_names.insert(spec.name).second) cm.fail("name", "two components are named '" + spec.name + "'", "give every component its own name");
+      n.components.push_back(spec);
+    }
+    if (n.components.empty()) m.fail("component", "container '" + n.name + "' has no components", "list them: component: [{name: sim, plugin: sim}, ...]");
+    out.nodes.push_back(n);
+  }
+
+  void include(const Scope& scope, const YAML::Node& y) {
+    const Map m(y, scope.file, "include", {"file", "arg"});
+    const std::string file = scalar(scope, m.get("file"), "file");
+    const fs::path full = fs::path(file).is_absolute() ? fs::path(file) : fs::absolute(scope.file).parent_path() / file;
+    if (depth > 16) m.fail("file", "includes nest deeper than 16 files", "check for a file that includes itself");
+    std::map<std::string, std::string> args;
+    for (const Param& p : pairs(scope, m, "arg")) args[p.name] = p.value;
+    ++depth;
+    file_(full.lexically_normal().string(), args, false);
+    --depth;
+  }
+
+  // one launch file; `top`: its declared args are the ones --arg may set
+  void file_(const std::string& path, const std::map<std::string, std::string>& given, bool top) {
+    const YAML::Node root = config::load_file(path);
+    const Map doc(root, path, "launch file", {"launch", "description"});
+    Scope scope{path, {}};
+    std::set<std::string> declared;
+    const std::vector<YAML::Node> actions = doc.list("launch");
+    for (const auto& action : actions) {
+      if (!action.IsMap() || action.size() != 1) config::fail(path, action, "each launch entry is one of arg:, node:, container:, include:", "write e.g. - node: {name: sim, exec: enact-sim}");
+      const std::string kind = action.begin()->first.Scalar();
+      const YAML::Node body = action.begin()->second;
+      if (kind == "arg") {
+        const Map a(body, path, "arg", {"name", "default", "description"});
+        const std::string name = a.text("name");
+        declared.insert(name);
+        const auto it = given.find(name);
+        if (it == given.end() && !a.has("default")) a.fail("name", "launch argument '" + name + "' has no default and was not given", "give it: --arg " + name + "=VALUE, or add default:");
+        const std::string value = it != given.end() ? it->second : scalar(scope, a.get("default"), "default");
+        scope.vars[name] = value;
+        if (top) out.args.push_back({name, value, a.text("description", "")});
+      } else if (kind == "node") {
+        node(scope, body);
+      } else if (kind == "container") {
+        container(scope, body);
+      } else if (kind == "include") {
+        include(scope, body);
+      } else {
+        config::fail(path, action.begin()->first, "unknown launch entry '" + kind + "'", "use arg, node, container or include");
+      }
+    }
+    for (const auto& [name, value] : given) {
+      if (!declared.count(name)) {
+        std::string list;
+        for (const auto& d : declared) list += (list.empty() ? "" : ", ") + d;
+        throw config::Error(path + ": unknown launch argument '" + name + "'\n  fix: declare it in the file, or use one of: " + (list.empty() ? "(none)" : list));
+      }
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<std::string> NodeSpec::argv() const {
+  std::vector<std::string> v{path};
+  v.insert(v.end(), args.begin(), args.end());
+  v.push_back("--name");
+  v.push_back(name);
+  for (const ComponentSpec& c : components) v.push_back("--component=" + c.name + ":" + c.plugin);
+  for (const Param& p : params) v.push_back("--param=" + p.name + "=" + p.value);
+  for (const ComponentSpec& c : components) {
+    for (const Param& p : c.params) v.push_back("--param=" + c.name + "." + p.name + "=" + p.value);
+  }
+  return v;
+}
+
+ExecResolver default_resolver() {
+  return [](const std::string& exec) -> std::string {
+    std::error_code ec;
+    auto runnable = [&](const fs::path& p) { return fs::is_regular_file(p, ec) && access(p.c_str(), X_OK) == 0; };
+    if (exec.find('/') != std::string::npos) return runnable(exec) ? exec : "";
+    // next to the running binary: <build>/nodes/enact/enact -> <build>/nodes/<exec>/<exec>
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+      const fs::path sibling = self.parent_path().parent_path() / exec / exec;
+      if (runnable(sibling)) return sibling.string();
+      if (runnable(self.parent_path() / exec)) return (self.parent_path() / exec).string();
+    }
+    const char* path = std::getenv("PATH");
+    std::string dirs = path ? path : "/usr/bin:/bin";
+    std::size_t start = 0;
+    while (start <= dirs.size()) {
+      const std::size_t end = dirs.find(':', start);
+      const fs::path candidate = fs::path(dirs.substr(start, end - start)) / exec;
+      if (runnable(candidate)) return candidate.string();
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    return "";
+  };
+}
+
+LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args, const ExecResolver& resolve) {
+  Loader loader{resolve, {}, {}, 0};
+  loader.file_(path, args, true);
+  if (loader.out.nodes.empty()) throw config::Error(path + ": the launch file starts no node\n  fix: add - node: or - container: entries");
+  return loader.out;
+}
+
+}  // namespace enact::launch

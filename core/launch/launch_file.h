@@ -1,0 +1,69 @@
+#pragma once
+// Launch files: a graph of nodes described in YAML, in the spirit of ROS 2's YAML launch
+// files (format: README.md, "Launch files"). Loading resolves every substitution, include
+// and executable, and refuses unknown keys, wrong types and missing executables with
+// file:line and the fix, before anything starts.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace enact::launch {
+
+struct Param {
+  std::string name;
+  std::string value;
+};
+
+// one component of a real-time container
+struct ComponentSpec {
+  std::string name;    // instance name, prefixes its params: <name>.<param>
+  std::string plugin;  // component class: sim, ffd, tactile
+  std::vector<Param> params;
+  int line = 0;
+};
+
+// one process of the graph: a node, or a container running several components in one
+// real-time thread
+struct NodeSpec {
+  std::string name;
+  std::string exec;        // as written
+  std::string path;        // resolved executable
+  std::vector<Param> params;
+  std::vector<std::string> args;  // extra command-line arguments, before ours
+  std::vector<Param> env;
+  bool required = false;   // its exit stops the graph (non-zero)
+  bool respawn = false;    // restarted after it exits (when not required)
+  double respawn_delay_s = 1.0;
+  bool container = false;
+  std::vector<ComponentSpec> components;
+  std::string source;      // launch file and line, for messages
+  int line = 0;
+
+  // the command line: path, args, --name NAME, --component=NAME:PLUGIN..., --param=K=V...
+  std::vector<std::string> argv() const;
+};
+
+struct ArgSpec {
+  std::string name;
+  std::string value;        // default, or the value given
+  std::string description;
+};
+
+struct LaunchDescription {
+  std::vector<ArgSpec> args;   // declared by the top file
+  std::vector<NodeSpec> nodes; // in start order (includes expanded in place)
+};
+
+// finds an executable by name; returns "" when not found
+using ExecResolver = std::function<std::string(const std::string& exec)>;
+
+// the default resolver: a path with a '/' as given (relative to the launch file's folder),
+// else <enact build>/nodes/<exec>/<exec> next to the running enact binary, else $PATH
+ExecResolver default_resolver();
+
+// load a launch file with `--arg name=value` overrides; throws config::Error
+LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args,
+                              const ExecResolver& resolve = default_resolver());
+
+}  // namespace enact::launch

@@ -1,0 +1,258 @@
+#include "core/launch/supervisor.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/signalfd.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace enact::launch {
+namespace {
+
+std::int64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::int64_t to_ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+
+// a running (or stopped) process of the graph
+struct Child {
+  const NodeSpec* spec = nullptr;
+  pid_t pid = -1;
+  int ready_fd = -1;     // read end of its ready pipe
+  bool ready = false;
+  std::string ready_buffer;
+  int status = 0;        // wait status once exited
+  std::int64_t respawn_at_ns = 0;
+};
+
+std::string describe(int status) {
+  if (WIFEXITED(status)) return "exited with code " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return std::string("was killed by signal ") + strsignal(WTERMSIG(status));
+  return "stopped";
+}
+
+// fork and exec one process with its ready pipe; its own process group, so that a terminal's
+// Ctrl-C reaches only the launcher, which stops the graph in order
+bool start(Child& c, const sigset_t& blocked, std::ostream& log) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) {
+    log << "enact launch: cannot create a pipe for '" << c.spec->name << "': " << std::strerror(errno) << "\n";
+    return false;
+  }
+  const std::vector<std::string> args = c.spec->argv();
+  const pid_t launcher = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != launcher) _exit(127);
+    sigprocmask(SIG_UNBLOCK, &blocked, nullptr);
+    close(fds[0]);
+    const int ready = dup(fds[1]);  // without O_CLOEXEC: survives exec
+    setenv("ENACT_READY_FD", std::to_string(ready).c_str(), 1);
+    for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    dprintf(2, "enact launch: cannot run %s: %s\n", argv[0], std::strerror(errno));
+    _exit(127);
+  }
+  close(fds[1]);
+  if (pid < 0) {
+    close(fds[0]);
+    log << "enact launch: cannot start '" << c.spec->name << "': " << std::strerror(errno) << "\n";
+    return false;
+  }
+  setpgid(pid, pid);
+  c.pid = pid;
+  c.ready_fd = fds[0];
+  c.ready = false;
+  c.ready_buffer.clear();
+  log << "enact launch: started " << c.spec->name << " (pid " << pid << ")\n";
+  return true;
+}
+
+// read what a process wrote on its ready pipe; true once it said "ready"
+bool read_ready(Child& c) {
+  char buf[64];
+  const ssize_t n = read(c.ready_fd, buf, sizeof buf);
+  if (n > 0) c.ready_buffer.append(buf, static_cast<std::size_t>(n));
+  if (n <= 0 || c.ready_buffer.find("ready\n") != std::string::npos) {
+    close(c.ready_fd);
+    c.ready_fd = -1;
+  }
+  return c.ready_buffer.find("ready\n") != std::string::npos;
+}
+
+struct Graph {
+  std::vector<Child> children;
+  int signal_fd = -1;
+  sigset_t blocked{};
+  std::ostream& log;
+
+  // reap every exited child; returns the first one that exited since the last call, or null
+  void reap(std::vector<Child*>& exited) {
+    int status = 0;
+    pid_t pid = 0;
+    while ((pid = waitpid(-1, &status, WNOHANG)) > 0) {
+      for (Child& c : children) {
+        if (c.pid != pid) continue;
+        c.status = status;
+        c.pid = -1;
+        if (c.ready_fd >= 0) {
+          close(c.ready_fd);
+          c.ready_fd = -1;
+        }
+        exited.push_back(&c);
+      }
+    }
+  }
+
+  // SIGTERM, wait up to the timeout, then SIGKILL the whole process group
+  void stop(Child& c, double timeout_s) {
+    if (c.pid <= 0) return;
+    const pid_t pid = c.pid;
+    kill(-pid, SIGTERM);
+    const std::int64_t deadline = now_ns() + to_ns(timeout_s);
+    int status = 0;
+    while (now_ns() < deadline) {
+      if (waitpid(pid, &status, WNOHANG) == pid) {
+        c.pid = -1;
+        c.status = status;
+        kill(-pid, SIGKILL);  // anything it left in its group
+        log << "enact launch: stopped " << c.spec->name << "\n";
+        return;
+      }
+      usleep(2000);
+    }
+    kill(-pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    c.pid = -1;
+    c.status = status;
+    log << "enact launch: killed " << c.spec->name << " (no exit " << timeout_s << " s after SIGTERM)\n";
+  }
+
+  void stop_all(double timeout_s) {
+    for (auto it = children.rbegin(); it != children.rend(); ++it) stop(*it, timeout_s);
+    for (Child& c : children) {
+      if (c.ready_fd >= 0) close(c.ready_fd);
+      c.ready_fd = -1;
+    }
+  }
+
+  // wait for `c` to say ready; false on timeout, exit, or a stop signal (then `signalled`)
+  bool wait_ready(Child& c, double timeout_s, bool& signalled) {
+    const std::int64_t deadline = now_ns() + to_ns(timeout_s);
+    while (!c.ready) {
+      const std::int64_t left_ms = (deadline - now_ns()) / 1'000'000;
+      if (left_ms <= 0) {
+        log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") did not report ready within " << timeout_s
+            << " s\n  fix: check its output above; a node writes \"ready\" to $ENACT_READY_FD once active\n";
+        return false;
+      }
+      pollfd fds[2] = {{signal_fd, POLLIN, 0}, {c.ready_fd, POLLIN, 0}};
+      poll(fds, c.ready_fd >= 0 ? 2 : 1, static_cast<int>(std::min<std::int64_t>(left_ms, 100)));
+      if (fds[0].revents & POLLIN) {
+        signalfd_siginfo info{};
+        if (read(signal_fd, &info, sizeof info) == sizeof info && info.ssi_signo != SIGCHLD) {
+          signalled = true;
+          return false;
+        }
+      }
+      if (c.ready_fd >= 0 && (fds[1].revents & (POLLIN | POLLHUP))) c.ready = read_ready(c);
+      std::vector<Child*> exited;
+      reap(exited);
+      for (Child* e : exited) {
+        log << "enact launch: '" << e->spec->name << "' (" << e->spec->source << ") " << describe(e->status) << " before it was ready\n";
+        return false;
+      }
+    }
+    log << "enact launch: " << c.spec->name << " ready\n";
+    return true;
+  }
+};
+
+}  // namespace
+
+int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& log) {
+  // signals are read from a signalfd; children unblock them before exec
+  sigset_t blocked;
+  sigemptyset(&blocked);
+  sigaddset(&blocked, SIGINT);
+  sigaddset(&blocked, SIGTERM);
+  sigaddset(&blocked, SIGCHLD);
+  sigset_t previous;
+  sigprocmask(SIG_BLOCK, &blocked, &previous);
+  Graph g{{}, signalfd(-1, &blocked, SFD_CLOEXEC), blocked, log};
+  for (const NodeSpec& n : graph.nodes) {
+    Child c;
+    c.spec = &n;
+    g.children.push_back(c);
+  }
+
+  auto finish = [&](int code) {
+    g.stop_all(options.stop_timeout_s);
+    close(g.signal_fd);
+    sigprocmask(SIG_SETMASK, &previous, nullptr);
+    return code;
+  };
+
+  // start in order, each ready before the next
+  for (Child& c : g.children) {
+    bool signalled = false;
+    if (!start(c, blocked, log)) return finish(1);
+    if (!g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
+  }
+  log << "enact launch: graph ready (" << g.children.size() << " processes)\n";
+
+  // supervise until a stop signal, the duration, or a required exit
+  const std::int64_t end_ns = options.duration_s > 0.0 ? now_ns() + to_ns(options.duration_s) : INT64_MAX;
+  while (true) {
+    const std::int64_t now = now_ns();
+    if (now >= end_ns) {
+      log << "enact launch: duration reached, stopping\n";
+      return finish(0);
+    }
+    for (Child& c : g.children) {
+      if (c.pid > 0 || !c.spec->respawn || c.respawn_at_ns == 0 || now < c.respawn_at_ns) continue;
+      c.respawn_at_ns = 0;
+      bool signalled = false;
+      if (!start(c, blocked, log) || !g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
+    }
+    pollfd fd{g.signal_fd, POLLIN, 0};
+    poll(&fd, 1, 50);
+    if (fd.revents & POLLIN) {
+      signalfd_siginfo info{};
+      if (read(g.signal_fd, &info, sizeof info) == sizeof info && info.ssi_signo != SIGCHLD) {
+        log << "enact launch: " << strsignal(static_cast<int>(info.ssi_signo)) << ", stopping\n";
+        return finish(0);
+      }
+    }
+    std::vector<Child*> exited;
+    g.reap(exited);
+    for (Child* c : exited) {
+      log << "enact launch: '" << c->spec->name << "' (" << c->spec->source << ") " << describe(c->status) << "\n";
+      if (c->spec->required) {
+        log << "enact launch: required process '" << c->spec->name << "' is gone, stopping the graph\n";
+        return finish(1);
+      }
+      if (c->spec->respawn) c->respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(c->spec->respawn_delay_s));
+    }
+  }
+}
+
+}  // namespace enact::launch

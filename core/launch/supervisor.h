@@ -1,0 +1,25 @@
+#pragma once
+// Running a launch description: start the processes in order, wait until each reports
+// ready, supervise them, and stop them in reverse order (list the drivers last: they stop
+// first, zeroing force and lowering pins). No process outlives the launcher.
+//
+// Ready protocol: each process gets ENACT_READY_FD=<fd> in its environment and writes a
+// line "ready\n" to that file descriptor once it is active.
+#include <iosfwd>
+
+#include "core/launch/launch_file.h"
+
+namespace enact::launch {
+
+struct SupervisorOptions {
+  double ready_timeout_s = 10.0;  // per process, from its start to its "ready"
+  double duration_s = 0.0;        // > 0: stop the graph cleanly after this long
+  double stop_timeout_s = 3.0;    // SIGTERM, then SIGKILL after this long
+};
+
+// runs the graph until SIGINT/SIGTERM, --duration, or the exit of a required process.
+// Returns 0 after a requested stop, 1 when a required process exited or a process did not
+// become ready (the message says which and why). Progress lines go to `log`.
+int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& log);
+
+}  // namespace enact::launch
