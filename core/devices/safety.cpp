@@ -1,0 +1,101 @@
+#include "core/devices/safety.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "core/config/format.h"
+#include "core/devices/params_error.h"
+
+namespace enact::devices {
+namespace {
+
+constexpr const char* kDevice = "force device safety";
+
+}  // namespace
+
+SafeForceDevice::SafeForceDevice(std::unique_ptr<ForceDevice> inner, SafetyParams params)
+    : inner_(std::move(inner)), params_(params) {
+  if (!inner_) throw std::invalid_argument("SafeForceDevice: no inner device");
+}
+
+void SafeForceDevice::configure() {
+  // the params, then the inner device
+  if (!std::isfinite(params_.watchdog_s) || params_.watchdog_s <= 0.0) {
+    refuse(kDevice, "watchdog_s is " + config::number(params_.watchdog_s), "set watchdog_s to a few loop periods (> 0 s; default 0.010)");
+  }
+  if (!std::isfinite(params_.ramp_s) || params_.ramp_s < 0.0) {
+    refuse(kDevice, "ramp_s is " + config::number(params_.ramp_s), "set ramp_s >= 0 s (default 0.005; 0: cut at once)");
+  }
+  watchdog_ns_ = std::llround(params_.watchdog_s * 1e9);
+  ramp_ns_ = std::llround(params_.ramp_s * 1e9);
+  inner_->configure();
+  if (!(profile().peak_force_n > 0.0)) {
+    refuse(kDevice, "the device profile '" + profile().name + "' has no peak force", "give the profile a peak_force_n > 0");
+  }
+}
+
+void SafeForceDevice::activate() {
+  inner_->activate();
+  command_n_ = sent_n_ = {};
+  command_faults_ = faults_ = 0;
+  commanded_ = in_episode_ = seen_ = false;
+}
+
+void SafeForceDevice::write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept {
+  see(now_ns);
+  // a fresh command: finite, within the peak force
+  command_n_ = force_n;
+  command_faults_ = 0;
+  const double peak = profile().peak_force_n;
+  if (!physics::finite(force_n)) {
+    command_n_ = {};
+    command_faults_ = bit(DeviceFault::nonfinite_command);
+    ++nonfinite_;
+  } else if (const double magnitude = physics::norm(force_n); magnitude > peak) {
+    command_n_ = force_n * (peak / magnitude);
+    command_faults_ = bit(DeviceFault::clamped);
+    ++clamps_;
+  }
+  commanded_ = true;
+  command_ns_ = now_ns;
+  in_episode_ = false;
+  faults_ = (faults_ & ~(bit(DeviceFault::watchdog) | bit(DeviceFault::clamped) | bit(DeviceFault::nonfinite_command))) | command_faults_;
+  send(now_ns, command_n_);
+}
+
+bool SafeForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept {
+  see(now_ns);
+  const bool ok = inner_->read(now_ns, out);
+  // the watchdog: past watchdog_ns_ without a command, ramp the last command to zero
+  const std::int64_t late_ns = now_ns - command_ns_ - watchdog_ns_;
+  if (commanded_ && late_ns > 0) {
+    if (!in_episode_) ++watchdog_trips_;
+    in_episode_ = true;
+    const double left = late_ns >= ramp_ns_ ? 0.0 : 1.0 - static_cast<double>(late_ns) / static_cast<double>(ramp_ns_);
+    send(now_ns, command_n_ * left);
+  }
+  out.faults |= command_faults_ | (in_episode_ ? bit(DeviceFault::watchdog) : 0u) | (ok ? 0u : bit(DeviceFault::device_error));
+  faults_ = out.faults;
+  return ok;
+}
+
+void SafeForceDevice::deactivate() noexcept {
+  send(latest_ns_, {});
+  inner_->deactivate();
+  sent_n_ = {};
+  in_episode_ = commanded_ = false;
+}
+
+void SafeForceDevice::send(std::int64_t now_ns, const physics::Vec3& force_n) noexcept {
+  sent_n_ = force_n;
+  inner_->write(now_ns, force_n);
+}
+
+void SafeForceDevice::see(std::int64_t now_ns) noexcept {
+  latest_ns_ = seen_ ? std::max(latest_ns_, now_ns) : now_ns;
+  seen_ = true;
+}
+
+}  // namespace enact::devices

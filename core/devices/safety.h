@@ -1,0 +1,78 @@
+#pragma once
+// A safety layer around any force device (a decorator, itself a ForceDevice):
+// - write(): a NaN/Inf command becomes zero (counted, nonfinite_command bit); a command over
+//   the inner profile's peak force is scaled down to it, direction kept (counted, clamped bit).
+// - read(): the watchdog. When no write arrived within watchdog_s of now (strictly more than
+//   watchdog_s since the last write), the force sent to the inner device ramps linearly from
+//   the last command to zero over the next ramp_s, then stays zero (a zero write on every
+//   read); the watchdog bit is set in the samples and the episode is counted once. A fresh
+//   write ends the episode. The watchdog runs from the first write after activate.
+// - deactivate(): writes zero to the inner device (at the latest time seen, 0 if none), then
+//   deactivates it.
+// The fault bits in a sample are the inner device's plus the wrapper's for the force acting
+// now: clamped / nonfinite_command for the last command, watchdog during an episode.
+#include <cstdint>
+#include <memory>
+
+#include "core/devices/device.h"
+
+namespace enact::devices {
+
+struct SafetyParams {
+  double watchdog_s = 0.010;  // > 0: longest time without a command before the force ramps down
+  double ramp_s = 0.005;      // >= 0: time of the ramp from the last command to zero
+};
+
+class SafeForceDevice final : public ForceDevice {
+ public:
+  SafeForceDevice(std::unique_ptr<ForceDevice> inner, SafetyParams params = {});
+
+  // validate the params, configure the inner device; throws config::Error
+  void configure() override;
+  // activate the inner device; counters are kept, the watchdog waits for the first write
+  void activate() override;
+  // the inner device's sample, with the watchdog run at now_ns and the wrapper's fault bits
+  bool read(std::int64_t now_ns, ForceSample& out) noexcept override;
+  // the command made safe (finite, within the peak force), sent on to the inner device
+  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override;
+  // zero force to the inner device, then deactivate it
+  void deactivate() noexcept override;
+  const haptics::DeviceProfile& profile() const override { return inner_->profile(); }
+
+  // commands scaled down to the peak force, since construction
+  std::uint64_t clamps() const { return clamps_; }
+  // NaN/Inf commands replaced by zero, since construction
+  std::uint64_t nonfinite() const { return nonfinite_; }
+  // watchdog episodes, since construction
+  std::uint64_t watchdog_trips() const { return watchdog_trips_; }
+  // the fault bits of the last sample, updated by writes since (0: all well)
+  std::uint32_t faults() const { return faults_; }
+  bool faulted() const { return faults_ != 0; }
+  // the force last sent to the inner device
+  physics::Vec3 sent_force_n() const { return sent_n_; }
+  ForceDevice& inner() { return *inner_; }
+
+ private:
+  void send(std::int64_t now_ns, const physics::Vec3& force_n) noexcept;
+  void see(std::int64_t now_ns) noexcept;
+
+  std::unique_ptr<ForceDevice> inner_;
+  SafetyParams params_;
+  std::int64_t watchdog_ns_ = 0;
+  std::int64_t ramp_ns_ = 0;
+  // the last command, made safe, and when it arrived
+  physics::Vec3 command_n_;
+  std::uint32_t command_faults_ = 0;
+  bool commanded_ = false;
+  std::int64_t command_ns_ = 0;
+  bool in_episode_ = false;
+  physics::Vec3 sent_n_;
+  std::uint32_t faults_ = 0;
+  std::int64_t latest_ns_ = 0;  // the latest time seen
+  bool seen_ = false;
+  std::uint64_t clamps_ = 0;
+  std::uint64_t nonfinite_ = 0;
+  std::uint64_t watchdog_trips_ = 0;
+};
+
+}  // namespace enact::devices

@@ -1,0 +1,228 @@
+// The safety layer: clamping to the peak force, NaN/Inf to zero, the watchdog ramp, zero
+// force before disabling; observed through a recording fake device under it.
+#include "core/devices/safety.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/config/yaml.h"
+#include "core/devices/simulated_force.h"
+#include "tests/support/alloc_guard.h"
+
+namespace enact::devices {
+namespace {
+
+using physics::Vec3;
+
+constexpr std::int64_t kMs = 1'000'000;
+constexpr std::int64_t kT0 = 2'000 * kMs;  // an arbitrary time of the last write
+
+// what the wrapper did to the device under it, in order
+struct Call {
+  enum Kind { configure, activate, read, write, deactivate } kind;
+  std::int64_t time_ns = 0;
+  Vec3 force_n;
+};
+
+class RecordingDevice final : public ForceDevice {
+ public:
+  explicit RecordingDevice(std::vector<Call>& log) : log_(log), profile_(*haptics::find_device_profile("ergos")) {}
+  void configure() override { log_.push_back({Call::configure, 0, {}}); }
+  void activate() override { log_.push_back({Call::activate, 0, {}}); }
+  bool read(std::int64_t now_ns, ForceSample& out) noexcept override {
+    log_.push_back({Call::read, now_ns, {}});
+    out = {};
+    out.time_ns = now_ns;
+    out.faults = fail ? bit(DeviceFault::device_error) : 0u;
+    return !fail;
+  }
+  void write(std::int64_t now_ns, const Vec3& force_n) noexcept override { log_.push_back({Call::write, now_ns, force_n}); }
+  void deactivate() noexcept override { log_.push_back({Call::deactivate, 0, {}}); }
+  const haptics::DeviceProfile& profile() const override { return profile_; }
+  bool fail = false;
+
+ private:
+  std::vector<Call>& log_;
+  haptics::DeviceProfile profile_;
+};
+
+struct Fixture {
+  std::vector<Call> log;
+  RecordingDevice* inner = nullptr;
+  std::unique_ptr<SafeForceDevice> safe;
+
+  explicit Fixture(SafetyParams params = {}) {
+    auto device = std::make_unique<RecordingDevice>(log);
+    inner = device.get();
+    safe = std::make_unique<SafeForceDevice>(std::move(device), params);
+    safe->configure();
+    safe->activate();
+    log.clear();
+  }
+  // the last force the inner device was sent
+  Vec3 last_write() const {
+    for (auto it = log.rbegin(); it != log.rend(); ++it) {
+      if (it->kind == Call::write) return it->force_n;
+    }
+    return {std::nan(""), 0.0, 0.0};
+  }
+  ForceSample read(std::int64_t now_ns) {
+    ForceSample s;
+    safe->read(now_ns, s);
+    return s;
+  }
+};
+
+TEST(Safety, ClampToThePeakKeepsDirectionAndCounts) {
+  Fixture f;
+  f.safe->write(kT0, {300.0, 0.0, -400.0});  // 500 N, ERGOS peak 200 N
+  EXPECT_LT(norm(f.last_write() - Vec3{120.0, 0.0, -160.0}), 1e-12);
+  EXPECT_EQ(f.safe->clamps(), 1u);
+  EXPECT_TRUE(has(f.read(kT0).faults, DeviceFault::clamped));
+  EXPECT_TRUE(f.safe->faulted());
+  // under the peak: passed through, the bit clears
+  f.safe->write(kT0 + kMs, {3.0, 0.0, -4.0});
+  EXPECT_EQ(f.last_write(), (Vec3{3.0, 0.0, -4.0}));
+  EXPECT_EQ(f.safe->clamps(), 1u);
+  EXPECT_EQ(f.read(kT0 + kMs).faults, 0u);
+  EXPECT_FALSE(f.safe->faulted());
+}
+
+TEST(Safety, NonfiniteCommandsBecomeZeroAndCount) {
+  Fixture f;
+  const double inf = std::numeric_limits<double>::infinity();
+  const Vec3 bad[] = {{std::nan(""), 1.0, 1.0}, {1.0, inf, 1.0}, {1.0, 1.0, -inf}};
+  std::int64_t t = kT0;
+  for (const Vec3& command : bad) {
+    f.safe->write(t, command);
+    EXPECT_EQ(f.last_write(), Vec3{});
+    EXPECT_TRUE(has(f.read(t).faults, DeviceFault::nonfinite_command));
+    t += kMs;
+  }
+  EXPECT_EQ(f.safe->nonfinite(), 3u);
+  EXPECT_EQ(f.safe->clamps(), 0u);
+}
+
+TEST(Safety, WatchdogRampsTheLastCommandToZero) {
+  Fixture f;  // watchdog 10 ms, ramp 5 ms
+  const Vec3 command{0.0, 20.0, -40.0};
+  f.safe->write(kT0, command);
+  // within the watchdog time: the full command, nothing more sent
+  for (const std::int64_t dt : {kMs, 9 * kMs, 10 * kMs}) {
+    const std::size_t calls = f.log.size();
+    const ForceSample s = f.read(kT0 + dt);
+    EXPECT_FALSE(has(s.faults, DeviceFault::watchdog)) << dt;
+    EXPECT_EQ(f.log.size(), calls + 1) << dt;  // the read only
+    EXPECT_EQ(f.safe->sent_force_n(), command);
+  }
+  // half way down the ramp: half the command
+  ForceSample s = f.read(kT0 + 12 * kMs + kMs / 2);
+  EXPECT_EQ(f.log.back().kind, Call::write);
+  EXPECT_EQ(f.log.back().time_ns, kT0 + 12 * kMs + kMs / 2);
+  EXPECT_LT(norm(f.last_write() - command * 0.5), 1e-12);
+  EXPECT_TRUE(has(s.faults, DeviceFault::watchdog));
+  EXPECT_TRUE(f.safe->faulted());
+  EXPECT_EQ(f.safe->watchdog_trips(), 1u);
+  // at the end of the ramp and after: zero, one episode
+  for (const std::int64_t dt : {15 * kMs, 16 * kMs, 500 * kMs}) {
+    s = f.read(kT0 + dt);
+    EXPECT_EQ(f.last_write(), Vec3{}) << dt;
+    EXPECT_TRUE(has(s.faults, DeviceFault::watchdog)) << dt;
+  }
+  EXPECT_EQ(f.safe->watchdog_trips(), 1u);
+  // a fresh write restores the command and ends the episode
+  const std::int64_t t1 = kT0 + 600 * kMs;
+  f.safe->write(t1, command);
+  EXPECT_EQ(f.last_write(), command);
+  s = f.read(t1 + kMs);
+  EXPECT_FALSE(has(s.faults, DeviceFault::watchdog));
+  EXPECT_FALSE(f.safe->faulted());
+  // a second silence is a second episode
+  f.read(t1 + 11 * kMs);
+  EXPECT_EQ(f.safe->watchdog_trips(), 2u);
+}
+
+TEST(Safety, WatchdogWaitsForTheFirstCommand) {
+  Fixture f;
+  EXPECT_FALSE(has(f.read(kT0).faults, DeviceFault::watchdog));
+  EXPECT_FALSE(has(f.read(kT0 + 1'000 * kMs).faults, DeviceFault::watchdog));
+  EXPECT_EQ(f.safe->watchdog_trips(), 0u);
+}
+
+TEST(Safety, ZeroRampCutsAtOnce) {
+  Fixture f({.watchdog_s = 0.002, .ramp_s = 0.0});
+  f.safe->write(kT0, {10.0, 0.0, 0.0});
+  f.read(kT0 + 2 * kMs);
+  EXPECT_EQ(f.last_write(), (Vec3{10.0, 0.0, 0.0}));
+  f.read(kT0 + 2 * kMs + 1);
+  EXPECT_EQ(f.last_write(), Vec3{});
+  EXPECT_EQ(f.safe->watchdog_trips(), 1u);
+}
+
+TEST(Safety, DeactivateZerosTheForceBeforeDisabling) {
+  Fixture f;
+  f.safe->write(kT0, {5.0, 5.0, 5.0});
+  f.read(kT0 + kMs);
+  f.safe->deactivate();
+  ASSERT_GE(f.log.size(), 2u);
+  const Call& zero = f.log[f.log.size() - 2];
+  EXPECT_EQ(zero.kind, Call::write);
+  EXPECT_EQ(zero.force_n, Vec3{});
+  EXPECT_EQ(zero.time_ns, kT0 + kMs);  // the latest time seen
+  EXPECT_EQ(f.log.back().kind, Call::deactivate);
+}
+
+TEST(Safety, DeviceErrorIsPassedOn) {
+  Fixture f;
+  f.inner->fail = true;
+  ForceSample s;
+  EXPECT_FALSE(f.safe->read(kT0, s));
+  EXPECT_TRUE(has(s.faults, DeviceFault::device_error));
+  EXPECT_TRUE(f.safe->faulted());
+}
+
+TEST(Safety, BadParamsAreRefusedWithAFix) {
+  const SafetyParams bad[] = {{.watchdog_s = 0.0}, {.watchdog_s = std::nan("")}, {.ramp_s = -0.001}};
+  for (const auto& p : bad) {
+    std::vector<Call> log;
+    SafeForceDevice safe(std::make_unique<RecordingDevice>(log), p);
+    try {
+      safe.configure();
+      ADD_FAILURE() << "accepted";
+    } catch (const config::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("fix:"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(log.empty());  // refused before the device is opened
+  }
+}
+
+// over the simulated device: a loop with clamps, NaN and a watchdog episode allocates nothing
+TEST(Safety, ReadAndWriteOverTheSimulatedDeviceAllocateNothing) {
+  SimulatedForceParams p;
+  SafeForceDevice safe(std::make_unique<SimulatedForceDevice>(p));
+  safe.configure();
+  safe.activate();
+  ForceSample s;
+  std::size_t allocations = 0;
+  {
+    test::AllocGuard guard;
+    for (std::int64_t t = 0; t <= 400 * kMs; t += kMs / 5) {
+      safe.read(t, s);
+      if (t < 200 * kMs) safe.write(t, t % (3 * kMs) == 0 ? Vec3{std::nan(""), 0.0, 0.0} : Vec3{0.0, 0.0, -500.0});
+    }
+    allocations = guard.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(safe.clamps(), 0u);
+  EXPECT_GT(safe.nonfinite(), 0u);
+  EXPECT_EQ(safe.watchdog_trips(), 1u);
+  EXPECT_EQ(safe.sent_force_n(), Vec3{});
+}
+
+}  // namespace
+}  // namespace enact::devices
