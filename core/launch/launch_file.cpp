@@ -109,12 +109,12 @@ struct Loader {
   ExecResolver resolve;
   LaunchDescription out;
   std::set<std::string> names;
-  int depth = 0;
+  std::vector<std::string> stack;  // the files being read, outermost first
 
   void executable(const Scope& scope, const Map& m, NodeSpec& n, const std::string& fallback) {
     n.exec = m.has("exec") ? scalar(scope, m.get("exec"), "exec") : fallback;
     std::string exec = n.exec;
-    if (exec.find('/') != std::string::npos && !fs::path(exec).is_absolute()) exec = (fs::absolute(scope.file).parent_path() / exec).string();
+    if (exec.find('/') != std::string::npos && !fs::path(exec).is_absolute()) exec = (fs::absolute(scope.file).parent_path() / exec).lexically_normal().string();
     n.path = resolve(exec);
     if (n.path.empty()) m.fail("exec", "executable '" + n.exec + "' not found", "build it (scripts/build.sh), or give its path");
   }
@@ -174,16 +174,18 @@ struct Loader {
     const Map m(y, scope.file, "include", {"file", "arg"});
     const std::string file = scalar(scope, m.get("file"), "file");
     const fs::path full = fs::path(file).is_absolute() ? fs::path(file) : fs::absolute(scope.file).parent_path() / file;
-    if (depth > 16) m.fail("file", "includes nest deeper than 16 files", "check for a file that includes itself");
+    const std::string path = full.lexically_normal().string();
+    for (const std::string& open : stack) {
+      if (open == path) m.fail("file", "include cycle: " + path + " includes itself (directly or through others)", "remove the include that leads back to it");
+    }
     std::map<std::string, std::string> args;
     for (const Param& p : pairs(scope, m, "arg")) args[p.name] = p.value;
-    ++depth;
-    file_(full.lexically_normal().string(), args, false);
-    --depth;
+    file_(path, args, false);
   }
 
   // one launch file; `top`: its declared args are the ones --arg may set
   void file_(const std::string& path, const std::map<std::string, std::string>& given, bool top) {
+    stack.push_back(fs::absolute(path).lexically_normal().string());
     const YAML::Node root = config::load_file(path);
     const Map doc(root, path, "launch file", {"launch", "description"});
     Scope scope{path, {}};
@@ -219,6 +221,7 @@ struct Loader {
         throw config::Error(path + ": unknown launch argument '" + name + "'\n  fix: declare it in the file, or use one of: " + (list.empty() ? "(none)" : list));
       }
     }
+    stack.pop_back();
   }
 };
 
@@ -264,7 +267,7 @@ ExecResolver default_resolver() {
 }
 
 LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args, const ExecResolver& resolve) {
-  Loader loader{resolve, {}, {}, 0};
+  Loader loader{resolve, {}, {}, {}};
   loader.file_(path, args, true);
   if (loader.out.nodes.empty()) throw config::Error(path + ": the launch file starts no node\n  fix: add - node: or - container: entries");
   return loader.out;

@@ -61,8 +61,10 @@ bool start(Child& c, const sigset_t& blocked, std::ostream& log) {
     if (getppid() != launcher) _exit(127);
     sigprocmask(SIG_UNBLOCK, &blocked, nullptr);
     close(fds[0]);
-    const int ready = dup(fds[1]);  // without O_CLOEXEC: survives exec
-    setenv("ENACT_READY_FD", std::to_string(ready).c_str(), 1);
+    // the ready pipe on fd 3 (a single digit: shells accept it in >&$ENACT_READY_FD), kept across exec
+    if (fds[1] == 3) fcntl(3, F_SETFD, 0);
+    else dup2(fds[1], 3);
+    setenv("ENACT_READY_FD", "3", 1);
     for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -113,6 +115,8 @@ struct Graph {
         if (c.pid != pid) continue;
         c.status = status;
         c.pid = -1;
+        // what it wrote before it exited still counts
+        while (c.ready_fd >= 0 && !c.ready) c.ready = read_ready(c);
         if (c.ready_fd >= 0) {
           close(c.ready_fd);
           c.ready_fd = -1;
@@ -154,6 +158,18 @@ struct Graph {
     }
   }
 
+  // a process exited: log it; a required one stops the graph (false), a respawning one is
+  // scheduled again
+  bool handle_exit(Child& c) {
+    log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") " << describe(c.status) << "\n";
+    if (c.spec->required) {
+      log << "enact launch: required process '" << c.spec->name << "' is gone, stopping the graph\n";
+      return false;
+    }
+    if (c.spec->respawn) c.respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(c.spec->respawn_delay_s));
+    return true;
+  }
+
   // wait for `c` to say ready; false on timeout, exit, or a stop signal (then `signalled`)
   bool wait_ready(Child& c, double timeout_s, bool& signalled) {
     const std::int64_t deadline = now_ns() + to_ns(timeout_s);
@@ -177,8 +193,11 @@ struct Graph {
       std::vector<Child*> exited;
       reap(exited);
       for (Child* e : exited) {
-        log << "enact launch: '" << e->spec->name << "' (" << e->spec->source << ") " << describe(e->status) << " before it was ready\n";
-        return false;
+        if (e == &c && !c.ready) {
+          log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") " << describe(c.status) << " before it was ready\n";
+          return false;
+        }
+        if (!handle_exit(*e)) return false;
       }
     }
     log << "enact launch: " << c.spec->name << " ready\n";
@@ -245,12 +264,7 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
     std::vector<Child*> exited;
     g.reap(exited);
     for (Child* c : exited) {
-      log << "enact launch: '" << c->spec->name << "' (" << c->spec->source << ") " << describe(c->status) << "\n";
-      if (c->spec->required) {
-        log << "enact launch: required process '" << c->spec->name << "' is gone, stopping the graph\n";
-        return finish(1);
-      }
-      if (c->spec->respawn) c->respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(c->spec->respawn_delay_s));
+      if (!g.handle_exit(*c)) return finish(1);
     }
   }
 }

@@ -21,7 +21,7 @@ void Simulator::configure(const SimParams& params) {
   params_ = params;
   model_ = physics::load_scene(params.scene);
   if (params.rate_hz != 0.0) {
-    if (params.rate_hz < 1.0 || params.rate_hz > 1.0e6) throw config::Error("rate " + std::to_string(params.rate_hz) + " Hz is out of range\n  fix: use a rate from 1 to 44000 Hz");
+    if (params.rate_hz < 1.0 || params.rate_hz > 44000.0) throw config::Error("rate " + std::to_string(params.rate_hz) + " Hz is out of range\n  fix: use a rate from 1 to 44000 Hz");
     model_.set_rate(params.rate_hz);
   }
   if (model_.proxies.empty()) throw config::Error(params.scene + ": the scene has no body: nothing for a device to drive\n  fix: add a body: section");

@@ -1,0 +1,81 @@
+#pragma once
+// The periodic scheduler of the real-time loop: wakes the loop thread at absolute deadlines
+// on CLOCK_MONOTONIC, sleeping to just before each one and spinning the rest, and measures
+// how late each wake-up was.
+//
+// Deadlines never drift: deadline n = first + floor(n * 1e9 / rate_hz) ns, computed exactly in
+// integers from n (never by adding a rounded period), with the rate taken to the millihertz.
+// At 3 kHz the period is 333333.33 ns and deadline 3000 is exactly first + 1 s.
+//
+// Overruns: when a wake-up comes at or after the following deadline (late by a whole period
+// or more), it is counted as an overrun and the deadlines already past are skipped: the next
+// wait() waits for the first deadline still ahead, it never runs missed ticks back to back.
+#include <cstdint>
+
+#include "core/rt/histogram.h"
+
+namespace enact::rt {
+
+struct SchedulerParams {
+  double rate_hz = 5000.0;       // loop rate, 1..44000 Hz
+  std::int64_t spin_ns = 50'000;  // spin on the clock for this long before each deadline (>= 0)
+
+  // throws config::Error naming the parameter and the fix
+  void validate() const;
+};
+
+class PeriodicScheduler {
+ public:
+  // validates the params (config::Error) and allocates the jitter histogram
+  explicit PeriodicScheduler(SchedulerParams params);
+
+  // (re)start: deadline 0 is first_deadline_ns; counters and the histogram are cleared
+  void start(std::int64_t first_deadline_ns);
+  // wait for the next deadline; returns the time it woke (now_ns(), never before the
+  // deadline). Records the lateness in jitter(), counts overruns and skips missed deadlines
+  // (see above). Allocates nothing, never throws. Before start(): starts at now.
+  std::int64_t wait();
+
+  // the absolute deadline of index n (the drift-free formula above)
+  std::int64_t deadline_at(std::int64_t n) const;
+
+  // the nominal period, rounded to the nearest ns (deadlines use the exact fraction)
+  std::int64_t period_ns() const { return period_ns_; }
+  double rate_hz() const { return params_.rate_hz; }
+  // wake-ups so far (calls to wait())
+  std::uint64_t ticks() const { return ticks_; }
+  // wake-ups that came a whole period or more late
+  std::uint64_t overruns() const { return overruns_; }
+  // deadlines skipped because of overruns
+  std::uint64_t skipped() const { return skipped_; }
+  // wake-up lateness (woke - deadline) of every tick, ns
+  const LatencyHistogram& jitter() const { return jitter_; }
+  // the deadline the last wait() woke for, and its index
+  std::int64_t deadline_ns() const { return deadline_ns_; }
+  std::int64_t deadline_index() const { return index_; }
+  // the deadline the next wait() will wait for
+  std::int64_t next_deadline_ns() const { return deadline_at(next_index_); }
+
+ private:
+  // the first index whose deadline is after t
+  std::int64_t first_index_after(std::int64_t t) const;
+
+  SchedulerParams params_;
+  // 1e12 / rate_mhz_ = period_whole_ns_ + period_rem_ / rate_mhz_: the exact period
+  std::int64_t rate_mhz_ = 0;
+  std::int64_t period_whole_ns_ = 0;
+  std::int64_t period_rem_ = 0;
+  std::int64_t period_ns_ = 0;
+
+  bool started_ = false;
+  std::int64_t first_ns_ = 0;
+  std::int64_t index_ = 0;
+  std::int64_t next_index_ = 0;
+  std::int64_t deadline_ns_ = 0;
+  std::uint64_t ticks_ = 0;
+  std::uint64_t overruns_ = 0;
+  std::uint64_t skipped_ = 0;
+  LatencyHistogram jitter_;
+};
+
+}  // namespace enact::rt

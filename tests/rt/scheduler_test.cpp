@@ -1,0 +1,141 @@
+// The periodic scheduler: parameter validation, drift-free deadlines, wake-up order,
+// overrun accounting (missed deadlines skipped, not caught up), no allocation. No timing
+// assertions: the machine is shared and noisy.
+#include "core/rt/scheduler.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/config/yaml.h"
+#include "core/rt/clock.h"
+#include "tests/support/alloc_guard.h"
+
+namespace enact::rt {
+namespace {
+
+// the message of the config::Error thrown by building a scheduler with these params
+std::string error_of(SchedulerParams params) {
+  try {
+    PeriodicScheduler s(params);
+  } catch (const config::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SchedulerParams, RateOutOfRangeNamesTheFieldAndTheFix) {
+  for (const double rate : {0.0, 0.5, 44'001.0, -5000.0, std::nan("")}) {
+    const std::string msg = error_of({.rate_hz = rate});
+    EXPECT_NE(msg.find("rate_hz"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("fix:"), std::string::npos) << msg;
+  }
+  EXPECT_EQ(error_of({.rate_hz = 1.0}), "");
+  EXPECT_EQ(error_of({.rate_hz = 44'000.0}), "");
+}
+
+TEST(SchedulerParams, NegativeSpinNamesTheFieldAndTheFix) {
+  const std::string msg = error_of({.spin_ns = -1});
+  EXPECT_NE(msg.find("spin_ns"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("fix:"), std::string::npos) << msg;
+  EXPECT_EQ(error_of({.spin_ns = 0}), "");
+}
+
+TEST(PeriodicScheduler, DeadlinesAreDriftFree) {
+  PeriodicScheduler s({.rate_hz = 3000.0});
+  const std::int64_t first = 1'000'000'007;
+  s.start(first);
+  EXPECT_EQ(s.period_ns(), 333'333);
+  EXPECT_EQ(s.deadline_at(0), first);
+  EXPECT_EQ(s.deadline_at(1), first + 333'333);
+  EXPECT_EQ(s.deadline_at(3), first + 1'000'000);
+  EXPECT_EQ(s.deadline_at(3000), first + 1'000'000'000);
+  // a day later, still exact
+  EXPECT_EQ(s.deadline_at(3000LL * 86'400), first + 86'400LL * 1'000'000'000);
+  // a rate that is not a whole number of hertz
+  PeriodicScheduler odd({.rate_hz = 4999.5});
+  odd.start(0);
+  EXPECT_EQ(odd.deadline_at(9999), 2'000'000'000);
+  EXPECT_EQ(odd.deadline_at(1), 200'020);
+}
+
+TEST(PeriodicScheduler, TwoHundredTicksAtFiveKilohertz) {
+  PeriodicScheduler s({.rate_hz = 5000.0});
+  EXPECT_EQ(s.period_ns(), 200'000);
+  const std::int64_t first = now_ns() + 1'000'000;
+  s.start(first);
+  std::vector<std::int64_t> woke, deadlines, indices;
+  for (int n = 0; n < 200; ++n) {
+    woke.push_back(s.wait());
+    deadlines.push_back(s.deadline_ns());
+    indices.push_back(s.deadline_index());
+  }
+  ASSERT_EQ(woke.size(), 200u);
+  EXPECT_EQ(s.ticks(), 200u);
+  EXPECT_EQ(s.jitter().count(), 200u);
+  for (std::size_t n = 0; n < woke.size(); ++n) {
+    // never before its deadline; deadlines on the exact grid; indices only move forward
+    EXPECT_GE(woke[n], deadlines[n]);
+    EXPECT_EQ(deadlines[n], first + indices[n] * 200'000);
+    if (n == 0) continue;
+    EXPECT_GE(woke[n], woke[n - 1]);
+    EXPECT_GT(indices[n], indices[n - 1]);
+  }
+  // every index not woken for was skipped by an overrun (normally none on a quiet machine)
+  EXPECT_EQ(static_cast<std::uint64_t>(indices.back() + 1), s.ticks() + s.skipped());
+  EXPECT_EQ(s.overruns() > 0, s.skipped() > 0);
+}
+
+TEST(PeriodicScheduler, AStallIsAnOverrunAndMissedDeadlinesAreSkipped) {
+  PeriodicScheduler s({.rate_hz = 5000.0});
+  s.start(now_ns() + 1'000'000);
+  for (int n = 0; n < 5; ++n) s.wait();
+  const std::uint64_t overruns_before = s.overruns();
+  const std::uint64_t skipped_before = s.skipped();
+  // the loop body stalls for three periods once
+  std::this_thread::sleep_for(std::chrono::nanoseconds(3 * s.period_ns()));
+  const std::int64_t woke = s.wait();
+  EXPECT_GE(s.overruns(), overruns_before + 1);
+  // at least the two deadlines passed during the stall were skipped, not run back to back
+  EXPECT_GE(s.skipped(), skipped_before + 2);
+  EXPECT_GT(s.next_deadline_ns(), woke);
+  EXPECT_EQ(s.next_deadline_ns(), s.deadline_at(s.deadline_index() + 1 + static_cast<std::int64_t>(s.skipped() - skipped_before)));
+  // the loop goes on, on the same grid
+  const std::int64_t next = s.wait();
+  EXPECT_GE(next, s.deadline_ns());
+  EXPECT_EQ((s.deadline_ns() - s.deadline_at(0)) % s.period_ns(), 0);
+}
+
+TEST(PeriodicScheduler, WaitBeforeStartStartsNow) {
+  PeriodicScheduler s({.rate_hz = 1000.0, .spin_ns = 0});
+  const std::int64_t before = now_ns();
+  const std::int64_t woke = s.wait();
+  EXPECT_GE(woke, before);
+  EXPECT_EQ(s.ticks(), 1u);
+}
+
+TEST(PeriodicScheduler, WaitAllocatesNothing) {
+  PeriodicScheduler s({.rate_hz = 5000.0});
+  s.start(now_ns() + 1'000'000);
+  std::vector<int> v;
+  std::size_t wait_allocations = 0, vector_allocations = 0;
+  {
+    enact::test::AllocGuard guard;
+    for (int n = 0; n < 100; ++n) s.wait();
+    // an overrun takes the skipping path too
+    std::this_thread::sleep_for(std::chrono::nanoseconds(3 * s.period_ns()));
+    s.wait();
+    wait_allocations = guard.allocations();
+    v.push_back(1);
+    vector_allocations = guard.allocations() - wait_allocations;
+  }
+  EXPECT_EQ(wait_allocations, 0u);
+  EXPECT_GT(vector_allocations, 0u);
+  EXPECT_GE(s.overruns(), 1u);
+}
+
+}  // namespace
+}  // namespace enact::rt
