@@ -29,13 +29,12 @@ struct Key {
 
 }  // namespace
 
-Trajectory scripted_path(const Simulator& sim) {
+Trajectory scripted_path(const Simulator& sim, double press) {
   if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <path object>} or give --input");
   const physics::Object& surface = sim.model().objects[sim.model().find_object(sim.model().task_surface)];
   const task::Polyline& path = sim.path();
   const double length = path.length_m();
   const double top = surface.path.top_z_m;
-  const double press = 0.00005;                // pressed 0.05 mm into the top
   const double speed = 0.010;                  // 10 mm/s along the path
   const physics::Proxy& body = sim.model().proxies[0];
   const double body_half = body.pitch_m * std::hypot(body.rows - 1, body.cols - 1) / 2.0;  // any orientation

@@ -18,9 +18,9 @@ using devices::Trajectory;
 using devices::write_trajectory;
 
 // a scripted hand along the task path of the scene (README, "The scripted path"): it presses
-// 0.05 mm into the top, wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
+// press_m into the top (a kinematic device: 0.05 mm; a hand target behind a spring: deeper), wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
 // about 2 s (a fall), climbs back, and reaches the end
-Trajectory scripted_path(const Simulator& simulator);
+Trajectory scripted_path(const Simulator& simulator, double press_m = 0.00005);
 
 struct RunSummary {
   std::string model;

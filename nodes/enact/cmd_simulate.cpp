@@ -35,12 +35,18 @@ options:
   --force              run a scene that fails the stability check anyway
 )";
 
-constexpr const char* kPathHelp = R"(usage: enact path SCENE [-o OUT.csv]
+constexpr const char* kPathHelp = R"(usage: enact path SCENE [-o OUT.csv] [--press M]
 
 Write the built-in scripted hand path of a scene with a task path (the bridge): pressed
 0.05 mm into the top at 10 mm/s with a small lateral wobble, one slide off the edge for
 under 1 s (not a fall) and one for about 2 s (a fall), then on to the end. Columns
-t_s,x_m,y_m,z_m at 100 Hz; edit it and pass it to `enact simulate --input`.
+t_s,x_m,y_m,z_m at 100 Hz; edit it and pass it to `enact simulate --input`, or give it to
+a simulated device as the target of its scripted hand (ffd.hand_path).
+
+options:
+  --press M   how deep below the top the path runs (m; default 0.00005). A device moved by
+              a hand spring needs a deeper target to press: 0.003 gives about 0.9 N at
+              300 N/m (launch/paths/bridge_walk.csv)
 )";
 
 std::vector<std::string> split(const std::string& list) {
@@ -115,7 +121,7 @@ int simulate(int argc, char** argv) {
 }
 
 int path(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"out"}, {});
+  const Args a = parse(argc, argv, 2, {"out", "press"}, {});
   if (a.flag("help")) {
     std::fputs(kPathHelp, stdout);
     return 0;
@@ -126,7 +132,9 @@ int path(int argc, char** argv) {
   p.force = true;
   sim::Simulator simulator;
   simulator.configure(p);
-  const sim::Trajectory tr = sim::scripted_path(simulator);
+  const double press = a.number("press", 0.00005);
+  if (press < 0.0 || press > 0.01) throw UsageError("--press must be from 0 to 0.01 m");
+  const sim::Trajectory tr = sim::scripted_path(simulator, press);
   if (!a.has("out")) {
     sim::write_trajectory(tr, std::cout);
     return 0;

@@ -1,0 +1,58 @@
+#pragma once
+// The co-located real-time tick: the simulator and both device drivers in one thread, wired
+// by calls: read the device, step the model, write the force, write the pins (down-sampled),
+// all in the same tick: the zero-delay loop. What happened is returned as a trivially
+// copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
+// blocks and never throws.
+#include <cstdint>
+
+#include "core/devices/device.h"
+#include "core/sim/simulator.h"
+
+namespace enact::graph {
+
+// one tick, for observers (pushed through an SPSC queue to the publisher thread)
+struct Observation {
+  std::uint64_t seq = 0;         // tick number, from 1
+  std::int64_t sample_ns = 0;    // device read
+  std::int64_t force_ns = 0;     // force written (sample-to-force latency = force_ns - sample_ns)
+  physics::Vec3 position_m;
+  physics::Vec3 velocity_m_per_s;
+  physics::Vec3 force_n;
+  std::uint32_t buttons = 0;
+  std::uint32_t device_faults = 0;  // devices::DeviceFault bits
+  std::uint32_t pins = 0;           // this tick's pins (bit i = pin i up)
+  std::uint32_t frame = 0;          // the tactile frame, when frame_due
+  bool frame_due = false;
+  bool sim_fault = false;           // the divergence guard tripped (force zero)
+  int contacts = 0;
+  bool on_top = false;
+  double progress = 0.0;
+  task::TaskEvent event;
+};
+
+// reads the monotonic clock (ns); a parameter so tests can drive time
+using Clock = std::int64_t (*)();
+
+class ColocatedLoop {
+ public:
+  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
+
+  // activate the devices and the simulator; zero force, pins down
+  void activate(std::int64_t now_ns);
+  // one tick of the zero-delay loop
+  const Observation& tick(std::int64_t now_ns);
+  // zero the force and lower the pins first, then stop the simulator
+  void deactivate() noexcept;
+
+ private:
+  sim::Simulator& sim_;
+  devices::ForceDevice& force_;
+  devices::TactileDevice& tactile_;
+  Clock clock_;
+  devices::ForceSample sample_;
+  Observation obs_;
+  std::int64_t start_ns_ = 0;
+};
+
+}  // namespace enact::graph

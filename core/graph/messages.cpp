@@ -1,0 +1,114 @@
+#include "core/graph/messages.h"
+
+namespace enact::graph {
+
+void set(msgs::Vec3& out, const physics::Vec3& v) {
+  out.set_x(v.x);
+  out.set_y(v.y);
+  out.set_z(v.z);
+}
+
+physics::Vec3 get(const msgs::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+std::uint32_t device_faults(std::uint32_t f) {
+  using devices::DeviceFault;
+  std::uint32_t out = 0;
+  if (devices::has(f, DeviceFault::clamped) || devices::has(f, DeviceFault::nonfinite_command)) out |= msgs::DEVICE_FAULT_OVER_FORCE;
+  if (devices::has(f, DeviceFault::workspace_limit)) out |= msgs::DEVICE_FAULT_OUT_OF_WORKSPACE;
+  if (devices::has(f, DeviceFault::device_error)) out |= msgs::DEVICE_FAULT_COMMUNICATION;
+  if (devices::has(f, DeviceFault::watchdog)) out |= msgs::DEVICE_FAULT_WATCHDOG;
+  return out;
+}
+
+void fill(msgs::DeviceState& m, const devices::ForceSample& s) {
+  m.mutable_header()->set_stamp_ns(s.time_ns);
+  set(*m.mutable_position(), s.position_m);
+  set(*m.mutable_velocity(), s.velocity_m_per_s);
+  m.set_buttons(s.buttons);
+  m.set_faults(device_faults(s.faults));
+}
+
+void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3& force_n, bool model_fault) {
+  m.mutable_header()->set_stamp_ns(0);
+  m.set_answered_seq(answered_seq);
+  set(*m.mutable_force(), force_n);
+  m.set_zero(false);
+  m.set_faults(model_fault ? msgs::COMMAND_FAULT_MODEL_UNSTABLE : 0);
+}
+
+namespace {
+
+// resize a repeated float field once, then overwrite it
+void levels(google::protobuf::RepeatedField<float>& out, int n) {
+  if (out.size() != n) out.Resize(n, 0.0f);
+}
+
+}  // namespace
+
+void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins) {
+  m.mutable_header()->set_stamp_ns(0);
+  m.set_rows(static_cast<std::uint32_t>(rows));
+  m.set_cols(static_cast<std::uint32_t>(cols));
+  levels(*m.mutable_level(), rows * cols);
+  for (int i = 0; i < rows * cols; ++i) m.set_level(i, (pins >> i) & 1u ? 1.0f : 0.0f);
+}
+
+void fill(msgs::TactileShown& m, int rows, int cols, const float* shown, std::uint64_t frame_seq) {
+  m.mutable_header()->set_stamp_ns(0);
+  m.set_rows(static_cast<std::uint32_t>(rows));
+  m.set_cols(static_cast<std::uint32_t>(cols));
+  levels(*m.mutable_level(), rows * cols);
+  for (int i = 0; i < rows * cols; ++i) m.set_level(i, shown[i]);
+  m.set_frame_seq(frame_seq);
+}
+
+void fill(msgs::SceneState& m, const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n) {
+  const physics::Model& model = s.model();
+  const physics::State& state = s.state();
+  const physics::Proxy& body = model.proxies[0];
+  const int n = body.rows * body.cols;
+  m.mutable_header()->set_stamp_ns(static_cast<std::int64_t>(state.time_s * 1e9));
+  set(*m.mutable_body_position(), state.x[body.point]);
+  while (m.contact_force_size() < n) m.add_contact_force();
+  if (m.in_contact_size() != n) m.mutable_in_contact()->Resize(n, false);
+  levels(*m.mutable_pin_level(), n);
+  for (int i = 0; i < n; ++i) {
+    set(*m.mutable_contact_force(i), state.f[body.first_body + i]);
+    m.set_in_contact(i, state.in_contact[body.first_body + i] != 0);
+    m.set_pin_level(i, (pins >> i) & 1u ? 1.0f : 0.0f);
+  }
+  set(*m.mutable_resultant_force(), force_n);
+  if (m.model() != s.computer_model().name) m.set_model(s.computer_model().name);
+  m.set_on_top(s.output().on_top);
+  m.set_progress(s.output().progress);
+}
+
+bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition) {
+  switch (e.kind) {
+    case task::TaskEventKind::none: return false;
+    case task::TaskEventKind::fall_start: m.set_kind(msgs::TaskEvent::FALL_START); break;
+    case task::TaskEventKind::fall_end: m.set_kind(msgs::TaskEvent::FALL_END); break;
+    case task::TaskEventKind::completed: m.set_kind(msgs::TaskEvent::TRIAL_END); break;
+  }
+  m.mutable_header()->set_stamp_ns(0);
+  m.set_time_ns(e.time_ns);
+  m.set_condition(condition);
+  return true;
+}
+
+void fill(msgs::NodeStatus& m, const std::string& node, const rt::LoopSummary& loop, std::uint64_t faults, const std::string& last_fault) {
+  m.mutable_header()->set_stamp_ns(0);
+  m.set_node(node);
+  m.set_state(msgs::NodeStatus::ACTIVE);
+  m.set_rate_hz(loop.rate_hz);
+  m.set_latency_p50_ns(loop.latency_p50_ns);
+  m.set_latency_p99_ns(loop.latency_p99_ns);
+  m.set_latency_p999_ns(loop.latency_p999_ns);
+  m.set_latency_max_ns(loop.latency_max_ns);
+  m.set_jitter_p99_ns(loop.jitter_p99_ns);
+  m.set_overruns(loop.overruns);
+  m.set_faults(faults);
+  m.set_last_fault(last_fault);
+}
+
+}  // namespace enact::graph

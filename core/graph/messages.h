@@ -1,0 +1,35 @@
+#pragma once
+// Filling the bus messages from the components' state, one place for every node.
+#include <cstdint>
+#include <string>
+
+#include "core/devices/device.h"
+#include "core/rt/loop_stats.h"
+#include "core/sim/simulator.h"
+#include "msgs/device_state.pb.h"
+#include "msgs/force_command.pb.h"
+#include "msgs/node_status.pb.h"
+#include "msgs/scene_state.pb.h"
+#include "msgs/tactile_frame.pb.h"
+#include "msgs/task_event.pb.h"
+
+namespace enact::graph {
+
+void set(msgs::Vec3& out, const physics::Vec3& v);
+physics::Vec3 get(const msgs::Vec3& v);
+
+// device fault bits (devices::DeviceFault) as the bus's DeviceFault bits
+std::uint32_t device_faults(std::uint32_t faults);
+
+void fill(msgs::DeviceState& m, const devices::ForceSample& s);
+void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3& force_n, bool model_fault);
+// pins as levels 0 / 1 (the repeated field is resized once, then overwritten)
+void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins);
+void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::uint64_t frame_seq);
+// the simulator's body, per-mass contact forces and contacts, pins, resultant, task state
+void fill(msgs::SceneState& m, const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n);
+// a task event; false when there is none
+bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition);
+void fill(msgs::NodeStatus& m, const std::string& node, const rt::LoopSummary& loop, std::uint64_t faults, const std::string& last_fault);
+
+}  // namespace enact::graph

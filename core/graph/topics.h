@@ -1,0 +1,14 @@
+#pragma once
+// The topics of a graph (DESIGN.md, "Topics") and their message types.
+namespace enact::graph {
+
+inline constexpr const char* kDeviceState = "ffd/state";      // DeviceState, FFD driver, loop rate
+inline constexpr const char* kForceCommand = "ffd/force";     // ForceCommand, simulator, loop rate
+inline constexpr const char* kTactileFrame = "tactile/frame"; // TactileFrame, simulator, down-sampled
+inline constexpr const char* kTactileShown = "tactile/shown"; // TactileShown, tactile driver, device rate
+inline constexpr const char* kSceneState = "sim/scene";       // SceneState, simulator, viewer rate
+inline constexpr const char* kTaskEvent = "task/event";       // TaskEvent, simulator, on event
+inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, viewer / CLI, on demand
+inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
+
+}  // namespace enact::graph

@@ -1,0 +1,178 @@
+// enact-rt: the co-located real-time container. The simulator and both device drivers run
+// in one process and one real-time thread (read device, step, write force, write pins, in
+// the same tick); observers are fed from a lock-free queue by a non-real-time thread.
+#include <signal.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "core/config/yaml.h"
+#include "core/graph/colocated.h"
+#include "core/graph/components.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+#include "core/rt/rt_setup.h"
+#include "core/rt/scheduler.h"
+#include "core/rt/spsc_queue.h"
+
+namespace {
+
+using namespace enact;
+
+constexpr const char* kHelp = R"(usage: enact-rt [--name NAME] --component=NAME:PLUGIN... --param NAME=VALUE...
+
+The co-located real-time container: components sim, ffd and tactile (one of each) in one
+process and one real-time thread, ticking at rate_hz: read the device, step the model,
+write the force, write the pins (down-sampled), in the same tick.
+
+container parameters:
+  rate_hz=5000          loop rate (1..44000 Hz); also the simulator's rate
+  duration_s=0          stop after this long (0: until SIGINT/SIGTERM)
+  spin_us=50            spin on the clock for the last microseconds before each tick
+  lock_memory=false     mlockall; fifo_priority=0 (1..99: SCHED_FIFO); cpus= (e.g. 1)
+component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
+  sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
+  ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
+  tactile:  device rows cols rise_time_s
+)";
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop.store(true); }
+
+// what the hand felt, accumulated by the non-real-time thread
+struct Felt {
+  std::uint64_t ticks = 0, frames = 0, dropped = 0, device_faults = 0, sim_faults = 0;
+  double force_sum_n = 0.0, force_max_n = 0.0, pins_sum = 0.0;
+  std::uint64_t on_top = 0;
+  int falls = 0;
+  bool completed = false;
+  double progress = 0.0;
+};
+
+void consume(const graph::Observation& o, Felt& felt) {
+  const double f = physics::norm(o.force_n);
+  felt.ticks += 1;
+  felt.force_sum_n += f;
+  felt.force_max_n = std::max(felt.force_max_n, f);
+  felt.pins_sum += __builtin_popcount(o.pins);
+  felt.frames += o.frame_due;
+  felt.on_top += o.on_top;
+  felt.device_faults += o.device_faults != 0;
+  felt.sim_faults += o.sim_fault;
+  felt.falls += o.event.kind == task::TaskEventKind::fall_start;
+  felt.completed = felt.completed || o.event.kind == task::TaskEventKind::completed;
+  felt.progress = std::max(felt.progress, o.on_top ? o.progress : 0.0);
+}
+
+std::string find_component(const graph::NodeArgs& args, const std::string& plugin) {
+  std::string name;
+  for (const auto& [n, p] : args.components) {
+    if (p != plugin) continue;
+    if (!name.empty()) throw config::Error(args.name + ": two " + plugin + " components\n  fix: one sim, one ffd and one tactile");
+    name = n;
+  }
+  if (name.empty()) throw config::Error(args.name + ": no " + plugin + " component\n  fix: add --component=" + plugin + ":" + plugin);
+  return name;
+}
+
+int run(int argc, char** argv) {
+  graph::NodeArgs args = graph::parse_node_args(argc, argv, "rt");
+  if (args.help) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  for (const auto& [n, p] : args.components) {
+    if (p != "sim" && p != "ffd" && p != "tactile") throw config::Error(args.name + ": unknown plugin '" + p + "'\n  fix: use sim, ffd or tactile");
+  }
+  // container params
+  rt::SchedulerParams sched;
+  sched.rate_hz = args.params.number("rate_hz", 5000.0);
+  sched.spin_ns = static_cast<std::int64_t>(args.params.number("spin_us", 50.0) * 1e3);
+  sched.validate();
+  const double duration_s = args.params.number("duration_s", 0.0);
+  rt::RtParams rtp;
+  rtp.lock_memory = args.params.flag("lock_memory", false);
+  rtp.fifo_priority = args.params.integer("fifo_priority", 0);
+  if (const std::string cpus = args.params.text("cpus", ""); !cpus.empty()) rtp.cpus.push_back(std::stoi(cpus));
+  // components, configured (bad input is refused here, before anything moves)
+  const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
+  graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
+  sim::SimParams sp = graph::sim_params(sim_p);
+  sp.rate_hz = sched.rate_hz;
+  sim::Simulator simulator;
+  simulator.configure(sp);
+  auto force = graph::make_force_device(ffd_p);
+  auto tactile = graph::make_tactile_device(tac_p);
+  sim_p.refuse_unread(graph::kSimParams);
+  ffd_p.refuse_unread(graph::kForceParams);
+  tac_p.refuse_unread(graph::kTactileParams);
+  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus"});
+
+  signal(SIGINT, on_signal);
+  signal(SIGTERM, on_signal);
+  graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
+  static rt::SpscQueue<graph::Observation, 16384> queue;
+  rt::LoopStats stats;
+  std::atomic<std::uint64_t> dropped{0};
+  rt::RtReport report;
+  std::atomic<bool> rt_done{false};
+
+  // the real-time thread: set up, then tick on absolute deadlines
+  std::thread rt_thread([&] {
+    report = rt::apply_rt_setup(rtp);
+    rt::prefault_stack();
+    rt::PeriodicScheduler scheduler(sched);
+    const std::int64_t start = rt::now_ns() + 1'000'000;
+    loop.activate(start);
+    scheduler.start(start);
+    const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
+    while (!g_stop.load(std::memory_order_relaxed)) {
+      const std::int64_t woke = scheduler.wait();
+      if (woke >= end) break;
+      const graph::Observation& o = loop.tick(woke);
+      stats.latency.record(o.force_ns - o.sample_ns);
+      if (!queue.try_push(o)) dropped.fetch_add(1, std::memory_order_relaxed);
+    }
+    loop.deactivate();
+    stats.jitter = scheduler.jitter();
+    stats.overruns = scheduler.overruns();
+    stats.ticks = scheduler.ticks();
+    rt_done.store(true);
+  });
+  graph::report_ready();
+
+  // the non-real-time side: drain the queue (publishing comes with the bus)
+  Felt felt;
+  graph::Observation o;
+  while (!rt_done.load()) {
+    while (queue.try_pop(o)) consume(o, felt);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  rt_thread.join();
+  while (queue.try_pop(o)) consume(o, felt);
+
+  std::printf("%s: %s\n", args.name.c_str(), report.summary().c_str());
+  std::printf("%s: %s\n", args.name.c_str(), rt::format(rt::summarize(stats, sched.rate_hz)).c_str());
+  const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
+  std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
+              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
+              args.name.c_str(), felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
+              static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
+              static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
+              static_cast<unsigned long long>(dropped.load()));
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "enact-rt: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,120 @@
+// The co-located real-time tick: one thread reads the device, steps the model, writes the
+// force and the pins in the same tick, and allocates nothing doing it.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "core/devices/safety.h"
+#include "core/devices/simulated_force.h"
+#include "core/devices/simulated_tactile.h"
+#include "core/graph/colocated.h"
+#include "core/haptics/computer_model.h"
+#include "tests/support/alloc_guard.h"
+#include "tests/support/test_util.h"
+
+namespace enact::graph {
+namespace {
+
+std::int64_t g_clock_ns = 0;
+std::int64_t fake_clock() { return g_clock_ns; }
+
+constexpr std::int64_t kPeriod_ns = 200'000;  // 5 kHz
+
+// the bridge with a simulated ERGOS whose hand walks the shipped path, and simulated cells
+struct Rig {
+  sim::Simulator simulator;
+  devices::SimulatedForceDevice* device = nullptr;  // inside the safety layer
+  std::unique_ptr<devices::ForceDevice> force;
+  devices::SimulatedTactileDevice tactile;
+  std::unique_ptr<ColocatedLoop> loop;
+
+  explicit Rig(const std::string& model) {
+    sim::SimParams p;
+    p.scene = test::source_path("launch/scenes/bridge.yaml");
+    p.model = model;
+    simulator.configure(p);
+    devices::SimulatedForceParams f;
+    f.hand_path = test::source_path("launch/paths/bridge_walk.csv");
+    f.start_m = {-0.0074246, -0.0222739, 0.013};
+    auto inner = std::make_unique<devices::SimulatedForceDevice>(f);
+    device = inner.get();
+    force = std::make_unique<devices::SafeForceDevice>(std::move(inner));
+    force->configure();
+    tactile.configure();
+    loop = std::make_unique<ColocatedLoop>(simulator, *force, tactile, &fake_clock);
+    loop->activate(0);
+  }
+
+  const Observation& tick(std::int64_t n) {
+    g_clock_ns = n * kPeriod_ns + 1000;  // the force is written 1 us after the sample
+    return loop->tick(n * kPeriod_ns);
+  }
+};
+
+TEST(Colocated, ForceIsWrittenInTheSameTickAsTheSample) {
+  Rig rig("CM1");
+  int on_top = 0;
+  for (std::int64_t n = 0; n < 10'000; ++n) {
+    const Observation& o = rig.tick(n);
+    // the device applies exactly the force the model computed from this tick's sample
+    EXPECT_EQ(rig.device->applied_force_n(), o.force_n) << "tick " << n;
+    EXPECT_EQ(o.force_ns - o.sample_ns, 1000);
+    EXPECT_EQ(o.seq, static_cast<std::uint64_t>(n + 1));
+    on_top += o.on_top;
+    if (o.on_top) {
+      EXPECT_GT(o.force_n.z, 0.0) << "on the top the bridge pushes up, tick " << n;
+    }
+    if (o.contacts == 0) {
+      EXPECT_EQ(physics::norm(o.force_n), 0.0) << "in the air no force, tick " << n;
+    }
+  }
+  EXPECT_GT(on_top, 1000) << "the hand path reaches the top";
+}
+
+TEST(Colocated, PinsFollowTheComputerModelAtTheFrameRate) {
+  Rig cm1("CM1"), cm3("CM3");
+  int frames = 0;
+  for (std::int64_t n = 0; n < 10'000; ++n) {
+    const Observation& a = cm1.tick(n);
+    const Observation& b = cm3.tick(n);
+    // same device path, same contacts: CM3 shows the complement of CM1 on every pin
+    ASSERT_EQ(a.contacts, b.contacts);
+    EXPECT_EQ(a.pins ^ b.pins, 0xffffu) << "tick " << n;
+    if (!a.frame_due) continue;
+    ++frames;
+    // the cells were given this frame's pins in this tick
+    EXPECT_EQ(cm1.tactile.targets(), a.frame);
+  }
+  // one frame per 24 ms (120 ticks at 5 kHz), the first at tick 0
+  EXPECT_EQ(frames, (10'000 + 119) / 120);
+}
+
+TEST(Colocated, TickAllocatesNothing) {
+  Rig rig("CM1");
+  for (std::int64_t n = 0; n < 100; ++n) rig.tick(n);  // past first-use set-up
+  std::size_t allocations = 0;
+  {
+    test::AllocGuard guard;
+    for (std::int64_t n = 100; n < 20'000; ++n) rig.tick(n);
+    allocations = guard.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  // the guard counts (the test is not vacuous)
+  test::AllocGuard guard;
+  std::vector<int> v;
+  v.push_back(1);
+  EXPECT_GT(guard.allocations(), 0u);
+}
+
+TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {
+  Rig rig("CM1");
+  std::int64_t n = 0;
+  while (n < 20'000 && (rig.tick(n).contacts == 0 || physics::norm(rig.device->applied_force_n()) == 0.0)) ++n;
+  ASSERT_LT(n, 20'000) << "the hand never touched";
+  rig.loop->deactivate();
+  EXPECT_EQ(rig.device->applied_force_n(), physics::Vec3{});
+  EXPECT_EQ(rig.tactile.targets(), 0u);
+}
+
+}  // namespace
+}  // namespace enact::graph
