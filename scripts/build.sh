@@ -6,4 +6,4 @@ build="${ENACT_BUILD_DIR:-$root/build}"
 if [[ ! -f "$build/build.ninja" ]]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-cmake --build "$build" --parallel "$(nproc)" ${1:+--target "$@"}
+cmake --build "$build" --parallel "$(nproc)" ${1:+--target} "$@"

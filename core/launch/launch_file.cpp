@@ -154,10 +154,11 @@ struct Loader {
   }
 
   void container(const Scope& scope, const YAML::Node& y) {
-    const Map m(y, scope.file, "container", {"name", "exec", "component", "args", "env", "required", "respawn", "respawn_delay"});
+    const Map m(y, scope.file, "container", {"name", "exec", "param", "param_file", "component", "args", "env", "required", "respawn", "respawn_delay"});
     NodeSpec n;
     common(scope, m, n);
     executable(scope, m, n, "enact-rt");
+    n.params = params(scope, m);
     n.container = true;
     std::set<std::string> component_names;
     for (const auto& c : m.list("component")) {
