@@ -15,6 +15,7 @@
 #include "msgs/common.pb.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
+#include "msgs/graph.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/param_update.pb.h"
 #include "msgs/scene_state.pb.h"
@@ -151,6 +152,18 @@ msgs::NodeStatus node_status() {
   return m;
 }
 
+msgs::GraphInfo graph_info() {
+  msgs::GraphInfo m;
+  fill(*m.mutable_header(), 5);
+  m.set_graph("bridge");
+  auto* topic = m.add_topics();
+  topic->set_name("ffd/state");
+  topic->set_type("enact.msgs.DeviceState");
+  topic->set_publisher("ffd");
+  m.set_descriptor_set(std::string("\x0a\x00", 2));
+  return m;
+}
+
 // every field is set (non-empty when repeated, one member per oneof), recursively, so a
 // round trip covers all of them and a field added later fails here until it is filled
 void expect_all_fields_set(const Message& m) {
@@ -195,7 +208,8 @@ void expect_round_trip(const T& sent) {
 std::vector<const Descriptor*> stream_messages() {
   return {msgs::DeviceState::descriptor(),  msgs::ForceCommand::descriptor(), msgs::TactileFrame::descriptor(),
           msgs::TactileShown::descriptor(), msgs::SceneState::descriptor(),   msgs::TaskEvent::descriptor(),
-          msgs::ParamUpdate::descriptor(),  msgs::ParamAck::descriptor(),     msgs::NodeStatus::descriptor()};
+          msgs::ParamUpdate::descriptor(),  msgs::ParamAck::descriptor(),     msgs::NodeStatus::descriptor(),
+          msgs::GraphInfo::descriptor()};
 }
 
 // a header field as the contract wants it: `Header header = 1`, singular
@@ -256,6 +270,8 @@ TEST(Msgs, ParamUpdateRoundTripEachValueKind) {
 }
 
 TEST(Msgs, ParamAckRoundTrip) { expect_round_trip(param_ack()); }
+
+TEST(Msgs, GraphInfoRoundTrip) { expect_round_trip(graph_info()); }
 
 TEST(Msgs, NodeStatusRoundTrip) {
   expect_round_trip(node_status());

@@ -1,0 +1,226 @@
+#include "core/bus/attach.h"
+
+#include <cerrno>
+#include <chrono>
+#include <exception>
+#include <stdexcept>
+
+#include "core/bus/context.h"
+#include "core/bus/schema.h"
+#include "core/bus/typed.h"
+#include "core/config/yaml.h"
+#include "msgs/graph.pb.h"
+
+namespace enact::bus {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// how long a caller waits for the forwarding thread to answer a command
+constexpr int kCommandTimeout_ms = 5000;
+
+// data messages forwarded per wake-up before commands and subscriptions get a turn
+constexpr int kForwardBatch = 256;
+
+// header.source of GraphInfo
+constexpr const char* kSource = "attach";
+
+// a fresh inproc name for each attach point's command pair
+std::string control_endpoint() {
+  static std::atomic<unsigned> next = 0;
+  return "inproc://enact.bus.attach." + std::to_string(next++);
+}
+
+// sends every frame of a message, the last without sndmore
+void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames) {
+  std::size_t i = 0;
+  for (const std::string_view f : frames) {
+    const bool last = ++i == frames.size();
+    (void)socket.send(zmq::const_buffer(f.data(), f.size()), last ? zmq::send_flags::none : zmq::send_flags::sndmore);
+  }
+}
+
+// every frame of the next message (blocking)
+std::vector<std::string> receive_frames(zmq::socket_t& socket) {
+  std::vector<std::string> frames;
+  zmq::message_t frame;
+  do {
+    if (!socket.recv(frame)) break;
+    frames.push_back(frame.to_string());
+  } while (frame.more());
+  return frames;
+}
+
+}  // namespace
+
+AttachPoint::AttachPoint(std::string graph, AttachOptions options)
+    : graph_(std::move(graph)),
+      graph_period_ms_(options.graph_period_ms),
+      xpub_(make_socket(zmq::socket_type::xpub)),
+      xsub_(make_socket(zmq::socket_type::xsub)),
+      control_(make_socket(zmq::socket_type::pair)),
+      requester_(make_socket(zmq::socket_type::pair)),
+      descriptor_set_(msgs_descriptor_set()) {
+  // refuse a bad or exposed endpoint before binding it
+  const std::string& bind = options.bind_endpoint;
+  validate_endpoint(bind, "attach endpoint");
+  if (!is_local(bind) && !options.allow_remote) {
+    throw config::Error("attach endpoint '" + bind +
+                        "': other machines can reach it, and observers are not authenticated yet\n"
+                        "  fix: bind tcp://127.0.0.1:PORT (or ipc://PATH), or set allow_remote to expose every topic");
+  }
+  if (graph_period_ms_ < 1) {
+    throw config::Error("attach point: graph_period_ms must be >= 1, got " + std::to_string(graph_period_ms_) +
+                        "\n  fix: give the GraphInfo period in ms, e.g. 1000");
+  }
+  // observers' side: every subscription reaches us (so each new observer of graph/topics
+  // gets a GraphInfo at once); lossy, so a slow observer never holds the publishers back
+  xpub_.set(zmq::sockopt::xpub_verbose, true);
+  try {
+    xpub_.bind(bind);
+  } catch (const zmq::error_t& e) {
+    throw config::Error("attach endpoint '" + bind + "': cannot bind: " + e.what() +
+                        "\n  fix: choose a free port (or * for any)");
+  }
+  endpoint_ = xpub_.get(zmq::sockopt::last_endpoint);
+  // command pair, then the thread (it owns xpub_, xsub_ and control_ from now on)
+  const std::string control = control_endpoint();
+  control_.bind(control);
+  requester_.connect(control);
+  requester_.set(zmq::sockopt::rcvtimeo, kCommandTimeout_ms);
+  requester_.set(zmq::sockopt::sndtimeo, kCommandTimeout_ms);
+  thread_ = std::thread([this] { run(); });
+}
+
+AttachPoint::~AttachPoint() { stop(); }
+
+void AttachPoint::add_publisher(const std::string& node, const std::string& endpoint) {
+  validate_endpoint(endpoint, "publisher endpoint of node '" + node + "'");
+  request({"connect", endpoint});
+}
+
+void AttachPoint::declare_topic(const std::string& name, const std::string& type, const std::string& publisher) {
+  request({"topic", name, type, publisher});
+}
+
+void AttachPoint::stop() {
+  if (!thread_.joinable()) return;
+  if (!failed_) request({"stop"});
+  thread_.join();
+}
+
+void AttachPoint::request(std::initializer_list<std::string_view> frames) {
+  const std::lock_guard lock(request_mutex_);
+  if (failed_) throw std::runtime_error("attach point stopped: " + failure_);
+  if (!thread_.joinable()) throw std::logic_error("attach point: used after stop()");
+  send_frames(requester_, frames);
+  const std::vector<std::string> answer = receive_frames(requester_);
+  if (answer.size() != 1) throw std::runtime_error("attach point: no answer from the forwarding thread");
+  if (!answer[0].empty()) throw std::runtime_error("attach point: " + answer[0]);
+}
+
+void AttachPoint::run() {
+  try {
+    zmq::pollitem_t items[] = {
+        {xsub_.handle(), 0, ZMQ_POLLIN, 0},
+        {xpub_.handle(), 0, ZMQ_POLLIN, 0},
+        {control_.handle(), 0, ZMQ_POLLIN, 0},
+    };
+    auto next_graph = Clock::now();
+    for (;;) {
+      // sleep until traffic, a command or the next GraphInfo
+      const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_graph - Clock::now());
+      try {
+        zmq::poll(items, 3, std::max(wait, std::chrono::milliseconds(0)));
+      } catch (const zmq::error_t& e) {
+        if (e.num() != EINTR) throw;
+        continue;
+      }
+      bool graph_now = Clock::now() >= next_graph;
+      if (items[0].revents & ZMQ_POLLIN) forward_data();
+      if (items[1].revents & ZMQ_POLLIN) graph_now |= forward_subscriptions();
+      if (items[2].revents & ZMQ_POLLIN) {
+        if (!handle_command()) return;
+        graph_now = true;
+      }
+      if (graph_now) {
+        publish_graph();
+        next_graph = Clock::now() + std::chrono::milliseconds(graph_period_ms_);
+      }
+    }
+  } catch (const std::exception& e) {
+    failure_ = e.what();
+    failed_ = true;
+  }
+}
+
+bool AttachPoint::handle_command() {
+  const std::vector<std::string> command = receive_frames(control_);
+  std::string error;
+  bool keep_running = true;
+  if (command.size() == 2 && command[0] == "connect") {
+    try {
+      xsub_.connect(command[1]);
+    } catch (const zmq::error_t& e) {
+      error = "cannot connect to '" + command[1] + "': " + e.what();
+    }
+  } else if (command.size() == 4 && command[0] == "topic") {
+    topics_.push_back({command[1], command[2], command[3]});
+  } else if (command.size() == 1 && command[0] == "stop") {
+    keep_running = false;
+  } else {
+    error = "unknown command";
+  }
+  send_frames(control_, {error});
+  return keep_running;
+}
+
+void AttachPoint::forward_data() {
+  // publishers -> observers, whole messages, a batch at a time
+  zmq::message_t frame;
+  for (int i = 0; i < kForwardBatch && xsub_.recv(frame, zmq::recv_flags::dontwait); ++i) {
+    for (;;) {
+      const bool more = frame.more();
+      (void)xpub_.send(frame, more ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait);
+      if (!more) break;
+      (void)xsub_.recv(frame);
+    }
+  }
+}
+
+bool AttachPoint::forward_subscriptions() {
+  // observers -> publishers; true when someone (re)subscribed to graph/topics
+  bool wants_graph = false;
+  zmq::message_t notice;
+  while (xpub_.recv(notice, zmq::recv_flags::dontwait)) {
+    const std::string_view n = notice.to_string_view();
+    if (!n.empty() && n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
+    (void)xsub_.send(notice, zmq::send_flags::dontwait);
+  }
+  return wants_graph;
+}
+
+void AttachPoint::publish_graph() {
+  msgs::GraphInfo info;
+  msgs::Header& h = *info.mutable_header();
+  h.set_seq(++graph_seq_);
+  h.set_stamp_ns(monotonic_ns());
+  h.set_source(kSource);
+  info.set_graph(graph_);
+  for (const Topic& t : topics_) {
+    msgs::GraphInfo::TopicInfo& out = *info.add_topics();
+    out.set_name(t.name);
+    out.set_type(t.type);
+    out.set_publisher(t.publisher);
+  }
+  info.set_descriptor_set(descriptor_set_);
+  const std::string payload = info.SerializeAsString();
+  const std::string& type = msgs::GraphInfo::descriptor()->full_name();
+  constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
+  // nobody subscribed or a full queue: this one is skipped, the next one follows in a period
+  if (!xpub_.send(zmq::const_buffer(kGraphTopic.data(), kGraphTopic.size()), more)) return;
+  (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
+  (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+}
+
+}  // namespace enact::bus

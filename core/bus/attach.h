@@ -1,0 +1,110 @@
+#pragma once
+// The attach point of a graph: the one endpoint observers (logger, viewer, a Python script,
+// another machine) connect to, at any time, to see any topic of the graph.
+//
+// Nodes talk to each other directly (the FFD driver's publisher to the simulator's
+// subscriber), so the loop's hot path has no extra hop. The attach point connects an XSUB
+// socket to every node's publisher and forwards, on its own thread, data to the observers
+// and the observers' subscriptions to the publishers: a topic nobody observes is not even
+// sent to it. It publishes the graph's topics and their schemas on "graph/topics"
+// (msgs/graph.proto, GraphInfo) every second and as soon as an observer subscribes to it.
+//
+// Observers are lossy: a slow observer loses messages at the attach point (it sees gaps),
+// and never slows the publishers. Wire format and a Python client: core/bus/README.md.
+#include <atomic>
+#include <cstdint>
+#include <initializer_list>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include <zmq.hpp>
+
+#include "core/bus/endpoints.h"
+
+namespace enact::bus {
+
+// the topic of GraphInfo messages
+inline constexpr std::string_view kGraphTopic = "graph/topics";
+
+struct AttachOptions {
+  // where observers connect; loopback only by default
+  std::string bind_endpoint = kLoopbackAnyPort;
+  // needed to bind an endpoint other machines can reach. There is no authentication yet
+  // (CURVE is a TODO): anyone who reaches the port sees every topic.
+  bool allow_remote = false;
+  // period of the GraphInfo messages, ms
+  int graph_period_ms = 1000;
+};
+
+class AttachPoint {
+ public:
+  // binds the observers' endpoint and starts forwarding; `graph` names the graph in
+  // GraphInfo. Throws config::Error for a malformed endpoint, one that cannot be bound, or
+  // a non-local one without allow_remote.
+  explicit AttachPoint(std::string graph, AttachOptions options = {});
+
+  // stop()
+  ~AttachPoint();
+
+  AttachPoint(const AttachPoint&) = delete;
+  AttachPoint& operator=(const AttachPoint&) = delete;
+
+  // the endpoint actually bound (tcp port resolved): print it for observers
+  const std::string& endpoint() const { return endpoint_; }
+
+  // forwards the topics published at `endpoint` (a BytePublisher::endpoint() of node
+  // `node`) to observers; the publisher may start later. Throws config::Error for a
+  // malformed endpoint. Thread-safe.
+  void add_publisher(const std::string& node, const std::string& endpoint);
+
+  // lists topic `name` of message type `type` (full name, e.g. "enact.msgs.DeviceState"),
+  // published by node `publisher`, in GraphInfo; sends an updated GraphInfo at once.
+  // Thread-safe.
+  void declare_topic(const std::string& name, const std::string& type, const std::string& publisher);
+
+  // the same, with the type name taken from Msg
+  template <class Msg>
+  void declare_topic(const std::string& name, const std::string& publisher) {
+    declare_topic(name, Msg::descriptor()->full_name(), publisher);
+  }
+
+  // stops forwarding and joins the thread; observers stay connected but receive nothing.
+  // Safe to call twice.
+  void stop();
+
+ private:
+  struct Topic {
+    std::string name;
+    std::string type;
+    std::string publisher;
+  };
+
+  // sends a command to the forwarding thread and waits for its answer ("" when done)
+  void request(std::initializer_list<std::string_view> frames);
+  void run();
+  bool handle_command();
+  void forward_data();
+  bool forward_subscriptions();
+  void publish_graph();
+
+  std::string graph_;
+  std::string endpoint_;
+  int graph_period_ms_;
+  zmq::socket_t xpub_;        // observers connect here
+  zmq::socket_t xsub_;        // connects to every node's publisher
+  zmq::socket_t control_;     // forwarding thread's end of the command pair
+  zmq::socket_t requester_;   // callers' end, used under request_mutex_
+  std::mutex request_mutex_;
+  std::atomic<bool> failed_ = false;
+  std::string failure_;       // why the thread stopped, set before failed_
+  // owned by the forwarding thread
+  std::vector<Topic> topics_;
+  std::string descriptor_set_;
+  std::uint64_t graph_seq_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace enact::bus

@@ -1,0 +1,222 @@
+#include "core/bus/bytes.h"
+
+#include <cerrno>
+#include <chrono>
+#include <stdexcept>
+
+#include "core/bus/context.h"
+#include "core/bus/endpoints.h"
+#include "core/config/yaml.h"
+
+namespace enact::bus {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// a bus message has exactly these frames: topic, type, payload
+constexpr int kFrames = 3;
+
+// XPUB subscription notices: one frame, this byte then the subscribed prefix
+constexpr char kSubscribe = 1;
+constexpr char kUnsubscribe = 0;
+
+template <class Map>
+TopicCounters find_counters(const Map& counters, std::string_view topic) {
+  const auto it = counters.find(topic);
+  return it == counters.end() ? TopicCounters{} : it->second;
+}
+
+template <class Map>
+std::vector<std::pair<std::string, TopicCounters>> list_counters(const Map& counters) {
+  return {counters.begin(), counters.end()};
+}
+
+// milliseconds left until `deadline` (-1: no deadline), never negative
+int remaining_ms(std::optional<Clock::time_point> deadline) {
+  if (!deadline) return -1;
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(*deadline - Clock::now()).count();
+  return left > 0 ? static_cast<int>(left) : 0;
+}
+
+}  // namespace
+
+BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions options)
+    : socket_(make_socket(zmq::socket_type::xpub)), node_(std::move(options.node)) {
+  validate_endpoint(endpoint, "publisher endpoint");
+  if (options.send_hwm < 1) {
+    throw config::Error("publisher '" + endpoint + "': send_hwm must be >= 1, got " + std::to_string(options.send_hwm) +
+                        "\n  fix: give the number of messages queued per subscriber, e.g. 1000");
+  }
+  // never block, never drop silently: a full queue makes send() fail, and we count it
+  socket_.set(zmq::sockopt::sndhwm, options.send_hwm);
+  socket_.set(zmq::sockopt::xpub_nodrop, true);
+  try {
+    socket_.bind(endpoint);
+  } catch (const zmq::error_t& e) {
+    throw config::Error("publisher endpoint '" + endpoint + "': cannot bind: " + e.what() +
+                        "\n  fix: choose a free port (or * for any), or an ipc path no other node binds");
+  }
+  endpoint_ = socket_.get(zmq::sockopt::last_endpoint);
+}
+
+bool BytePublisher::send(std::string_view topic, std::string_view type, const void* data, std::size_t size) noexcept {
+  auto it = counters_.find(topic);
+  if (it == counters_.end()) it = counters_.emplace(std::string(topic), TopicCounters{}).first;
+  TopicCounters& c = it->second;
+  // three frames, none blocking. A full queue refuses the first frame (EAGAIN, nothing sent);
+  // once it is accepted the others are too (the high-water mark counts whole messages)
+  constexpr auto more = zmq::send_flags::dontwait | zmq::send_flags::sndmore;
+  try {
+    if (!socket_.send(zmq::const_buffer(topic.data(), topic.size()), more)) {
+      ++c.dropped;
+      return false;
+    }
+    socket_.send(zmq::const_buffer(type.data(), type.size()), more);
+    socket_.send(zmq::const_buffer(data, size), zmq::send_flags::dontwait);
+  } catch (const zmq::error_t&) {
+    ++c.dropped;
+    return false;
+  }
+  ++c.sent;
+  return true;
+}
+
+void BytePublisher::read_subscriptions() {
+  // the XPUB socket reports the first subscriber of a prefix and the last one leaving
+  zmq::message_t notice;
+  while (socket_.recv(notice, zmq::recv_flags::dontwait)) {
+    const std::string_view n = notice.to_string_view();
+    if (n.empty()) continue;
+    const std::string_view prefix = n.substr(1);
+    if (n.front() == kSubscribe) subscriptions_.emplace(prefix);
+    if (n.front() == kUnsubscribe) {
+      const auto it = subscriptions_.find(prefix);
+      if (it != subscriptions_.end()) subscriptions_.erase(it);
+    }
+  }
+}
+
+bool BytePublisher::has_subscribers(std::string_view topic) {
+  read_subscriptions();
+  for (const std::string& prefix : subscriptions_) {
+    if (topic.starts_with(prefix)) return true;
+  }
+  return false;
+}
+
+TopicCounters BytePublisher::counters(std::string_view topic) const { return find_counters(counters_, topic); }
+
+std::vector<std::pair<std::string, TopicCounters>> BytePublisher::all_counters() const { return list_counters(counters_); }
+
+ByteSubscriber::ByteSubscriber() : socket_(make_socket(zmq::socket_type::sub)) {}
+
+void ByteSubscriber::connect(const std::string& endpoint) {
+  validate_endpoint(endpoint, "subscriber endpoint");
+  socket_.connect(endpoint);
+}
+
+void ByteSubscriber::disconnect(const std::string& endpoint) { socket_.disconnect(endpoint); }
+
+void ByteSubscriber::subscribe(const std::string& topic) {
+  if (conflate_ && !subscribed_.empty() && !subscribed_.contains(topic)) {
+    throw std::logic_error("bus: a conflating subscriber takes a single topic; cannot add '" + topic + "'");
+  }
+  if (!subscribed_.insert(topic).second) return;
+  counters_.try_emplace(topic);
+  socket_.set(zmq::sockopt::subscribe, topic);
+}
+
+void ByteSubscriber::unsubscribe(const std::string& topic) {
+  if (subscribed_.erase(topic) == 0) return;
+  socket_.set(zmq::sockopt::unsubscribe, topic);
+}
+
+void ByteSubscriber::set_receive_hwm(int messages) { socket_.set(zmq::sockopt::rcvhwm, messages); }
+
+void ByteSubscriber::set_conflate(bool conflate) {
+  if (conflate && subscribed_.size() > 1) {
+    throw std::logic_error("bus: conflation needs a subscriber of a single topic; this one has " +
+                           std::to_string(subscribed_.size()));
+  }
+  conflate_ = conflate;
+}
+
+ByteSubscriber::Read ByteSubscriber::read_one(RawMessage& out, int timeout_ms) {
+  // wait for the first frame; a whole multipart message arrives at once
+  if (!socket_.recv(out.topic_frame, zmq::recv_flags::dontwait)) {
+    if (timeout_ms == 0) return Read::none;
+    zmq::pollitem_t item{socket_.handle(), 0, ZMQ_POLLIN, 0};
+    try {
+      if (zmq::poll(&item, 1, std::chrono::milliseconds(timeout_ms)) == 0) return Read::none;
+    } catch (const zmq::error_t& e) {
+      if (e.num() == EINTR) return Read::none;
+      throw;
+    }
+    if (!socket_.recv(out.topic_frame, zmq::recv_flags::dontwait)) return Read::skipped;
+  }
+  // read every frame, keeping the first three
+  int frames = 1;
+  bool more = out.topic_frame.more();
+  zmq::message_t* const slots[] = {&out.type_frame, &out.payload_frame};
+  for (; more; ++frames) {
+    zmq::message_t& frame = frames < kFrames ? *slots[frames - 1] : extra_;
+    (void)socket_.recv(frame, zmq::recv_flags::none);
+    more = frame.more();
+  }
+  // exact topic, then shape
+  const auto it = counters_.find(out.topic());
+  if (it == counters_.end() || !subscribed_.contains(out.topic())) return Read::skipped;
+  if (frames != kFrames) {
+    ++it->second.malformed;
+    return Read::skipped;
+  }
+  ++it->second.received;
+  return Read::ok;
+}
+
+bool ByteSubscriber::receive(RawMessage& out, int timeout_ms) {
+  const std::optional<Clock::time_point> deadline =
+      timeout_ms < 0 ? std::nullopt : std::optional(Clock::now() + std::chrono::milliseconds(timeout_ms));
+  Read r = Read::skipped;
+  while ((r = read_one(out, remaining_ms(deadline))) == Read::skipped) {
+  }
+  if (r == Read::none) return false;
+  if (!conflate_) return true;
+  // conflation: keep the newest message already waiting, count the older ones as dropped
+  TopicCounters& c = counters_.find(out.topic())->second;
+  for (Read next; (next = read_one(newer_, 0)) != Read::none;) {
+    if (next != Read::ok) continue;
+    --c.received;
+    ++c.dropped;
+    std::swap(out, newer_);
+  }
+  return true;
+}
+
+std::optional<RawMessage> ByteSubscriber::receive(int timeout_ms) {
+  RawMessage m;
+  if (!receive(m, timeout_ms)) return std::nullopt;
+  return m;
+}
+
+TopicCounters ByteSubscriber::counters(std::string_view topic) const { return find_counters(counters_, topic); }
+
+std::vector<std::pair<std::string, TopicCounters>> ByteSubscriber::all_counters() const {
+  return list_counters(counters_);
+}
+
+void ByteSubscriber::count_rejected(std::string_view topic) noexcept {
+  const auto it = counters_.find(topic);
+  if (it == counters_.end()) return;
+  if (it->second.received > 0) --it->second.received;
+  ++it->second.malformed;
+}
+
+void ByteSubscriber::count_gap(std::string_view topic, std::uint64_t lost) noexcept {
+  const auto it = counters_.find(topic);
+  if (it == counters_.end()) return;
+  ++it->second.gaps;
+  it->second.lost += lost;
+}
+
+}  // namespace enact::bus

@@ -1,0 +1,166 @@
+#pragma once
+// The byte layer of the bus: publish and subscribe raw bus messages, three ZeroMQ frames
+// [topic] [type] [payload] (wire format: core/bus/README.md), with per-topic counters.
+// The typed layer (typed.h) serialises protobuf messages on top of it.
+//
+// Threads: a BytePublisher or ByteSubscriber is used by one thread at a time (ZeroMQ sockets
+// are not thread-safe), counters included.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <zmq.hpp>
+
+namespace enact::bus {
+
+// traffic on one topic, cumulative. A publisher fills sent and dropped; a subscriber fills
+// received, malformed, dropped (conflation), gaps and lost.
+struct TopicCounters {
+  std::uint64_t sent = 0;       // messages the socket accepted
+  std::uint64_t dropped = 0;    // publisher: refused, a subscriber's queue was full;
+                                // subscriber: skipped by conflation (a newer one was waiting)
+  std::uint64_t received = 0;   // well-formed messages handed to the caller
+  std::uint64_t malformed = 0;  // messages refused: frame count, type name, or parse failure
+  std::uint64_t gaps = 0;       // jumps in header.seq (typed layer)
+  std::uint64_t lost = 0;       // messages missing in those jumps
+};
+
+struct PublisherOptions {
+  std::string node;     // name of the publishing node: typed publishers write it in header.source
+  int send_hwm = 1000;  // messages queued per subscriber before send() refuses (and counts a drop)
+};
+
+// a publisher bound to one endpoint; any number of subscribers connect to it
+class BytePublisher {
+ public:
+  // binds `endpoint` (ipc://, tcp://, inproc://; tcp port * picks a free one); throws
+  // config::Error if the endpoint is malformed or cannot be bound
+  BytePublisher(const std::string& endpoint, PublisherOptions options = {});
+  BytePublisher(const BytePublisher&) = delete;
+  BytePublisher& operator=(const BytePublisher&) = delete;
+
+  // the endpoint actually bound (tcp port resolved): what subscribers connect to
+  const std::string& endpoint() const { return endpoint_; }
+
+  // the node name given in the options
+  const std::string& node() const { return node_; }
+
+  // sends one bus message without ever blocking. false when a subscriber of `topic` has a
+  // full queue: the message goes to nobody and counts as dropped (ZMQ_XPUB_NODROP: a slow
+  // subscriber makes every subscriber of that topic lose it; see README, "Slow subscribers").
+  // With no subscriber the message is discarded and still counts as sent. The first message
+  // on a new topic allocates its counters.
+  bool send(std::string_view topic, std::string_view type, const void* data, std::size_t size) noexcept;
+
+  // whether some subscriber's subscription matches `topic` (reads pending subscription notices)
+  bool has_subscribers(std::string_view topic);
+
+  // counters of one topic (zero if nothing was sent on it)
+  TopicCounters counters(std::string_view topic) const;
+
+  // counters of every topic sent on, by topic name
+  std::vector<std::pair<std::string, TopicCounters>> all_counters() const;
+
+  // the ZMQ_XPUB socket (readable when a subscription notice is pending)
+  zmq::socket_t& socket() { return socket_; }
+
+ private:
+  void read_subscriptions();
+
+  zmq::socket_t socket_;
+  std::string endpoint_;
+  std::string node_;
+  std::map<std::string, TopicCounters, std::less<>> counters_;
+  std::set<std::string, std::less<>> subscriptions_;  // prefixes some subscriber asked for
+};
+
+// one received bus message; its frames are reused by ByteSubscriber::receive(RawMessage&, ...)
+struct RawMessage {
+  zmq::message_t topic_frame;
+  zmq::message_t type_frame;
+  zmq::message_t payload_frame;
+
+  std::string_view topic() const { return topic_frame.to_string_view(); }
+  std::string_view type() const { return type_frame.to_string_view(); }
+  const void* payload() const { return payload_frame.data(); }
+  std::size_t payload_size() const { return payload_frame.size(); }
+};
+
+// a subscriber: connects to any number of publishers (or an attach point) and receives the
+// topics it subscribed to, exactly (ZeroMQ filters by prefix; this class checks the topic frame)
+class ByteSubscriber {
+ public:
+  ByteSubscriber();
+  ByteSubscriber(const ByteSubscriber&) = delete;
+  ByteSubscriber& operator=(const ByteSubscriber&) = delete;
+
+  // connects to a publisher's or an attach point's endpoint (the publisher need not exist
+  // yet: ZeroMQ retries); throws config::Error if the endpoint is malformed
+  void connect(const std::string& endpoint);
+
+  // undoes connect(endpoint) (zmq::error_t if it was not connected)
+  void disconnect(const std::string& endpoint);
+
+  // receives `topic` from now on (a late joiner gets only later messages); throws
+  // std::logic_error when conflating and another topic is already subscribed
+  void subscribe(const std::string& topic);
+
+  // stops receiving `topic` (its counters are kept)
+  void unsubscribe(const std::string& topic);
+
+  // messages queued per publisher before that publisher sees this subscriber as full; takes
+  // effect for connections made after the call, so call it before connect()
+  void set_receive_hwm(int messages);
+
+  // latest-only delivery: receive() returns the newest message waiting and counts the older
+  // ones as dropped. Only for a subscriber of a single topic (others' messages would be
+  // skipped too): throws std::logic_error if more than one topic is subscribed. ZMQ_CONFLATE
+  // itself cannot be used: it keeps one frame, not one multipart message.
+  void set_conflate(bool conflate);
+  bool conflating() const { return conflate_; }
+
+  // waits up to timeout_ms (0: do not wait, -1: forever) for a message on a subscribed topic.
+  // A message with a wrong number of frames counts as malformed and is skipped; a message on
+  // a topic that only shares a prefix with a subscribed one is skipped silently. Never
+  // throws on bad input. nullopt on timeout, or when a signal interrupts the wait.
+  std::optional<RawMessage> receive(int timeout_ms);
+
+  // the same into `out`, reusing its frames; false on timeout or signal
+  bool receive(RawMessage& out, int timeout_ms);
+
+  // counters of one topic (zero if not subscribed)
+  TopicCounters counters(std::string_view topic) const;
+
+  // counters of every topic subscribed to, by topic name
+  std::vector<std::pair<std::string, TopicCounters>> all_counters() const;
+
+  // for the typed layer: a message received on `topic` turned out malformed (wrong type,
+  // parse failure): moves it from received to malformed
+  void count_rejected(std::string_view topic) noexcept;
+
+  // for the typed layer: a jump in header.seq on `topic`, `lost` messages missing
+  void count_gap(std::string_view topic, std::uint64_t lost) noexcept;
+
+  // the ZMQ_SUB socket, for zmq::poll over several sockets
+  zmq::socket_t& socket() { return socket_; }
+
+ private:
+  enum class Read { none, skipped, ok };
+  Read read_one(RawMessage& out, int timeout_ms);
+
+  zmq::socket_t socket_;
+  bool conflate_ = false;
+  std::map<std::string, TopicCounters, std::less<>> counters_;
+  std::set<std::string, std::less<>> subscribed_;
+  RawMessage newer_;        // conflation: the message read after the one kept
+  zmq::message_t extra_;    // frames past the third of a malformed message
+};
+
+}  // namespace enact::bus

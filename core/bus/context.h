@@ -1,0 +1,21 @@
+#pragma once
+// The process-wide ZeroMQ context every bus socket is made from. inproc:// endpoints only
+// join sockets of the same context, so there is exactly one per process.
+#include <zmq.hpp>
+
+namespace enact::bus {
+
+// how long a closed publishing socket (PUB, XPUB) may still deliver the messages it queued, ms.
+// Not 0: with linger 0, libzmq 4.3 aborts in its I/O thread (session_base.cpp, clean_pipes)
+// when a peer drops while half a multipart message is on the wire (libzmq issue #3442).
+inline constexpr int kPublisherLinger_ms = 100;
+
+// the context, created on first use (thread-safe). It is destroyed at exit, which waits
+// until every socket made from it is closed and, for publishers, their linger has passed.
+zmq::context_t& context();
+
+// a socket of the context: linger kPublisherLinger_ms for PUB and XPUB, 0 for the others
+// (closing never waits)
+zmq::socket_t make_socket(zmq::socket_type type);
+
+}  // namespace enact::bus

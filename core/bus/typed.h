@@ -1,0 +1,157 @@
+#pragma once
+// The typed layer of the bus: Publisher<Msg> and Subscriber<Msg> over the byte layer, for
+// the stream messages of msgs/ (every one has `Header header = 1`). The publisher fills the
+// header and serialises into a buffer it reuses; the subscriber checks the type name,
+// parses, and counts sequence gaps per publishing node.
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/bus/bytes.h"
+#include "msgs/common.pb.h"
+
+namespace enact::bus {
+
+// now on CLOCK_MONOTONIC, ns: the clock of header.stamp_ns
+inline std::int64_t monotonic_ns() noexcept {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
+}
+
+// publishes Msg on one topic. One Publisher per topic and node: it owns the topic's sequence.
+template <class Msg>
+class Publisher {
+ public:
+  // publishes on `topic` through `bytes` (which must outlive it)
+  Publisher(BytePublisher& bytes, std::string topic)
+      : bytes_(bytes), topic_(std::move(topic)), type_(Msg::descriptor()->full_name()) {}
+
+  // fills msg.header (seq: +1 per call, from 1; stamp_ns: now, only if 0; source: the node
+  // name of the BytePublisher), serialises and sends without blocking. false when the message
+  // was dropped (a subscriber's queue is full): its seq is used anyway, so subscribers see
+  // the drop as a gap. Allocates nothing once the buffer has grown to the largest message
+  // size (the header's source string is set once per message object).
+  // A message object reused for the next publish keeps its stamp: set header.stamp_ns to
+  // the sample time, or to 0 for "now", before each call.
+  bool publish(Msg& msg) {
+    // header
+    msgs::Header& h = *msg.mutable_header();
+    h.set_seq(++seq_);
+    if (h.stamp_ns() == 0) h.set_stamp_ns(monotonic_ns());
+    if (h.source() != bytes_.node()) h.set_source(bytes_.node());
+    // serialise into the buffer, grown only for a message larger than any before
+    const std::size_t size = msg.ByteSizeLong();
+    if (size > buffer_.size()) buffer_.resize(size);
+    msg.SerializeWithCachedSizesToArray(buffer_.data());
+    return bytes_.send(topic_, type_, buffer_.data(), size);
+  }
+
+  // header.seq of the last message published (0 before the first)
+  std::uint64_t last_seq() const { return seq_; }
+
+  const std::string& topic() const { return topic_; }
+
+  // this topic's counters on the BytePublisher
+  TopicCounters counters() const { return bytes_.counters(topic_); }
+
+ private:
+  BytePublisher& bytes_;
+  std::string topic_;
+  std::string_view type_;  // Msg's full name, owned by its descriptor
+  std::uint64_t seq_ = 0;
+  std::vector<std::uint8_t> buffer_;
+};
+
+// receives Msg on one topic. Counters live on the ByteSubscriber, per topic.
+//
+// receive() takes every message off the ByteSubscriber's socket and skips those of other
+// topics: give each Subscriber its own ByteSubscriber, or, to read several topics from one
+// socket, call ByteSubscriber::receive() and hand each message to the matching accept().
+template <class Msg>
+class Subscriber {
+ public:
+  // subscribes `bytes` (which must outlive it) to `topic`
+  Subscriber(ByteSubscriber& bytes, std::string topic)
+      : bytes_(bytes), topic_(std::move(topic)), type_(Msg::descriptor()->full_name()) {
+    bytes_.subscribe(topic_);
+  }
+
+  // waits up to timeout_ms (0: do not wait, -1: forever) for the next valid message.
+  // Messages of the wrong type or that fail to parse are counted malformed and skipped;
+  // never throws on bad input. nullopt on timeout, or when a signal interrupts the wait.
+  std::optional<Msg> receive(int timeout_ms) {
+    Msg msg;
+    if (!receive(msg, timeout_ms)) return std::nullopt;
+    return msg;
+  }
+
+  // the same into `out`, reusing its memory; false on timeout or signal
+  bool receive(Msg& out, int timeout_ms) {
+    using namespace std::chrono;
+    const auto deadline = steady_clock::now() + milliseconds(timeout_ms);
+    for (int wait_ms = timeout_ms; bytes_.receive(raw_, wait_ms);) {
+      if (accept(raw_, out)) return true;
+      // a skipped message does not extend the wait
+      if (timeout_ms >= 0) {
+        wait_ms = static_cast<int>(std::max<std::int64_t>(0, duration_cast<milliseconds>(deadline - steady_clock::now()).count()));
+      }
+    }
+    return false;
+  }
+
+  // decodes `raw` into `out` if it is a valid message of this topic: false (and nothing
+  // counted) for another topic; false and counted malformed for a wrong type name or a
+  // payload that does not parse. Counts header.seq gaps per source node.
+  bool accept(const RawMessage& raw, Msg& out) {
+    if (raw.topic() != topic_) return false;
+    if (raw.type() != type_ || raw.payload_size() > INT_MAX ||
+        !out.ParseFromArray(raw.payload(), static_cast<int>(raw.payload_size()))) {
+      bytes_.count_rejected(topic_);
+      return false;
+    }
+    track(out.header());
+    return true;
+  }
+
+  const std::string& topic() const { return topic_; }
+
+  // this topic's counters on the ByteSubscriber
+  TopicCounters counters() const { return bytes_.counters(topic_); }
+
+ private:
+  struct SourceSeq {
+    std::string source;
+    std::uint64_t last_seq = 0;
+  };
+
+  // a jump past last_seq + 1 is a gap; a first message (late join), a smaller seq (the
+  // publisher restarted) or seq 0 (not filled) are not. A conflating subscriber skips on
+  // purpose: its skips are counted as dropped, not as gaps.
+  void track(const msgs::Header& h) {
+    if (h.seq() == 0) return;
+    for (SourceSeq& s : sources_) {
+      if (s.source != h.source()) continue;
+      if (h.seq() > s.last_seq + 1 && !bytes_.conflating()) bytes_.count_gap(topic_, h.seq() - s.last_seq - 1);
+      s.last_seq = h.seq();
+      return;
+    }
+    sources_.push_back({h.source(), h.seq()});
+  }
+
+  ByteSubscriber& bytes_;
+  std::string topic_;
+  std::string_view type_;  // Msg's full name, owned by its descriptor
+  RawMessage raw_;
+  std::vector<SourceSeq> sources_;
+};
+
+}  // namespace enact::bus

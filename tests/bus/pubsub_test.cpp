@@ -1,0 +1,265 @@
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/bus/bytes.h"
+#include "core/bus/context.h"
+#include "core/bus/typed.h"
+#include "msgs/device_state.pb.h"
+#include "msgs/force_command.pb.h"
+#include "tests/bus/bus_test_util.h"
+
+namespace bus = enact::bus;
+namespace msgs = enact::msgs;
+using enact::test::eventually;
+using enact::test::kWait_ms;
+using enact::test::sample_state;
+
+namespace {
+
+// one publisher node "ffd" on a fresh endpoint of the transport under test
+class Transport : public ::testing::TestWithParam<std::string> {
+ protected:
+  enact::test::TempDir dir_;
+  bus::BytePublisher pub_{enact::test::bind_endpoint(GetParam(), dir_), {.node = "ffd"}};
+
+  // connects `sub` and waits until the publisher sees its subscription to `topic`
+  void join(bus::ByteSubscriber& sub, const std::string& topic) {
+    sub.connect(pub_.endpoint());
+    sub.subscribe(topic);
+    ASSERT_TRUE(eventually([&] { return pub_.has_subscribers(topic); }));
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Bus, Transport, ::testing::Values("inproc", "ipc", "tcp"));
+
+TEST_P(Transport, DeviceStateRoundTripFillsTheHeader) {
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "ffd/state");
+  join(bytes, "ffd/state");
+  bus::Publisher<msgs::DeviceState> pub(pub_, "ffd/state");
+
+  // three messages; the last one carries its own stamp
+  const std::int64_t before_ns = bus::monotonic_ns();
+  for (int i = 0; i < 3; ++i) {
+    msgs::DeviceState m = sample_state(0.01 * i);
+    if (i == 2) m.mutable_header()->set_stamp_ns(777);
+    ASSERT_TRUE(pub.publish(m));
+  }
+  for (int i = 0; i < 3; ++i) {
+    const auto m = sub.receive(kWait_ms);
+    ASSERT_TRUE(m) << "message " << i;
+    EXPECT_EQ(m->header().seq(), static_cast<std::uint64_t>(i + 1));
+    EXPECT_EQ(m->header().source(), "ffd");
+    EXPECT_EQ(m->header().stamp_ns() >= before_ns, i < 2);
+    EXPECT_EQ(m->header().stamp_ns() == 777, i == 2);
+    EXPECT_DOUBLE_EQ(m->position().x(), 0.01 * i);
+    EXPECT_DOUBLE_EQ(m->velocity().y(), -1.25);
+    EXPECT_EQ(m->buttons(), 0b101u);
+    EXPECT_EQ(m->faults(), static_cast<std::uint32_t>(msgs::DEVICE_FAULT_WATCHDOG));
+  }
+  EXPECT_EQ(pub.counters().sent, 3u);
+  EXPECT_EQ(sub.counters().received, 3u);
+  EXPECT_EQ(sub.counters().gaps, 0u);
+  EXPECT_FALSE(sub.receive(0));
+}
+
+TEST_P(Transport, SubscriberGetsItsTopicExactlyNotAPrefixNeighbour) {
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "ffd/state");
+  join(bytes, "ffd/state");
+  bus::Publisher<msgs::DeviceState> neighbour(pub_, "ffd/state2");
+  bus::Publisher<msgs::DeviceState> pub(pub_, "ffd/state");
+
+  // "ffd/state2" passes ZeroMQ's prefix filter, and is skipped without being counted
+  msgs::DeviceState m = sample_state(1.0);
+  ASSERT_TRUE(neighbour.publish(m));
+  m = sample_state(2.0);
+  ASSERT_TRUE(pub.publish(m));
+  const auto got = sub.receive(kWait_ms);
+  ASSERT_TRUE(got);
+  EXPECT_DOUBLE_EQ(got->position().x(), 2.0);
+  EXPECT_FALSE(sub.receive(0));
+  EXPECT_EQ(bytes.counters("ffd/state").received, 1u);
+  EXPECT_EQ(bytes.counters("ffd/state").malformed, 0u);
+  EXPECT_EQ(bytes.all_counters().size(), 1u);
+}
+
+TEST_P(Transport, LateJoinerGetsLaterMessagesInOrder) {
+  bus::ByteSubscriber early_bytes;
+  bus::Subscriber<msgs::DeviceState> early(early_bytes, "ffd/state");
+  join(early_bytes, "ffd/state");
+  bus::Publisher<msgs::DeviceState> pub(pub_, "ffd/state");
+  msgs::DeviceState m = sample_state(0.0);
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(pub.publish(m));
+
+  // the late subscriber gets the first message published after its subscription arrived
+  bus::ByteSubscriber late_bytes;
+  bus::Subscriber<msgs::DeviceState> late(late_bytes, "ffd/state");
+  late_bytes.connect(pub_.endpoint());
+  std::optional<msgs::DeviceState> first;
+  ASSERT_TRUE(eventually([&] {
+    EXPECT_TRUE(pub.publish(m));
+    first = late.receive(0);
+    return first.has_value();
+  }));
+  EXPECT_GT(first->header().seq(), 5u);
+  ASSERT_TRUE(pub.publish(m));
+  const auto next = late.receive(kWait_ms);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->header().seq(), first->header().seq() + 1);
+  EXPECT_EQ(late.counters().gaps, 0u);
+
+  // the early one got everything
+  for (std::uint64_t seq = 1; seq <= pub.last_seq(); ++seq) {
+    const auto e = early.receive(kWait_ms);
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->header().seq(), seq);
+  }
+  EXPECT_EQ(early.counters().gaps, 0u);
+}
+
+TEST_P(Transport, SlowSubscriberNeverBlocksThePublisher) {
+  // a subscriber that never reads, with a short queue
+  bus::ByteSubscriber slow;
+  slow.set_receive_hwm(10);
+  bus::BytePublisher pub(enact::test::bind_endpoint(GetParam(), dir_), {.node = "ffd", .send_hwm = 100});
+  slow.connect(pub.endpoint());
+  slow.subscribe("sim/scene");
+  ASSERT_TRUE(eventually([&] { return pub.has_subscribers("sim/scene"); }));
+
+  // 10^5 sends of 1 kB (100 MB: more than any socket buffer) all return; the overflow is counted
+  constexpr int kAttempts = 100'000;
+  const std::vector<char> payload(1000, 'x');
+  int refused = 0;
+  for (int i = 0; i < kAttempts; ++i) {
+    if (!pub.send("sim/scene", "enact.msgs.SceneState", payload.data(), payload.size())) ++refused;
+  }
+  const bus::TopicCounters c = pub.counters("sim/scene");
+  EXPECT_GT(c.dropped, 0u);
+  EXPECT_GT(c.sent, 0u);
+  EXPECT_EQ(c.sent + c.dropped, static_cast<std::uint64_t>(kAttempts));
+  EXPECT_EQ(c.dropped, static_cast<std::uint64_t>(refused));
+}
+
+TEST_P(Transport, GapsAndLostMessagesAreCountedPerSource) {
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "ffd/state");
+  join(bytes, "ffd/state");
+
+  // hand-made sequences: "ffd" skips 3-4 and 7-9, then restarts; "ffd2" interleaves, no gap
+  const std::vector<std::pair<std::string, std::uint64_t>> sent = {
+      {"ffd", 1}, {"ffd2", 1}, {"ffd", 2}, {"ffd", 5}, {"ffd2", 2}, {"ffd", 6},
+      {"ffd", 10}, {"ffd2", 3}, {"ffd", 1}, {"ffd", 2},
+  };
+  std::string buffer;
+  for (const auto& [source, seq] : sent) {
+    msgs::DeviceState m = sample_state(0.0);
+    m.mutable_header()->set_source(source);
+    m.mutable_header()->set_seq(seq);
+    m.SerializeToString(&buffer);
+    ASSERT_TRUE(pub_.send("ffd/state", "enact.msgs.DeviceState", buffer.data(), buffer.size()));
+  }
+  for (std::size_t i = 0; i < sent.size(); ++i) ASSERT_TRUE(sub.receive(kWait_ms)) << i;
+  EXPECT_EQ(sub.counters().received, sent.size());
+  EXPECT_EQ(sub.counters().gaps, 2u);
+  EXPECT_EQ(sub.counters().lost, 5u);
+}
+
+TEST(Bus, TypedSubscriberSkipsAndCountsGarbage) {
+  // a raw socket that knows when the subscriber has joined
+  zmq::socket_t raw(bus::context(), zmq::socket_type::xpub);
+  raw.set(zmq::sockopt::linger, 0);
+  raw.set(zmq::sockopt::rcvtimeo, kWait_ms);
+  raw.bind("inproc://bus-test-garbage");
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "ffd/state");
+  bytes.connect("inproc://bus-test-garbage");
+  zmq::message_t notice;
+  ASSERT_TRUE(raw.recv(notice));
+
+  const auto send = [&](const std::vector<std::string>& frames) {
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const bool last = i + 1 == frames.size();
+      ASSERT_TRUE(raw.send(zmq::buffer(frames[i]), last ? zmq::send_flags::none : zmq::send_flags::sndmore));
+    }
+  };
+  // one frame; a valid ForceCommand announced as such on ffd/state; bytes that do not parse
+  // (field number 0 is invalid, then random bytes); then a valid DeviceState
+  msgs::ForceCommand wrong;
+  wrong.mutable_force()->set_z(3.0);
+  std::string garbage(64, '\0');
+  std::mt19937 random(7);
+  for (std::size_t i = 1; i < garbage.size(); ++i) garbage[i] = static_cast<char>(random());
+  send({"ffd/state"});
+  send({"ffd/state", "enact.msgs.ForceCommand", wrong.SerializeAsString()});
+  send({"ffd/state", "enact.msgs.DeviceState", garbage});
+  send({"ffd/state", "enact.msgs.DeviceState", sample_state(4.0).SerializeAsString()});
+
+  std::optional<msgs::DeviceState> got;
+  EXPECT_NO_THROW(got = sub.receive(kWait_ms));
+  ASSERT_TRUE(got);
+  EXPECT_DOUBLE_EQ(got->position().x(), 4.0);
+  EXPECT_EQ(sub.counters().malformed, 3u);
+  EXPECT_EQ(sub.counters().received, 1u);
+}
+
+TEST(Bus, ByteSubscriberRefusesWrongFrameCounts) {
+  zmq::socket_t raw(bus::context(), zmq::socket_type::xpub);
+  raw.set(zmq::sockopt::linger, 0);
+  raw.set(zmq::sockopt::rcvtimeo, kWait_ms);
+  raw.bind("inproc://bus-test-frames");
+  bus::ByteSubscriber sub;
+  sub.subscribe("t");
+  sub.connect("inproc://bus-test-frames");
+  zmq::message_t notice;
+  ASSERT_TRUE(raw.recv(notice));
+
+  // four frames, two frames, then a good one
+  for (int frames : {4, 2, 3}) {
+    for (int i = 0; i < frames; ++i) {
+      const std::string f = i == 0 ? "t" : "frame";
+      ASSERT_TRUE(raw.send(zmq::buffer(f), i + 1 < frames ? zmq::send_flags::sndmore : zmq::send_flags::none));
+    }
+  }
+  const auto got = sub.receive(kWait_ms);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->topic(), "t");
+  EXPECT_EQ(got->type(), "frame");
+  EXPECT_EQ(sub.counters("t").malformed, 2u);
+  EXPECT_EQ(sub.counters("t").received, 1u);
+}
+
+TEST(Bus, ConflatingSubscriberGetsTheNewestAndCountsTheRestDropped) {
+  bus::BytePublisher pub("inproc://bus-test-conflate", {.node = "sim"});
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "sim/scene");
+  bytes.set_conflate(true);
+  bytes.connect(pub.endpoint());
+  ASSERT_TRUE(eventually([&] { return pub.has_subscribers("sim/scene"); }));
+  bus::Publisher<msgs::DeviceState> typed(pub, "sim/scene");
+  msgs::DeviceState m = sample_state(0.0);
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(typed.publish(m));
+
+  // inproc: all ten are queued when the publisher returns
+  const auto got = sub.receive(kWait_ms);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->header().seq(), 10u);
+  EXPECT_EQ(sub.counters().received, 1u);
+  EXPECT_EQ(sub.counters().dropped, 9u);
+  EXPECT_EQ(sub.counters().gaps, 0u);
+  EXPECT_THROW(bytes.subscribe("sim/other"), std::logic_error);
+}
+
+TEST(Bus, ConflationNeedsASingleTopic) {
+  bus::ByteSubscriber bytes;
+  bytes.subscribe("a");
+  bytes.subscribe("b");
+  EXPECT_THROW(bytes.set_conflate(true), std::logic_error);
+}
+
+}  // namespace
