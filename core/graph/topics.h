@@ -12,3 +12,23 @@ inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, vi
 inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
 
 }  // namespace enact::graph
+
+#include <string>
+#include <vector>
+
+namespace enact::graph {
+
+struct TopicDecl {
+  std::string name;
+  std::string type;  // full protobuf name
+};
+
+// the topics a node executable publishes (by its file name: enact-sim, enact-ffd,
+// enact-tactile, enact-rt); empty for other programs
+std::vector<TopicDecl> topics_of(const std::string& exec_name);
+
+// where the last graph started by `enact launch` on this machine can be attached:
+// /tmp/enact-<uid>/attach holds its endpoint
+std::string attach_file();
+
+}  // namespace enact::graph

@@ -46,7 +46,7 @@ std::string describe(int status) {
 
 // fork and exec one process with its ready pipe; its own process group, so that a terminal's
 // Ctrl-C reaches only the launcher, which stops the graph in order
-bool start(Child& c, const sigset_t& blocked, std::ostream& log) {
+bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std::ostream& log) {
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) {
     log << "enact launch: cannot create a pipe for '" << c.spec->name << "': " << std::strerror(errno) << "\n";
@@ -65,6 +65,7 @@ bool start(Child& c, const sigset_t& blocked, std::ostream& log) {
     if (fds[1] == 3) fcntl(3, F_SETFD, 0);
     else dup2(fds[1], 3);
     setenv("ENACT_READY_FD", "3", 1);
+    for (const Param& e : env) setenv(e.name.c_str(), e.value.c_str(), 1);
     for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -233,10 +234,11 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
   // start in order, each ready before the next
   for (Child& c : g.children) {
     bool signalled = false;
-    if (!start(c, blocked, log)) return finish(1);
+    if (!start(c, blocked, options.env, log)) return finish(1);
     if (!g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
   }
   log << "enact launch: graph ready (" << g.children.size() << " processes)\n";
+  if (options.on_ready) options.on_ready();
 
   // supervise until a stop signal, the duration, or a required exit
   const std::int64_t end_ns = options.duration_s > 0.0 ? now_ns() + to_ns(options.duration_s) : INT64_MAX;
@@ -250,7 +252,7 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       if (c.pid > 0 || !c.spec->respawn || c.respawn_at_ns == 0 || now < c.respawn_at_ns) continue;
       c.respawn_at_ns = 0;
       bool signalled = false;
-      if (!start(c, blocked, log) || !g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
+      if (!start(c, blocked, options.env, log) || !g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
     }
     pollfd fd{g.signal_fd, POLLIN, 0};
     poll(&fd, 1, 50);

@@ -5,7 +5,9 @@
 //
 // Ready protocol: each process gets ENACT_READY_FD=<fd> in its environment and writes a
 // line "ready\n" to that file descriptor once it is active.
+#include <functional>
 #include <iosfwd>
+#include <vector>
 
 #include "core/launch/launch_file.h"
 
@@ -15,6 +17,9 @@ struct SupervisorOptions {
   double ready_timeout_s = 10.0;  // per process, from its start to its "ready"
   double duration_s = 0.0;        // > 0: stop the graph cleanly after this long
   double stop_timeout_s = 3.0;    // SIGTERM, then SIGKILL after this long
+  std::vector<Param> env;         // set in every process's environment (before its own env)
+  // called once every process is ready (e.g. to print where observers attach)
+  std::function<void()> on_ready;
 };
 
 // runs the graph until SIGINT/SIGTERM, --duration, or the exit of a required process.

@@ -2,6 +2,14 @@
 #include <cstdio>
 #include <iostream>
 
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/bus/attach.h"
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
 #include "nodes/enact/commands.h"
@@ -10,6 +18,7 @@ namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--duration S] [--ready-timeout S] [--check]
+                         [--attach ENDPOINT [--allow-remote]]
 
 Run a graph from a YAML launch file (format: README.md, "Launch files"): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
@@ -24,7 +33,21 @@ options:
   --duration S       stop the graph cleanly after S seconds
   --ready-timeout S  how long each process may take to report ready (default 10)
   --check            load and print the plan, start nothing
+  --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
+                     port; printed, and kept in /tmp/enact-<uid>/attach for `enact topic`)
+  --allow-remote     allow an --attach endpoint other machines can reach (no authentication
+                     yet: anyone who reaches the port sees every topic)
+
+The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
+removed at the end.
 )";
+
+// a fresh folder for the graph's ipc sockets
+std::string make_graph_dir() {
+  std::string pattern = "/tmp/enact-graph-XXXXXX";
+  if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a folder under /tmp for the graph's sockets");
+  return pattern;
+}
 
 }  // namespace
 
@@ -43,7 +66,7 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout"}, {"check"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -62,7 +85,32 @@ int launch(int argc, char** argv) {
   }
   std::fflush(stdout);
   if (a.flag("check")) return 0;
-  return launch::supervise(graph, options, std::cerr);
+
+  // the graph's folder and its attach point (observers: viewers, loggers, enact topic)
+  const std::string dir = make_graph_dir();
+  options.env.push_back({"ENACT_GRAPH_DIR", dir});
+  bus::AttachOptions attach_options;
+  attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
+  attach_options.allow_remote = a.flag("allow-remote");
+  bus::AttachPoint attach(std::filesystem::path(a.positional[0]).stem().string(), attach_options);
+  for (const auto& n : graph.nodes) {
+    const std::string exec = std::filesystem::path(n.path).filename().string();
+    const auto topics = graph::topics_of(exec);
+    if (topics.empty()) continue;
+    attach.add_publisher(n.name, bus::ipc_endpoint(dir, n.name));
+    for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
+  }
+  options.on_ready = [&] {
+    std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n";
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(graph::attach_file()).parent_path(), ec);
+    std::ofstream(graph::attach_file()) << attach.endpoint() << "\n";
+  };
+  const int code = launch::supervise(graph, options, std::cerr);
+  attach.stop();
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+  return code;
 }
 
 }  // namespace enact::cli

@@ -1,0 +1,79 @@
+#include "core/graph/node.h"
+
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/bus/endpoints.h"
+#include "core/rt/clock.h"
+
+namespace enact::graph {
+namespace {
+
+std::atomic<bool> g_stop{false};
+void on_stop(int) { g_stop.store(true); }
+
+}  // namespace
+
+std::string graph_dir() {
+  const char* dir = std::getenv("ENACT_GRAPH_DIR");
+  std::string out = dir && *dir ? dir : "/tmp/enact-" + std::to_string(getuid());
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  return out;
+}
+
+std::string node_endpoint(const std::string& name) { return bus::ipc_endpoint(graph_dir(), name); }
+
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool stop_requested() { return g_stop.load(std::memory_order_relaxed); }
+
+bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns) {
+  // ZMQ_FD is edge-triggered: check ZMQ_EVENTS before every wait
+  const int fd = socket.get(zmq::sockopt::fd);
+  while (true) {
+    if (socket.get(zmq::sockopt::events) & ZMQ_POLLIN) return true;
+    const std::int64_t left = deadline_ns - rt::now_ns();
+    if (left <= 0 || stop_requested()) return false;
+    pollfd p{fd, POLLIN, 0};
+    const timespec ts{static_cast<time_t>(left / 1'000'000'000), static_cast<long>(left % 1'000'000'000)};
+    ppoll(&p, 1, &ts, nullptr);
+  }
+}
+
+void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in) {
+  status.clear_topics();
+  for (const auto& [topic, c] : out.all_counters()) {
+    auto* t = status.add_topics();
+    t->set_topic(topic);
+    t->set_sent(c.sent);
+    t->set_dropped(c.dropped);
+  }
+  if (!in) return;
+  for (const auto& [topic, c] : in->all_counters()) {
+    auto* t = status.add_topics();
+    t->set_topic(topic);
+    t->set_received(c.received);
+    t->set_dropped(c.dropped + c.lost);
+    t->set_malformed(c.malformed);
+  }
+}
+
+void say(const std::string& node, const std::string& text) {
+  std::fprintf(stderr, "%s: %s\n", node.c_str(), text.c_str());
+  std::fflush(stderr);
+}
+
+}  // namespace enact::graph

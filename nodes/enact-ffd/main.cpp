@@ -1,0 +1,134 @@
+// enact-ffd: the force-feedback device driver of a distributed graph, and its clock master.
+// Each tick it reads the device, publishes DeviceState, waits (until just before the next
+// tick) for the simulator's ForceCommand answering that sample, and writes the force. The
+// safety layer's watchdog ramps the force to zero when answers stop coming.
+#include <cstdio>
+
+#include "core/bus/typed.h"
+#include "core/config/yaml.h"
+#include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+#include "core/rt/rt_setup.h"
+#include "core/rt/scheduler.h"
+
+namespace {
+
+using namespace enact;
+
+constexpr const char* kHelp = R"(usage: enact-ffd [--name NAME] --param NAME=VALUE...
+
+The force-feedback device driver and clock master of a distributed graph: publishes
+ffd/state at rate_hz, applies the ffd/force answering each sample, publishes node/status
+at 1 Hz (sample-to-force latency percentiles, jitter, drops).
+
+parameters:
+  rate_hz=5000  sim_node=sim  spin_us=50  duration_s=0  fifo_priority=0  lock_memory=false
+  device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
+Stops on SIGINT/SIGTERM: zero force first.
+)";
+
+int run(int argc, char** argv) {
+  graph::NodeArgs args = graph::parse_node_args(argc, argv, "ffd");
+  if (args.help) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  graph::Params& p = args.params;
+  rt::SchedulerParams sched;
+  sched.rate_hz = p.number("rate_hz", 5000.0);
+  sched.spin_ns = static_cast<std::int64_t>(p.number("spin_us", 50.0) * 1e3);
+  sched.validate();
+  const std::string sim_node = p.text("sim_node", "sim");
+  const double duration_s = p.number("duration_s", 0.0);
+  rt::RtParams rtp;
+  rtp.lock_memory = p.flag("lock_memory", false);
+  rtp.fifo_priority = p.integer("fifo_priority", 0);
+  auto device = graph::make_force_device(p);
+  std::vector<std::string> known = graph::kForceParams;
+  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory"});
+  p.refuse_unread(known);
+
+  // the bus: publish the samples, receive the answers straight from the simulator
+  graph::install_stop_handlers();
+  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});
+  bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
+  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  bus::ByteSubscriber in;
+  bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
+  in.connect(graph::node_endpoint(sim_node));
+  // wait until the simulator listens (ZeroMQ drops what it sends before that)
+  const std::int64_t give_up = rt::now_ns() + 10'000'000'000;
+  while (!out.has_subscribers(graph::kDeviceState) && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+  if (!out.has_subscribers(graph::kDeviceState)) graph::say(args.name, "no simulator listening after 10 s; running anyway (the watchdog holds the force at zero)");
+
+  const rt::RtReport report = rt::apply_rt_setup(rtp);
+  graph::say(args.name, report.summary());
+  rt::PeriodicScheduler scheduler(sched);
+  rt::LoopStats stats;
+  devices::ForceSample sample;
+  msgs::DeviceState state;
+  msgs::ForceCommand command;
+  msgs::NodeStatus status;
+  std::uint64_t late = 0, missing = 0;
+  device->activate();
+  const std::int64_t start = rt::now_ns() + 1'000'000;
+  const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
+  std::int64_t next_status = start + 1'000'000'000;
+  scheduler.start(start);
+  graph::report_ready();
+  while (!graph::stop_requested()) {
+    const std::int64_t now = scheduler.wait();
+    if (now >= end) break;
+    device->read(now, sample);
+    state.mutable_header()->set_stamp_ns(0);
+    graph::fill(state, sample);
+    state_pub.publish(state);
+    const std::uint64_t seq = state.header().seq();
+    // the answer to this sample, until just before the next tick
+    const std::int64_t answer_by = scheduler.next_deadline_ns() - sched.spin_ns;
+    bool answered = false;
+    while (!answered && graph::wait_readable(in.socket(), answer_by)) {
+      if (!commands.receive(command, 0)) continue;
+      if (command.answered_seq() != seq) {
+        ++late;  // an answer to an older sample: too late to apply
+        continue;
+      }
+      device->write(rt::now_ns(), command.zero() ? physics::Vec3{} : graph::get(command.force()));
+      stats.latency.record(rt::now_ns() - sample.time_ns);
+      answered = true;
+    }
+    missing += !answered;
+    if (now >= next_status) {
+      next_status += 1'000'000'000;
+      stats.jitter = scheduler.jitter();
+      stats.overruns = scheduler.overruns();
+      stats.ticks = scheduler.ticks();
+      graph::fill(status, args.name, rt::summarize(stats, sched.rate_hz), missing + late, missing ? "samples without a force answer in time" : "");
+      graph::add_counters(status, out, &in);
+      status.mutable_header()->set_stamp_ns(0);
+      status_pub.publish(status);
+    }
+  }
+  device->deactivate();  // zero force first
+  stats.jitter = scheduler.jitter();
+  stats.overruns = scheduler.overruns();
+  stats.ticks = scheduler.ticks();
+  graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(missing) +
+                            ", late answers: " + std::to_string(late) + ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "enact-ffd: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,119 @@
+// enact-sim: the simulator of a distributed graph. It steps once per DeviceState and
+// answers at once with the ForceCommand carrying the sequence number it answers; it also
+// publishes the down-sampled tactile frames, the scene (decimated), task events and status.
+#include <cstdio>
+
+#include "core/bus/typed.h"
+#include "core/config/yaml.h"
+#include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+
+namespace {
+
+using namespace enact;
+
+constexpr const char* kHelp = R"(usage: enact-sim [--name NAME] --param NAME=VALUE...
+
+The simulator of a distributed graph: for every ffd/state it steps the model and answers
+on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
+sim/scene (scene_rate_hz), task/event and node/status (1 Hz).
+
+parameters:
+  scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
+  tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
+  ffd_node=ffd  scene_rate_hz=60
+)";
+
+int run(int argc, char** argv) {
+  graph::NodeArgs args = graph::parse_node_args(argc, argv, "sim");
+  if (args.help) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  graph::Params& p = args.params;
+  sim::Simulator simulator;
+  simulator.configure(graph::sim_params(p));
+  const std::string ffd_node = p.text("ffd_node", "ffd");
+  const double scene_rate_hz = p.number("scene_rate_hz", 60.0);
+  std::vector<std::string> known = graph::kSimParams;
+  known.insert(known.end(), {"ffd_node", "scene_rate_hz"});
+  p.refuse_unread(known);
+
+  graph::install_stop_handlers();
+  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});
+  bus::Publisher<msgs::ForceCommand> force_pub(out, graph::kForceCommand);
+  bus::Publisher<msgs::TactileFrame> frame_pub(out, graph::kTactileFrame);
+  bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
+  bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
+  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  bus::ByteSubscriber in;
+  bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
+  in.connect(graph::node_endpoint(ffd_node));
+
+  msgs::DeviceState state;
+  msgs::ForceCommand command;
+  msgs::TactileFrame frame;
+  msgs::SceneState scene;
+  msgs::TaskEvent event;
+  msgs::NodeStatus status;
+  rt::LoopStats stats;
+  const physics::Proxy& body = simulator.model().proxies[0];
+  const std::int64_t scene_period_ns = scene_rate_hz > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz) : INT64_MAX;
+  std::int64_t first_ns = -1, next_scene = 0, next_status = 0;
+  std::uint64_t steps = 0;
+  simulator.activate(0);
+  graph::report_ready();
+  while (!graph::stop_requested()) {
+    if (!states.receive(state, 100)) continue;
+    const std::int64_t received = rt::now_ns();
+    if (first_ns < 0) {
+      first_ns = state.header().stamp_ns();
+      next_scene = next_status = received;
+    }
+    // step on this sample and answer it at once
+    const sim::StepOutput& o = simulator.step(state.header().stamp_ns() - first_ns, graph::get(state.position()));
+    graph::fill(command, state.header().seq(), o.force_n, o.fault);
+    force_pub.publish(command);
+    stats.latency.record(rt::now_ns() - received);
+    ++steps;
+    if (o.frame_due) {
+      graph::fill(frame, body.rows, body.cols, o.frame);
+      frame_pub.publish(frame);
+    }
+    if (graph::fill(event, o.event, simulator.computer_model().name)) event_pub.publish(event);
+    if (received >= next_scene) {
+      next_scene = received + scene_period_ns;
+      graph::fill(scene, simulator, o.pins, o.force_n);
+      scene_pub.publish(scene);
+    }
+    if (received >= next_status) {
+      next_status = received + 1'000'000'000;
+      stats.ticks = steps;
+      graph::fill(status, args.name, rt::summarize(stats, simulator.model().rate_hz), simulator.state().faults,
+                  physics::to_string(simulator.state().last_fault));
+      graph::add_counters(status, out, &in);
+      status_pub.publish(status);
+    }
+  }
+  simulator.deactivate();
+  const task::Metrics m = simulator.metrics();
+  graph::say(args.name, std::to_string(steps) + " steps; receive-to-answer " + rt::format(rt::summarize(stats, simulator.model().rate_hz)) +
+                            " Task: falls " + std::to_string(m.falls) + ", progress " + std::to_string(m.progress) + (m.completed ? " (completed)" : "") +
+                            "; device states lost (seq gaps): " + std::to_string(states.counters().lost) + ".");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "enact-sim: error: %s\n", e.what());
+    return 1;
+  }
+}
