@@ -208,6 +208,15 @@ struct Graph {
 
 }  // namespace
 
+void block_supervisor_signals() {
+  sigset_t blocked;
+  sigemptyset(&blocked);
+  sigaddset(&blocked, SIGINT);
+  sigaddset(&blocked, SIGTERM);
+  sigaddset(&blocked, SIGCHLD);
+  sigprocmask(SIG_BLOCK, &blocked, nullptr);
+}
+
 int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& log) {
   // signals are read from a signalfd; children unblock them before exec
   sigset_t blocked;

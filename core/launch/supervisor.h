@@ -22,6 +22,11 @@ struct SupervisorOptions {
   std::function<void()> on_ready;
 };
 
+// block SIGINT, SIGTERM and SIGCHLD in the calling thread; call it before starting any
+// other thread of the launcher (threads inherit the mask), so that every such signal reaches
+// the supervisor's signalfd and none is delivered (and lost, or fatal) elsewhere
+void block_supervisor_signals();
+
 // runs the graph until SIGINT/SIGTERM, --duration, or the exit of a required process.
 // Returns 0 after a requested stop, 1 when a required process exited or a process did not
 // become ready (the message says which and why). Progress lines go to `log`.

@@ -86,7 +86,9 @@ int launch(int argc, char** argv) {
   std::fflush(stdout);
   if (a.flag("check")) return 0;
 
-  // the graph's folder and its attach point (observers: viewers, loggers, enact topic)
+  // the graph's folder and its attach point (observers: viewers, loggers, enact topic); the
+  // attach point's thread must not receive the signals the supervisor waits for
+  launch::block_supervisor_signals();
   const std::string dir = make_graph_dir();
   options.env.push_back({"ENACT_GRAPH_DIR", dir});
   bus::AttachOptions attach_options;
