@@ -37,6 +37,7 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   obs_.on_top = out.on_top;
   obs_.progress = out.progress;
   obs_.event = out.event;
+  if (obs_.event.kind != task::TaskEventKind::none) obs_.event.time_ns += start_ns_;  // on the monotonic clock
   return obs_;
 }
 

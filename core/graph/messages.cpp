@@ -1,5 +1,7 @@
 #include "core/graph/messages.h"
 
+#include <algorithm>
+
 namespace enact::graph {
 
 void set(msgs::Vec3& out, const physics::Vec3& v) {
@@ -62,25 +64,38 @@ void fill(msgs::TactileShown& m, int rows, int cols, const float* shown, std::ui
   m.set_frame_seq(frame_seq);
 }
 
-void fill(msgs::SceneState& m, const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n) {
-  const physics::Model& model = s.model();
+void snapshot(const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n, SceneSnapshot& out) {
   const physics::State& state = s.state();
-  const physics::Proxy& body = model.proxies[0];
-  const int n = body.rows * body.cols;
-  m.mutable_header()->set_stamp_ns(static_cast<std::int64_t>(state.time_s * 1e9));
-  set(*m.mutable_body_position(), state.x[body.point]);
-  while (m.contact_force_size() < n) m.add_contact_force();
-  if (m.in_contact_size() != n) m.mutable_in_contact()->Resize(n, false);
-  levels(*m.mutable_pin_level(), n);
-  for (int i = 0; i < n; ++i) {
-    set(*m.mutable_contact_force(i), state.f[body.first_body + i]);
-    m.set_in_contact(i, state.in_contact[body.first_body + i] != 0);
-    m.set_pin_level(i, (pins >> i) & 1u ? 1.0f : 0.0f);
+  const physics::Proxy& body = s.model().proxies[0];
+  out.time_ns = static_cast<std::int64_t>(state.time_s * 1e9);
+  out.body_m = state.x[body.point];
+  out.masses = std::min(body.rows * body.cols, 32);
+  out.in_contact = 0;
+  for (int i = 0; i < out.masses; ++i) {
+    out.contact_force_n[i] = state.f[body.first_body + i];
+    if (state.in_contact[body.first_body + i]) out.in_contact |= 1u << i;
   }
-  set(*m.mutable_resultant_force(), force_n);
-  if (m.model() != s.computer_model().name) m.set_model(s.computer_model().name);
-  m.set_on_top(s.output().on_top);
-  m.set_progress(s.output().progress);
+  out.pins = pins;
+  out.force_n = force_n;
+  out.on_top = s.output().on_top;
+  out.progress = s.output().progress;
+}
+
+void fill(msgs::SceneState& m, const SceneSnapshot& s, const std::string& model) {
+  m.mutable_header()->set_stamp_ns(s.time_ns);
+  set(*m.mutable_body_position(), s.body_m);
+  while (m.contact_force_size() < s.masses) m.add_contact_force();
+  if (m.in_contact_size() != s.masses) m.mutable_in_contact()->Resize(s.masses, false);
+  levels(*m.mutable_pin_level(), s.masses);
+  for (int i = 0; i < s.masses; ++i) {
+    set(*m.mutable_contact_force(i), s.contact_force_n[i]);
+    m.set_in_contact(i, (s.in_contact >> i) & 1u);
+    m.set_pin_level(i, (s.pins >> i) & 1u ? 1.0f : 0.0f);
+  }
+  set(*m.mutable_resultant_force(), s.force_n);
+  if (m.model() != model) m.set_model(model);
+  m.set_on_top(s.on_top);
+  m.set_progress(s.progress);
 }
 
 bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition) {

@@ -27,7 +27,21 @@ void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3
 void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins);
 void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::uint64_t frame_seq);
 // the simulator's body, per-mass contact forces and contacts, pins, resultant, task state
-void fill(msgs::SceneState& m, const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n);
+// what the scene shows at one step, copied out of the simulator without allocating (the
+// real-time thread takes it, the publisher thread sends it)
+struct SceneSnapshot {
+  std::int64_t time_ns = 0;  // model time
+  physics::Vec3 body_m;
+  int masses = 0;            // grid masses (pins), at most 32
+  physics::Vec3 contact_force_n[32];
+  std::uint32_t in_contact = 0;  // bit i: grid mass i touches
+  std::uint32_t pins = 0;
+  physics::Vec3 force_n;     // sent to the device
+  bool on_top = false;
+  double progress = 0.0;
+};
+void snapshot(const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n, SceneSnapshot& out);
+void fill(msgs::SceneState& m, const SceneSnapshot& s, const std::string& model);
 // a task event; false when there is none
 bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition);
 void fill(msgs::NodeStatus& m, const std::string& node, const rt::LoopSummary& loop, std::uint64_t faults, const std::string& last_fault);

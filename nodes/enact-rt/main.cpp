@@ -8,9 +8,13 @@
 #include <cstdio>
 #include <thread>
 
+#include "core/bus/typed.h"
 #include "core/config/yaml.h"
 #include "core/graph/colocated.h"
 #include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 #include "core/rt/rt_setup.h"
@@ -25,13 +29,17 @@ constexpr const char* kHelp = R"(usage: enact-rt [--name NAME] --component=NAME:
 
 The co-located real-time container: components sim, ffd and tactile (one of each) in one
 process and one real-time thread, ticking at rate_hz: read the device, step the model,
-write the force, write the pins (down-sampled), in the same tick.
+write the force, write the pins (down-sampled), in the same tick. A non-real-time thread,
+fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
+tactile/frame and task/event at their rates, sim/scene at scene_rate_hz, tactile/shown at
+shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub).
 
 container parameters:
   rate_hz=5000          loop rate (1..44000 Hz); also the simulator's rate
   duration_s=0          stop after this long (0: until SIGINT/SIGTERM)
   spin_us=50            spin on the clock for the last microseconds before each tick
   lock_memory=false     mlockall; fifo_priority=0 (1..99: SCHED_FIFO); cpus= (e.g. 1)
+  scene_rate_hz=60      shown_rate_hz=100
 component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
   sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
   ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
@@ -108,16 +116,28 @@ int run(int argc, char** argv) {
   sim_p.refuse_unread(graph::kSimParams);
   ffd_p.refuse_unread(graph::kForceParams);
   tac_p.refuse_unread(graph::kTactileParams);
-  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus"});
+  const double scene_rate_hz = args.params.number("scene_rate_hz", 60.0);
+  const double shown_rate_hz = args.params.number("shown_rate_hz", 100.0);
+  if (scene_rate_hz <= 0.0 || shown_rate_hz <= 0.0) throw config::Error(args.name + ": scene_rate_hz and shown_rate_hz must be > 0\n  fix: e.g. scene_rate_hz=60");
+  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz"});
 
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
   graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
+  // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
+  struct Shown {
+    std::int64_t time_ns;
+    float level[32];
+  };
   static rt::SpscQueue<graph::Observation, 16384> queue;
+  static rt::SpscQueue<graph::SceneSnapshot, 64> scenes;
+  static rt::SpscQueue<Shown, 64> shown_queue;
+  static rt::SpscQueue<rt::LoopSummary, 8> summaries;
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
   std::atomic<bool> rt_done{false};
+  const int rows = tactile->rows(), cols = tactile->cols();
 
   // the real-time thread: set up, then tick on absolute deadlines
   std::thread rt_thread([&] {
@@ -125,15 +145,35 @@ int run(int argc, char** argv) {
     rt::prefault_stack();
     rt::PeriodicScheduler scheduler(sched);
     const std::int64_t start = rt::now_ns() + 1'000'000;
+    const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / scene_rate_hz));
+    const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / shown_rate_hz));
+    const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz));
+    graph::SceneSnapshot snap;
+    Shown levels{};
     loop.activate(start);
     scheduler.start(start);
     const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
-    while (!g_stop.load(std::memory_order_relaxed)) {
+    for (std::int64_t n = 0; !g_stop.load(std::memory_order_relaxed); ++n) {
       const std::int64_t woke = scheduler.wait();
       if (woke >= end) break;
       const graph::Observation& o = loop.tick(woke);
       stats.latency.record(o.force_ns - o.sample_ns);
       if (!queue.try_push(o)) dropped.fetch_add(1, std::memory_order_relaxed);
+      if (n % scene_every == 0) {
+        graph::snapshot(simulator, o.pins, o.force_n, snap);
+        scenes.try_push(snap);
+      }
+      if (n % shown_every == 0) {
+        levels.time_ns = woke;
+        tactile->shown(woke, levels.level, rows * cols);
+        shown_queue.try_push(levels);
+      }
+      if (n % status_every == status_every - 1) {
+        stats.jitter = scheduler.jitter();
+        stats.overruns = scheduler.overruns();
+        stats.ticks = scheduler.ticks();
+        summaries.try_push(rt::summarize(stats, sched.rate_hz));
+      }
     }
     loop.deactivate();
     stats.jitter = scheduler.jitter();
@@ -141,17 +181,73 @@ int run(int argc, char** argv) {
     stats.ticks = scheduler.ticks();
     rt_done.store(true);
   });
-  graph::report_ready();
 
-  // the non-real-time side: drain the queue (publishing comes with the bus)
+  // the publisher thread (this one): every topic for observers
+  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
+  bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
+  bus::Publisher<msgs::ForceCommand> force_pub(out, graph::kForceCommand);
+  bus::Publisher<msgs::TactileFrame> frame_pub(out, graph::kTactileFrame);
+  bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
+  bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
+  bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
+  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  msgs::DeviceState state_msg;
+  msgs::ForceCommand force_msg;
+  msgs::TactileFrame frame_msg;
+  msgs::TactileShown shown_msg;
+  msgs::SceneState scene_msg;
+  msgs::TaskEvent event_msg;
+  msgs::NodeStatus status_msg;
+  std::uint64_t frame_seq = 0;
+  const std::string model_name = simulator.computer_model().name;
+  auto publish = [&](const graph::Observation& o) {
+    devices::ForceSample sample{o.sample_ns, o.position_m, o.velocity_m_per_s, o.buttons, o.device_faults};
+    graph::fill(state_msg, sample);
+    state_msg.mutable_header()->set_seq(0);
+    state_pub.publish(state_msg);
+    graph::fill(force_msg, state_msg.header().seq(), o.force_n, o.sim_fault);
+    force_msg.mutable_header()->set_stamp_ns(o.force_ns);
+    force_pub.publish(force_msg);
+    if (o.frame_due) {
+      graph::fill(frame_msg, rows, cols, o.frame);
+      frame_msg.mutable_header()->set_stamp_ns(o.sample_ns);
+      frame_pub.publish(frame_msg);
+      frame_seq = frame_msg.header().seq();
+    }
+    if (graph::fill(event_msg, o.event, model_name)) event_pub.publish(event_msg);
+  };
   Felt felt;
   graph::Observation o;
+  graph::SceneSnapshot snap;
+  Shown levels;
+  rt::LoopSummary summary;
+  auto drain = [&] {
+    while (queue.try_pop(o)) {
+      consume(o, felt);
+      publish(o);
+    }
+    while (scenes.try_pop(snap)) {
+      graph::fill(scene_msg, snap, model_name);
+      scene_pub.publish(scene_msg);
+    }
+    while (shown_queue.try_pop(levels)) {
+      graph::fill(shown_msg, rows, cols, levels.level, frame_seq);
+      shown_msg.mutable_header()->set_stamp_ns(levels.time_ns);
+      shown_pub.publish(shown_msg);
+    }
+    while (summaries.try_pop(summary)) {
+      graph::fill(status_msg, args.name, summary, felt.device_faults + felt.sim_faults, "");
+      graph::add_counters(status_msg, out, nullptr);
+      status_pub.publish(status_msg);
+    }
+  };
+  graph::report_ready();
   while (!rt_done.load()) {
-    while (queue.try_pop(o)) consume(o, felt);
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    drain();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   rt_thread.join();
-  while (queue.try_pop(o)) consume(o, felt);
+  drain();
 
   std::printf("%s: %s\n", args.name.c_str(), report.summary().c_str());
   std::printf("%s: %s\n", args.name.c_str(), rt::format(rt::summarize(stats, sched.rate_hz)).c_str());

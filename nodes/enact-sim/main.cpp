@@ -58,6 +58,7 @@ int run(int argc, char** argv) {
   msgs::ForceCommand command;
   msgs::TactileFrame frame;
   msgs::SceneState scene;
+  graph::SceneSnapshot snap;
   msgs::TaskEvent event;
   msgs::NodeStatus status;
   rt::LoopStats stats;
@@ -84,10 +85,13 @@ int run(int argc, char** argv) {
       graph::fill(frame, body.rows, body.cols, o.frame);
       frame_pub.publish(frame);
     }
-    if (graph::fill(event, o.event, simulator.computer_model().name)) event_pub.publish(event);
+    task::TaskEvent when = o.event;
+    when.time_ns += first_ns;  // back on the device's clock
+    if (graph::fill(event, when, simulator.computer_model().name)) event_pub.publish(event);
     if (received >= next_scene) {
       next_scene = received + scene_period_ns;
-      graph::fill(scene, simulator, o.pins, o.force_n);
+      graph::snapshot(simulator, o.pins, o.force_n, snap);
+      graph::fill(scene, snap, simulator.computer_model().name);
       scene_pub.publish(scene);
     }
     if (received >= next_status) {

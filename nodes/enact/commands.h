@@ -9,5 +9,6 @@ int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
 int launch(int argc, char** argv);
+int topic(int argc, char** argv);
 
 }  // namespace enact::cli

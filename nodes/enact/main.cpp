@@ -19,6 +19,7 @@ commands:
   path SCENE        write the built-in scripted hand path of a scene as CSV
   bench physics     integrator speed against error, bridge step cost
   launch FILE       run a graph of nodes from a YAML launch file
+  topic list|echo|hz  look at a running graph through its attach point
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     if (command == "path") return enact::cli::path(argc, argv);
     if (command == "bench") return enact::cli::bench(argc, argv);
     if (command == "launch") return enact::cli::launch(argc, argv);
+    if (command == "topic") return enact::cli::topic(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {
