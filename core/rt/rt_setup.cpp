@@ -1,3 +1,4 @@
+#include <sys/prctl.h>
 #include "core/rt/rt_setup.h"
 
 #include <alloca.h>
@@ -100,6 +101,8 @@ std::string RtReport::summary() const {
 RtReport apply_rt_setup(const RtParams& params) {
   params.validate();
   RtReport report;
+  // the kernel may wake a normal thread up to 50 us late to batch timers: no slack for the loop
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   if (params.lock_memory) report.memory_locked = lock_memory(report);
   if (params.fifo_priority > 0) report.fifo = set_fifo(params.fifo_priority, report);
   if (!params.cpus.empty()) report.pinned = pin(params.cpus, report);

@@ -30,7 +30,7 @@ struct RtReport {
 
 // validate (config::Error) and apply the requests to the calling thread (memory locking is
 // process-wide). Refusals are reported, never thrown.
-RtReport apply_rt_setup(const RtParams& params);
+RtReport apply_rt_setup(const RtParams& params);  // also sets the thread's timer slack to 1 ns
 
 // touch `bytes` of stack below the caller so the loop never page-faults on it (call it from
 // the loop thread, after locking memory, so the pages stay resident). Stops short of the end

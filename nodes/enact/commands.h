@@ -8,6 +8,7 @@ int check(int argc, char** argv);
 int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
+int bench_loop(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
 

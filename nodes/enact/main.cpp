@@ -18,6 +18,7 @@ commands:
   simulate SCENE    offline, deterministic run of a device path through the simulator
   path SCENE        write the built-in scripted hand path of a scene as CSV
   bench physics     integrator speed against error, bridge step cost
+  bench loop        the real-time loop and the bus against the machine's floor
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
 
