@@ -71,6 +71,15 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
   }
 }
 
+int node_main(const char* program, int (*run)(int, char**), int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", program, e.what());
+    return 1;
+  }
+}
+
 void say(const std::string& node, const std::string& text) {
   std::fprintf(stderr, "%s: %s\n", node.c_str(), text.c_str());
   std::fflush(stderr);

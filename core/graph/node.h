@@ -27,6 +27,9 @@ bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns);
 // per-topic counters of a node's sockets into its NodeStatus
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);
 
+// a node's main: runs `run`, and reports an exception as "<program>: error: ..." with exit 1
+int node_main(const char* program, int (*run)(int, char**), int argc, char** argv);
+
 // print "<node>: <text>" on stderr, flushed (nodes' lines interleave under the launcher)
 void say(const std::string& node, const std::string& text);
 

@@ -1,5 +1,7 @@
 #include "core/rt/scheduler.h"
 
+#include "core/rt/loop_stats.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -99,6 +101,12 @@ std::int64_t PeriodicScheduler::wait() {
     skipped_ += static_cast<std::uint64_t>(next_index_ - index_ - 1);
   }
   return woke;
+}
+
+void take_timing(const PeriodicScheduler& scheduler, LoopStats& stats) {
+  stats.jitter = scheduler.jitter();
+  stats.overruns = scheduler.overruns();
+  stats.ticks = scheduler.ticks();
 }
 
 }  // namespace enact::rt

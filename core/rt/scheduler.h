@@ -78,4 +78,8 @@ class PeriodicScheduler {
   LatencyHistogram jitter_;
 };
 
+// the scheduler's timing (jitter histogram, overruns, ticks) into a loop's stats
+struct LoopStats;
+void take_timing(const PeriodicScheduler& scheduler, LoopStats& stats);
+
 }  // namespace enact::rt

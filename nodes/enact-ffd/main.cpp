@@ -104,9 +104,7 @@ int run(int argc, char** argv) {
     missing += !answered;
     if (now >= next_status) {
       next_status += 1'000'000'000;
-      stats.jitter = scheduler.jitter();
-      stats.overruns = scheduler.overruns();
-      stats.ticks = scheduler.ticks();
+      rt::take_timing(scheduler, stats);
       graph::fill(status, args.name, rt::summarize(stats, sched.rate_hz), missing + late, missing ? "samples without a force answer in time" : "");
       graph::add_counters(status, out, &in);
       status.mutable_header()->set_stamp_ns(0);
@@ -114,9 +112,7 @@ int run(int argc, char** argv) {
     }
   }
   device->deactivate();  // zero force first
-  stats.jitter = scheduler.jitter();
-  stats.overruns = scheduler.overruns();
-  stats.ticks = scheduler.ticks();
+  rt::take_timing(scheduler, stats);
   graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(missing) +
                             ", late answers: " + std::to_string(late) + ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
   return 0;
@@ -124,11 +120,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "enact-ffd: error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return enact::graph::node_main("enact-ffd", run, argc, argv); }

@@ -169,16 +169,12 @@ int run(int argc, char** argv) {
         shown_queue.try_push(levels);
       }
       if (n % status_every == status_every - 1) {
-        stats.jitter = scheduler.jitter();
-        stats.overruns = scheduler.overruns();
-        stats.ticks = scheduler.ticks();
+        rt::take_timing(scheduler, stats);
         summaries.try_push(rt::summarize(stats, sched.rate_hz));
       }
     }
     loop.deactivate();
-    stats.jitter = scheduler.jitter();
-    stats.overruns = scheduler.overruns();
-    stats.ticks = scheduler.ticks();
+    rt::take_timing(scheduler, stats);
     rt_done.store(true);
   });
 
@@ -264,11 +260,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "enact-rt: error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return enact::graph::node_main("enact-rt", run, argc, argv); }

@@ -113,11 +113,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "enact-sim: error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return enact::graph::node_main("enact-sim", run, argc, argv); }

@@ -64,9 +64,7 @@ rt::LoopSummary periodic(double rate_hz, double seconds, int fifo, Work work) {
     const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
     sched.start(start);
     for (std::int64_t now = sched.wait(); now < end; now = sched.wait()) stats.latency.record(work(now));
-    stats.jitter = sched.jitter();
-    stats.overruns = sched.overruns();
-    stats.ticks = sched.ticks();
+    rt::take_timing(sched, stats);
     out = rt::summarize(stats, rate_hz);
   });
   t.join();
