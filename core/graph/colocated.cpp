@@ -15,29 +15,14 @@ void ColocatedLoop::activate(std::int64_t now_ns) {
 
 const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   // read the device, step the model on that sample, write the force, in one tick
-  force_.read(now_ns, sample_);
-  const sim::StepOutput& out = sim_.step(now_ns - start_ns_, sample_.position_m);
-  force_.write(now_ns, out.force_n);
-  const std::int64_t force_ns = clock_();
+  force_.read(now_ns, obs_.sample);
+  obs_.step = sim_.step(now_ns - start_ns_, obs_.sample.position_m);
+  force_.write(now_ns, obs_.step.force_n);
+  obs_.force_ns = clock_();
   // pins only at the down-sampled rate the cells can follow
-  if (out.frame_due) tactile_.write(now_ns, out.frame);
+  if (obs_.step.frame_due) tactile_.write(now_ns, obs_.step.frame);
+  if (obs_.step.event.kind != task::TaskEventKind::none) obs_.step.event.time_ns += start_ns_;  // on the monotonic clock
   obs_.seq += 1;
-  obs_.sample_ns = now_ns;
-  obs_.force_ns = force_ns;
-  obs_.position_m = sample_.position_m;
-  obs_.velocity_m_per_s = sample_.velocity_m_per_s;
-  obs_.force_n = out.force_n;
-  obs_.buttons = sample_.buttons;
-  obs_.device_faults = sample_.faults;
-  obs_.pins = out.pins;
-  obs_.frame = out.frame;
-  obs_.frame_due = out.frame_due;
-  obs_.sim_fault = out.fault;
-  obs_.contacts = out.contacts;
-  obs_.on_top = out.on_top;
-  obs_.progress = out.progress;
-  obs_.event = out.event;
-  if (obs_.event.kind != task::TaskEventKind::none) obs_.event.time_ns += start_ns_;  // on the monotonic clock
   return obs_;
 }
 

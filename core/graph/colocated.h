@@ -13,22 +13,10 @@ namespace enact::graph {
 
 // one tick, for observers (pushed through an SPSC queue to the publisher thread)
 struct Observation {
-  std::uint64_t seq = 0;         // tick number, from 1
-  std::int64_t sample_ns = 0;    // device read
-  std::int64_t force_ns = 0;     // force written (sample-to-force latency = force_ns - sample_ns)
-  physics::Vec3 position_m;
-  physics::Vec3 velocity_m_per_s;
-  physics::Vec3 force_n;
-  std::uint32_t buttons = 0;
-  std::uint32_t device_faults = 0;  // devices::DeviceFault bits
-  std::uint32_t pins = 0;           // this tick's pins (bit i = pin i up)
-  std::uint32_t frame = 0;          // the tactile frame, when frame_due
-  bool frame_due = false;
-  bool sim_fault = false;           // the divergence guard tripped (force zero)
-  int contacts = 0;
-  bool on_top = false;
-  double progress = 0.0;
-  task::TaskEvent event;
+  std::uint64_t seq = 0;        // tick number, from 1
+  std::int64_t force_ns = 0;    // force written (sample-to-force latency = force_ns - sample.time_ns)
+  devices::ForceSample sample;  // what the device read (position, velocity, buttons, fault bits)
+  sim::StepOutput step;         // what the model made of it: force, pins, frame, contacts, task
 };
 
 // reads the monotonic clock (ns); a parameter so tests can drive time
@@ -50,7 +38,6 @@ class ColocatedLoop {
   devices::ForceDevice& force_;
   devices::TactileDevice& tactile_;
   Clock clock_;
-  devices::ForceSample sample_;
   Observation obs_;
   std::int64_t start_ns_ = 0;
 };

@@ -60,18 +60,18 @@ struct Felt {
 };
 
 void consume(const graph::Observation& o, Felt& felt) {
-  const double f = physics::norm(o.force_n);
+  const double f = physics::norm(o.step.force_n);
   felt.ticks += 1;
   felt.force_sum_n += f;
   felt.force_max_n = std::max(felt.force_max_n, f);
-  felt.pins_sum += __builtin_popcount(o.pins);
-  felt.frames += o.frame_due;
-  felt.on_top += o.on_top;
-  felt.device_faults += o.device_faults != 0;
-  felt.sim_faults += o.sim_fault;
-  felt.falls += o.event.kind == task::TaskEventKind::fall_start;
-  felt.completed = felt.completed || o.event.kind == task::TaskEventKind::completed;
-  felt.progress = std::max(felt.progress, o.on_top ? o.progress : 0.0);
+  felt.pins_sum += __builtin_popcount(o.step.pins);
+  felt.frames += o.step.frame_due;
+  felt.on_top += o.step.on_top;
+  felt.device_faults += o.sample.faults != 0;
+  felt.sim_faults += o.step.fault;
+  felt.falls += o.step.event.kind == task::TaskEventKind::fall_start;
+  felt.completed = felt.completed || o.step.event.kind == task::TaskEventKind::completed;
+  felt.progress = std::max(felt.progress, o.step.on_top ? o.step.progress : 0.0);
 }
 
 std::string find_component(const graph::NodeArgs& args, const std::string& plugin) {
@@ -157,10 +157,10 @@ int run(int argc, char** argv) {
       const std::int64_t woke = scheduler.wait();
       if (woke >= end) break;
       const graph::Observation& o = loop.tick(woke);
-      stats.latency.record(o.force_ns - o.sample_ns);
+      stats.latency.record(o.force_ns - o.sample.time_ns);
       if (!queue.try_push(o)) dropped.fetch_add(1, std::memory_order_relaxed);
       if (n % scene_every == 0) {
-        graph::snapshot(simulator, o.pins, o.force_n, snap);
+        graph::snapshot(simulator, o.step.pins, o.step.force_n, snap);
         scenes.try_push(snap);
       }
       if (n % shown_every == 0) {
@@ -197,20 +197,18 @@ int run(int argc, char** argv) {
   std::uint64_t frame_seq = 0;
   const std::string model_name = simulator.computer_model().name;
   auto publish = [&](const graph::Observation& o) {
-    devices::ForceSample sample{o.sample_ns, o.position_m, o.velocity_m_per_s, o.buttons, o.device_faults};
-    graph::fill(state_msg, sample);
-    state_msg.mutable_header()->set_seq(0);
+    graph::fill(state_msg, o.sample);
     state_pub.publish(state_msg);
-    graph::fill(force_msg, state_msg.header().seq(), o.force_n, o.sim_fault);
+    graph::fill(force_msg, state_msg.header().seq(), o.step.force_n, o.step.fault);
     force_msg.mutable_header()->set_stamp_ns(o.force_ns);
     force_pub.publish(force_msg);
-    if (o.frame_due) {
-      graph::fill(frame_msg, rows, cols, o.frame);
-      frame_msg.mutable_header()->set_stamp_ns(o.sample_ns);
+    if (o.step.frame_due) {
+      graph::fill(frame_msg, rows, cols, o.step.frame);
+      frame_msg.mutable_header()->set_stamp_ns(o.sample.time_ns);
       frame_pub.publish(frame_msg);
       frame_seq = frame_msg.header().seq();
     }
-    if (graph::fill(event_msg, o.event, model_name)) event_pub.publish(event_msg);
+    if (graph::fill(event_msg, o.step.event, model_name)) event_pub.publish(event_msg);
   };
   Felt felt;
   graph::Observation o;

@@ -89,7 +89,7 @@ rt::LoopSummary colocated(const std::string& scene, double rate_hz, double secon
   loop.activate(rt::now_ns());
   const auto summary = periodic(rate_hz, seconds, fifo, [&](std::int64_t now) {
     const graph::Observation& o = loop.tick(now);
-    return o.force_ns - o.sample_ns;
+    return o.force_ns - o.sample.time_ns;
   });
   loop.deactivate();
   return summary;

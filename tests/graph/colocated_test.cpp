@@ -57,15 +57,15 @@ TEST(Colocated, ForceIsWrittenInTheSameTickAsTheSample) {
   for (std::int64_t n = 0; n < 10'000; ++n) {
     const Observation& o = rig.tick(n);
     // the device applies exactly the force the model computed from this tick's sample
-    EXPECT_EQ(rig.device->applied_force_n(), o.force_n) << "tick " << n;
-    EXPECT_EQ(o.force_ns - o.sample_ns, 1000);
+    EXPECT_EQ(rig.device->applied_force_n(), o.step.force_n) << "tick " << n;
+    EXPECT_EQ(o.force_ns - o.sample.time_ns, 1000);
     EXPECT_EQ(o.seq, static_cast<std::uint64_t>(n + 1));
-    on_top += o.on_top;
-    if (o.on_top) {
-      EXPECT_GT(o.force_n.z, 0.0) << "on the top the bridge pushes up, tick " << n;
+    on_top += o.step.on_top;
+    if (o.step.on_top) {
+      EXPECT_GT(o.step.force_n.z, 0.0) << "on the top the bridge pushes up, tick " << n;
     }
-    if (o.contacts == 0) {
-      EXPECT_EQ(physics::norm(o.force_n), 0.0) << "in the air no force, tick " << n;
+    if (o.step.contacts == 0) {
+      EXPECT_EQ(physics::norm(o.step.force_n), 0.0) << "in the air no force, tick " << n;
     }
   }
   EXPECT_GT(on_top, 1000) << "the hand path reaches the top";
@@ -78,12 +78,12 @@ TEST(Colocated, PinsFollowTheComputerModelAtTheFrameRate) {
     const Observation& a = cm1.tick(n);
     const Observation& b = cm3.tick(n);
     // same device path, same contacts: CM3 shows the complement of CM1 on every pin
-    ASSERT_EQ(a.contacts, b.contacts);
-    EXPECT_EQ(a.pins ^ b.pins, 0xffffu) << "tick " << n;
-    if (!a.frame_due) continue;
+    ASSERT_EQ(a.step.contacts, b.step.contacts);
+    EXPECT_EQ(a.step.pins ^ b.step.pins, 0xffffu) << "tick " << n;
+    if (!a.step.frame_due) continue;
     ++frames;
     // the cells were given this frame's pins in this tick
-    EXPECT_EQ(cm1.tactile.targets(), a.frame);
+    EXPECT_EQ(cm1.tactile.targets(), a.step.frame);
   }
   // one frame per 24 ms (120 ticks at 5 kHz), the first at tick 0
   EXPECT_EQ(frames, (10'000 + 119) / 120);
@@ -109,7 +109,7 @@ TEST(Colocated, TickAllocatesNothing) {
 TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {
   Rig rig("CM1");
   std::int64_t n = 0;
-  while (n < 20'000 && (rig.tick(n).contacts == 0 || physics::norm(rig.device->applied_force_n()) == 0.0)) ++n;
+  while (n < 20'000 && (rig.tick(n).step.contacts == 0 || physics::norm(rig.device->applied_force_n()) == 0.0)) ++n;
   ASSERT_LT(n, 20'000) << "the hand never touched";
   rig.loop->deactivate();
   EXPECT_EQ(rig.device->applied_force_n(), physics::Vec3{});
