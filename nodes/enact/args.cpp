@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 namespace enact::cli {
 
@@ -53,6 +54,14 @@ Args parse(int argc, char** argv, int first, const std::set<std::string>& valued
     }
   }
   return a;
+}
+
+std::string find_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(path, ec) || fs::path(path).is_absolute()) return path;
+  const fs::path candidate = fs::read_symlink("/proc/self/exe", ec).parent_path() / "../../.." / path;
+  return !ec && fs::exists(candidate, ec) ? candidate.lexically_normal().string() : path;
 }
 
 }  // namespace enact::cli

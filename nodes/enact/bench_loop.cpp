@@ -212,7 +212,7 @@ int bench_loop(int argc, char** argv) {
   }
   const double seconds = a.number("seconds", 3.0);
   const int fifo = static_cast<int>(a.number("fifo", 0.0));
-  const std::string scene = a.get("scene", "launch/scenes/bridge.yaml");
+  const std::string scene = find_file(a.get("scene", "launch/scenes/bridge.yaml"));
   if (seconds <= 0.0) throw UsageError("--seconds must be > 0");
   std::fprintf(stderr, "enact bench loop: 8 cases of %.1f s each\n", seconds);
   // bare and co-located alternate, three times each: the ratio is of medians (noisy machine)

@@ -9,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -23,6 +22,7 @@
 #include "core/physics/state.h"
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
+#include "nodes/enact/physics_reference.h"
 
 namespace enact::cli {
 namespace {
@@ -30,6 +30,14 @@ namespace {
 using physics::Integrator;
 using physics::Model;
 using physics::Vec3;
+using reference::BounceErrors;
+using reference::OscillatorErrors;
+using reference::bounce_errors;
+using reference::chain;
+using reference::damped_error;
+using reference::oscillator;
+using reference::steps_in;
+using reference::undamped_errors;
 
 constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
 
@@ -78,16 +86,6 @@ constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_eul
 constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
 constexpr std::array kChainMasses{10, 100, 1000};
 
-// the test oscillator and the bouncing mass
-constexpr double kMass_kg = 0.01;
-constexpr double kOmega_rad_per_s = 2.0 * std::numbers::pi * 50.0;
-constexpr double kAmplitude_m = 1e-3;
-constexpr double kHorizon_s = 1.0;
-constexpr double kZeta = 0.05;
-constexpr double kGravity_m_per_s2 = 9.81;
-constexpr double kDropHeight_m = 0.005;
-constexpr double kContactStiffness_n_per_m = 2000.0;
-
 // the bridge step: its rate, the hand's depth into the top and its wobble
 constexpr double kBridgeRate_hz = 44000.0;
 constexpr double kBridgeTarget_ns = 227.0;
@@ -102,211 +100,7 @@ struct Settings {
   long bounce_steps = 1000000;
 };
 
-// ---- scenes built in code ----
-
-physics::Point fixed_point(const std::string& name, const Vec3& position_m) {
-  physics::Point p;
-  p.name = name;
-  p.kind = physics::PointKind::fixed;
-  p.position_m = position_m;
-  return p;
-}
-
-physics::Point mass_point(const std::string& name, double mass_kg, const Vec3& position_m) {
-  physics::Point p = fixed_point(name, position_m);
-  p.kind = physics::PointKind::dynamic;
-  p.mass_kg = mass_kg;
-  return p;
-}
-
-physics::Link spring_damper(int a, int b, double stiffness_n_per_m, double damping_n_s_per_m, double rest_length_m) {
-  return {.name = "spring" + std::to_string(b),
-          .type = physics::LinkType::spring_damper,
-          .a = a,
-          .b = b,
-          .stiffness_n_per_m = stiffness_n_per_m,
-          .damping_n_s_per_m = damping_n_s_per_m,
-          .rest_length_m = rest_length_m};
-}
-
-// a mass (point 1) on an isotropic spring to a fixed point at the origin, released at rest from A
-Model oscillator(Integrator integrator, double rate_hz, double zeta) {
-  const double k = kMass_kg * kOmega_rad_per_s * kOmega_rad_per_s;
-  Model m;
-  m.name = "oscillator";
-  m.integrator = integrator;
-  m.points = {fixed_point("anchor", {}), mass_point("mass", kMass_kg, {kAmplitude_m, 0.0, 0.0})};
-  m.links = {spring_damper(0, 1, k, 2.0 * zeta * std::sqrt(k * kMass_kg), 0.0)};
-  m.set_rate(rate_hz);
-  return m;
-}
-
-// a mass (point 0) at rest above an undamped plane at z = 0, under gravity
-Model bounce(Integrator integrator, double rate_hz) {
-  Model m;
-  m.name = "bounce";
-  m.integrator = integrator;
-  m.gravity_m_per_s2 = {0.0, 0.0, -kGravity_m_per_s2};
-  m.points = {mass_point("ball", kMass_kg, {0.0, 0.0, kDropHeight_m})};
-  physics::Object floor;
-  floor.name = "floor";
-  floor.type = physics::ObjectType::plane;
-  floor.plane_normal = {0.0, 0.0, 1.0};
-  m.objects = {floor};
-  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m}};
-  m.set_rate(rate_hz);
-  return m;
-}
-
-// n masses 1 mm apart on undamped springs from a fixed point, stretched by 1 % and released
-Model chain(int masses) {
-  constexpr double spacing_m = 1e-3;
-  Model m;
-  m.name = "chain";
-  m.points = {fixed_point("anchor", {})};
-  for (int i = 1; i <= masses; ++i) {
-    m.points.push_back(mass_point("mass" + std::to_string(i), kMass_kg, {1.01 * spacing_m * i, 0.0, 0.0}));
-    m.links.push_back(spring_damper(i - 1, i, 1000.0, 0.0, spacing_m));
-  }
-  m.set_rate(kBridgeRate_hz);
-  return m;
-}
-
-// ---- errors, computed outside the timing ----
-
-std::size_t steps_in(double seconds, double rate_hz) { return static_cast<std::size_t>(std::lround(seconds * rate_hz)); }
-
-// x of point 1 at steps 0 .. steps
-std::vector<double> positions(const Model& m, std::size_t steps) {
-  physics::State s = physics::make_state(m);
-  std::vector<double> x{s.x[1].x};
-  for (std::size_t n = 0; n < steps; ++n) {
-    physics::step(m, s);
-    x.push_back(s.x[1].x);
-  }
-  return x;
-}
-
-// the vertex of the parabola through y[i-1], y[i], y[i+1] (y[i] at the ends or when flat)
-double refined_extremum(const std::vector<double>& y, std::size_t i) {
-  if (i == 0 || i + 1 >= y.size()) return y[i];
-  const double curvature = y[i + 1] - 2.0 * y[i] + y[i - 1];
-  const double slope = y[i + 1] - y[i - 1];
-  return curvature == 0.0 ? y[i] : y[i] - slope * slope / (8.0 * curvature);
-}
-
-// times of the sign changes of x, interpolated linearly between samples
-std::vector<double> zero_crossings(const std::vector<double>& x, double dt_s) {
-  std::vector<double> t_s;
-  for (std::size_t n = 0; n + 1 < x.size(); ++n) {
-    if ((x[n] > 0.0) != (x[n + 1] > 0.0)) t_s.push_back((static_cast<double>(n) + x[n] / (x[n] - x[n + 1])) * dt_s);
-  }
-  return t_s;
-}
-
-// the discrete angular frequency the recurrence x(n+1) = 2x(n) - x(n-1) - w^2 dt^2 x(n)
-// (explicit) or (M + K) x(n+1) = 2M x(n) - M x(n-1) (implicit) gives
-double predicted_omega(Integrator integrator, double dt_s) {
-  const double w_dt = kOmega_rad_per_s * dt_s;
-  return (integrator == Integrator::implicit_euler ? std::atan(w_dt) : 2.0 * std::asin(w_dt / 2.0)) / dt_s;
-}
-
-struct OscillatorErrors {
-  double global = 0.0;
-  double amplitude = 0.0;
-  double phase_rad = 0.0;
-  double freq_vs_predicted = 0.0;
-  double freq_warping = 0.0;
-};
-
-OscillatorErrors undamped_errors(Integrator integrator, double rate_hz) {
-  const Model m = oscillator(integrator, rate_hz, 0.0);
-  const std::size_t steps = steps_in(kHorizon_s, rate_hz);
-  const std::vector<double> x = positions(m, steps);
-  OscillatorErrors e;
-  // global error against A cos(w t)
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    const double exact = kAmplitude_m * std::cos(kOmega_rad_per_s * static_cast<double>(n) * m.dt_s);
-    e.global = std::max(e.global, std::abs(x[n] - exact) / kAmplitude_m);
-  }
-  // amplitude: the largest |x| over the last period
-  const std::size_t last_period = steps - steps_in(2.0 * std::numbers::pi / kOmega_rad_per_s, rate_hz);
-  std::size_t peak = last_period;
-  for (std::size_t n = last_period; n < x.size(); ++n) peak = std::abs(x[n]) > std::abs(x[peak]) ? n : peak;
-  e.amplitude = std::abs(std::abs(refined_extremum(x, peak)) - kAmplitude_m) / kAmplitude_m;
-  // phase at the last zero crossing, frequency from the first to the last
-  const std::vector<double> t = zero_crossings(x, m.dt_s);
-  const double crossings = static_cast<double>(t.size());
-  e.phase_rad = (crossings - 0.5) * std::numbers::pi - kOmega_rad_per_s * t.back();
-  const double measured = std::numbers::pi * (crossings - 1.0) / (t.back() - t.front());
-  const double predicted = predicted_omega(integrator, m.dt_s);
-  e.freq_vs_predicted = measured / predicted - 1.0;
-  e.freq_warping = predicted / kOmega_rad_per_s - 1.0;
-  return e;
-}
-
-double damped_error(Integrator integrator, double rate_hz) {
-  const Model m = oscillator(integrator, rate_hz, kZeta);
-  const std::vector<double> x = positions(m, steps_in(kHorizon_s, rate_hz));
-  const double root = std::sqrt(1.0 - kZeta * kZeta);
-  const double wd = kOmega_rad_per_s * root;
-  double error = 0.0;
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    const double t = static_cast<double>(n) * m.dt_s;
-    const double exact = kAmplitude_m * std::exp(-kZeta * kOmega_rad_per_s * t) * (std::cos(wd * t) + kZeta / root * std::sin(wd * t));
-    error = std::max(error, std::abs(x[n] - exact) / kAmplitude_m);
-  }
-  return error;
-}
-
-struct BounceErrors {
-  double peak_penetration = 0.0;  // relative, signed
-  double energy_drift = 0.0;      // relative, signed, at the last step
-  double energy_drift_max = 0.0;  // relative, largest |E - E0| / E0
-};
-
-// kinetic (state velocity) + gravity + contact potential of the bouncing mass
-double bounce_energy_j(const physics::State& s) {
-  const double depth_m = std::max(0.0, -s.x[0].z);
-  return 0.5 * kMass_kg * physics::dot(s.v[0], s.v[0]) + kMass_kg * kGravity_m_per_s2 * s.x[0].z +
-         0.5 * kContactStiffness_n_per_m * depth_m * depth_m;
-}
-
-BounceErrors bounce_errors(Integrator integrator, double rate_hz, long steps) {
-  const Model m = bounce(integrator, rate_hz);
-  physics::State s = physics::make_state(m);
-  const double e0 = bounce_energy_j(s);
-  BounceErrors r;
-  // heights kept until the first impact is over; energy followed over every step
-  std::vector<double> z{s.x[0].z};
-  bool impact_over = false;
-  for (long n = 0; n < steps; ++n) {
-    physics::step(m, s);
-    r.energy_drift = (bounce_energy_j(s) - e0) / e0;
-    r.energy_drift_max = std::max(r.energy_drift_max, std::abs(r.energy_drift));
-    if (impact_over) continue;
-    z.push_back(s.x[0].z);
-    impact_over = z.back() >= 0.0 && z[z.size() - 2] < 0.0;
-  }
-  // the first impact's deepest point against the elastic solution
-  const double static_m = kMass_kg * kGravity_m_per_s2 / kContactStiffness_n_per_m;
-  const double impact_speed2 = 2.0 * kGravity_m_per_s2 * kDropHeight_m;
-  const double exact_m = static_m + std::sqrt(static_m * static_m + kMass_kg * impact_speed2 / kContactStiffness_n_per_m);
-  const auto lowest = static_cast<std::size_t>(std::min_element(z.begin(), z.end()) - z.begin());
-  r.peak_penetration = -refined_extremum(z, lowest) / exact_m - 1.0;
-  return r;
-}
-
 // ---- the bridge: scene, hand motion ----
-
-// the scene as given, else relative to the source tree above the executable (build/nodes/enact/enact)
-std::string resolve_scene(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(path, ec) || fs::path(path).is_absolute()) return path;
-  const fs::path candidate = fs::read_symlink("/proc/self/exe", ec).parent_path() / "../../.." / path;
-  return !ec && fs::exists(candidate, ec) ? candidate.lexically_normal().string() : path;
-}
 
 Vec3 unit(const Vec3& v) { return v * (1.0 / physics::norm(v)); }
 
@@ -340,7 +134,7 @@ std::vector<Vec3> bridge_motion(const Model& m) {
 // the top, off the edges, a fall and the climb back, the turns
 std::vector<Vec3> scripted_motion(const std::string& scene) {
   sim::SimParams p;
-  p.scene = resolve_scene(scene);
+  p.scene = find_file(scene);
   p.rate_hz = kBridgeRate_hz;
   p.force = true;
   sim::Simulator simulator;
@@ -353,7 +147,7 @@ std::vector<Vec3> scripted_motion(const std::string& scene) {
 
 // the bridge at 44 kHz under CM1, the body starting 1 mm above the motion's first position
 Model bridge(const std::string& scene, const std::vector<Vec3>& start) {
-  Model m = physics::load_scene(resolve_scene(scene));
+  Model m = physics::load_scene(find_file(scene));
   if (m.proxies.empty()) throw std::runtime_error(m.source + ": the bridge benchmark needs a body");
   m.set_rate(kBridgeRate_hz);
   haptics::apply(*haptics::preset("CM1", m.proxies[0].rows * m.proxies[0].cols), m);
@@ -447,7 +241,7 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
     step_loop(t, path_model, path_motion, path_motion.size(), false);
   });
   for (int masses : kChainMasses) {
-    const Model m = chain(masses);
+    const Model m = chain(masses, kBridgeRate_hz);
     benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
   }
 }
