@@ -107,7 +107,7 @@ struct Graph {
   sigset_t blocked{};
   std::ostream& log;
 
-  // reap every exited child; returns the first one that exited since the last call, or null
+  // reap every exited child into `exited` (what it wrote on its ready pipe first still counts)
   void reap(std::vector<Child*>& exited) {
     int status = 0;
     pid_t pid = 0;

@@ -271,11 +271,6 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
   return false;
 }
 
-bool inside(const Model& model, const Object& object, const Vec3& x) {
-  if (object.type == ObjectType::plane) return dot(object.plane_normal, x - object.plane_point_m) < 0.0;
-  return inside_near(model, object, kAllBoxes, x);
-}
-
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
                       ContactState& contact) {
   if (object.type == ObjectType::plane) {

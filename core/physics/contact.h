@@ -5,9 +5,6 @@
 
 namespace enact::physics {
 
-// is x inside any box of the object (planes: below the surface)?
-bool inside(const Model& model, const Object& object, const Vec3& x);
-
 // update one contact pair for a point that moved from x_prev to x; returns the penetration
 // depth below the face that pushes (0 when not in contact). skin_m: how far below another
 // face a point may be to ride over an edge onto it (ContactPair::edge_skin_m)
