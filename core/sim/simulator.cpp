@@ -26,6 +26,8 @@ void Simulator::configure(const SimParams& params) {
   }
   if (model_.proxies.empty()) throw config::Error(params.scene + ": the scene has no body: nothing for a device to drive\n  fix: add a body: section");
   cm_ = haptics::resolve_computer_model(params.model, grid_masses());
+  // room for any name a live change carries: switching models between steps never allocates
+  cm_.name.reserve(kMaxModelName + 1);
   haptics::apply(cm_, model_);
   stability_ = physics::analyze_stability(model_);
   const std::string unstable = physics::instability_message(model_, stability_);
@@ -52,6 +54,7 @@ void Simulator::activate(std::int64_t start_ns) {
   physics::reset(model_, state_);
   tactile_.reset();
   task_.reset(start_ns);
+  trial_running_ = true;
   out_ = {};
   lifecycle_ = Lifecycle::active;
 }
@@ -64,6 +67,38 @@ void Simulator::deactivate() {
 void Simulator::set_computer_model(const haptics::ComputerModel& cm) {
   cm_ = cm;
   haptics::apply(cm_, model_);
+}
+
+ParamApplied Simulator::apply(const ParamChange& c, std::int64_t time_ns, std::int64_t now_ns) {
+  switch (c.kind) {
+    case ParamKind::model:
+      assign(cm_, c.model);
+      haptics::apply(cm_, model_);
+      break;
+    case ParamKind::threshold:
+      cm_.threshold_m = c.value;
+      haptics::apply(cm_, model_);
+      break;
+    case ParamKind::stiffness: set_body_contacts(model_, c.value, std::nullopt); break;
+    case ParamKind::damping: set_body_contacts(model_, std::nullopt, c.value); break;
+    case ParamKind::reset:
+      // model, pins and task from the start: a new trial
+      physics::reset(model_, state_);
+      tactile_.reset();
+      task_.reset(time_ns);
+      trial_running_ = true;
+      break;
+    case ParamKind::reposition:
+      // the body is about to jump back to the start: forget the faces it entered through
+      physics::reset(model_, state_);
+      break;
+    case ParamKind::trial_start:
+      task_.reset(time_ns);
+      trial_running_ = true;
+      break;
+    case ParamKind::trial_stop: trial_running_ = false; break;
+  }
+  return {c.request_id, c.kind, now_ns};
 }
 
 const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& device_position_m) {
@@ -92,7 +127,7 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
   if (has_task()) {
     const physics::Vec3& centre = state_.x[body.point];
     out_.progress = path_.project(centre.x, centre.y).fraction;
-    out_.event = task_.update(time_ns, out_.on_top, out_.progress);
+    out_.event = trial_running_ ? task_.update(time_ns, out_.on_top, out_.progress) : task::TaskEvent{};
   }
   return out_;
 }

@@ -13,6 +13,7 @@
 #include "core/physics/model.h"
 #include "core/physics/stability.h"
 #include "core/physics/state.h"
+#include "core/sim/params.h"
 #include "core/task/bridge_task.h"
 #include "core/task/polyline.h"
 
@@ -52,6 +53,10 @@ class Simulator {
 
   // between steps: switch the computer model
   void set_computer_model(const haptics::ComputerModel& cm);
+  // between steps: apply a change checked by a ParamPlanner (params.h); `time_ns` is on the
+  // clock of step() (a trial started now begins there), `now_ns` is copied into the result.
+  // Allocates nothing, never throws.
+  ParamApplied apply(const ParamChange& change, std::int64_t time_ns, std::int64_t now_ns);
 
   Lifecycle lifecycle() const { return lifecycle_; }
   const physics::Model& model() const { return model_; }
@@ -60,6 +65,8 @@ class Simulator {
   const physics::StabilityReport& stability() const { return stability_; }
   task::Metrics metrics() const { return task_.metrics(); }
   bool has_task() const { return !top_pairs_.empty(); }
+  // a trial is running: the task counts falls and progress (from activate, or sim.trial start)
+  bool trial_running() const { return trial_running_; }
   const task::Polyline& path() const { return path_; }
   int grid_masses() const;
   const StepOutput& output() const { return out_; }
@@ -75,6 +82,7 @@ class Simulator {
   task::BridgeTask task_;
   task::Polyline path_;
   std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
+  bool trial_running_ = true;
   StepOutput out_;
 };
 

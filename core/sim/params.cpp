@@ -1,0 +1,184 @@
+#include "core/sim/params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "core/config/yaml.h"
+#include "core/haptics/device_profile.h"
+#include "core/physics/stability.h"
+#include "core/sim/simulator.h"
+
+namespace enact::sim {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+ParamPlan refuse(std::string reason) { return {false, {}, std::move(reason)}; }
+
+ParamPlan accept(ParamKind kind, std::uint64_t request_id, double value = 0.0) {
+  ParamPlan p;
+  p.accepted = true;
+  p.change.request_id = request_id;
+  p.change.kind = kind;
+  p.change.value = value;
+  return p;
+}
+
+// a number given as a number, or as text that is one
+std::optional<double> number_of(const ParamValue& v) {
+  if (v.number) return v.number;
+  if (!v.text) return std::nullopt;
+  char* end = nullptr;
+  const double d = std::strtod(v.text->c_str(), &end);
+  if (end == v.text->c_str() || *end != '\0') return std::nullopt;
+  return d;
+}
+
+bool is_body_point(const physics::Model& m, int point) {
+  const physics::Point& p = m.points[point];
+  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+}
+
+// the first contact pair of the body (-1 when it has none)
+int first_body_contact(const physics::Model& m) {
+  for (std::size_t i = 0; i < m.contacts.size(); ++i) {
+    if (is_body_point(m, m.contacts[i].point)) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+}  // namespace
+
+const std::vector<std::string>& param_names() {
+  static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "reset", "reposition", "trial"};
+  return names;
+}
+
+void set_body_contacts(physics::Model& model, std::optional<double> stiffness, std::optional<double> damping) {
+  for (physics::ContactPair& c : model.contacts) {
+    if (!is_body_point(model, c.point)) continue;
+    if (stiffness) c.stiffness_n_per_m = *stiffness;
+    if (damping) c.damping_n_s_per_m = *damping;
+  }
+}
+
+double body_passivity_demand(physics::Model model, double stiffness, double damping) {
+  // the worst computer model: every body point feeds the device
+  for (physics::Point& p : model.points) {
+    if (p.kind == physics::PointKind::kinematic && p.proxy == 0) p.feeds_device = true;
+  }
+  set_body_contacts(model, stiffness, damping);
+  // any device damping: only the demand K T/2 + B is read
+  const physics::StabilityReport report = physics::analyze_stability(model, 0.0);
+  return report.devices.empty() ? 0.0 : report.devices[0].required_n_s_per_m;
+}
+
+ModelChange to_change(const haptics::ComputerModel& cm) {
+  ModelChange c;
+  c.force_grid_mask = cm.force_grid_mask;
+  c.force_center = cm.force_center;
+  c.pin_mask = cm.pin_mask;
+  c.pins = cm.pins;
+  c.threshold_m = cm.threshold_m;
+  const std::size_t n = std::min(cm.name.size(), kMaxModelName);
+  std::memcpy(c.name, cm.name.data(), n);
+  c.name[n] = '\0';
+  return c;
+}
+
+void assign(haptics::ComputerModel& cm, const ModelChange& c) {
+  cm.force_grid_mask = c.force_grid_mask;
+  cm.force_center = c.force_center;
+  cm.pin_mask = c.pin_mask;
+  cm.pins = c.pins;
+  cm.threshold_m = c.threshold_m;
+  cm.name.assign(c.name);
+}
+
+ParamPlanner::ParamPlanner(const Simulator& simulator)
+    : model_(simulator.model()), cm_(simulator.computer_model()), grid_masses_(simulator.grid_masses()) {
+  if (const auto profile = haptics::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
+  const int pair = first_body_contact(model_);
+  const double loaded = pair < 0 ? 0.0 : body_passivity_demand(model_, model_.contacts[pair].stiffness_n_per_m, model_.contacts[pair].damping_n_s_per_m);
+  envelope_ = std::max(device_damping_, loaded);
+}
+
+double ParamPlanner::stiffness_n_per_m() const {
+  const int pair = first_body_contact(model_);
+  return pair < 0 ? 0.0 : model_.contacts[pair].stiffness_n_per_m;
+}
+
+double ParamPlanner::damping_n_s_per_m() const {
+  const int pair = first_body_contact(model_);
+  return pair < 0 ? 0.0 : model_.contacts[pair].damping_n_s_per_m;
+}
+
+ParamPlan ParamPlanner::check_contact(ParamKind kind, double value, std::uint64_t request_id) {
+  const bool stiffness = kind == ParamKind::stiffness;
+  const char* name = stiffness ? "stiffness_n_per_m" : "damping_n_s_per_m";
+  const char* unit = stiffness ? "N/m" : "N s/m";
+  if (!std::isfinite(value) || value < 0.0) return refuse(std::string(name) + " must be a finite number >= 0\n  fix: give a value in " + unit);
+  if (first_body_contact(model_) < 0) return refuse(std::string(name) + ": the scene's body has no contacts\n  fix: add a contacts: entry for the body");
+  // the passivity demand is linear in the changed parameter, the other one held
+  const double k = stiffness_n_per_m(), z = damping_n_s_per_m();
+  auto demand = [&](double v) { return body_passivity_demand(model_, stiffness ? v : k, stiffness ? z : v); };
+  const double asked = demand(value);
+  if (asked > envelope_ * (1.0 + 1e-12)) {
+    const double at0 = demand(0.0), slope = demand(1.0) - at0;
+    const double largest = slope > 0.0 ? std::max(0.0, (envelope_ - at0) / slope) : 0.0;
+    const std::string device = model_.device_profile.empty() ? "a device without a profile (b = 0)" : model_.device_profile;
+    return refuse(std::string(name) + format(" = %.6g ", value) + unit + ": the loop would not stay stable on " + device +
+                  format(" at %.0f Hz: the passivity bound (Colgate & Schenkel) needs K T/2 + B = %.4g N s/m with every body point in contact,",
+                         model_.rate_hz, asked) +
+                  format(" past %.4g N s/m (the device damping b = %.4g N s/m, or the scene as loaded if larger)", envelope_, device_damping_) +
+                  "\n  fix: at most " + format("%.6g ", largest) + unit);
+  }
+  set_body_contacts(model_, stiffness ? std::optional(value) : std::nullopt, stiffness ? std::nullopt : std::optional(value));
+  return accept(kind, request_id, value);
+}
+
+ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, std::uint64_t request_id) {
+  if (name == "model") {
+    if (!value.text || value.text->empty()) return refuse("model needs a text value\n  fix: a preset (CM0, CM1, CM2, CM3, P, T, PT) or a YAML file");
+    haptics::ComputerModel cm;
+    try {
+      cm = haptics::resolve_computer_model(*value.text, grid_masses_);
+    } catch (const config::Error& e) {
+      return refuse(e.what());
+    }
+    if (cm.name.size() > kMaxModelName) return refuse("model name '" + cm.name + "' is longer than " + std::to_string(kMaxModelName) + " characters\n  fix: give it a shorter name:");
+    cm_ = cm;
+    ParamPlan p = accept(ParamKind::model, request_id);
+    p.change.model = to_change(cm);
+    return p;
+  }
+  if (name == "threshold_m") {
+    const std::optional<double> t = number_of(value);
+    if (!t || !std::isfinite(*t) || *t < 0.0) return refuse("threshold_m must be a finite number >= 0\n  fix: give a penetration in m, e.g. 0.003");
+    cm_.threshold_m = *t;
+    return accept(ParamKind::threshold, request_id, *t);
+  }
+  if (name == "stiffness_n_per_m" || name == "damping_n_s_per_m") {
+    const std::optional<double> v = number_of(value);
+    return check_contact(name[0] == 's' ? ParamKind::stiffness : ParamKind::damping, v ? *v : NAN, request_id);
+  }
+  if (name == "reset") return accept(ParamKind::reset, request_id);
+  if (name == "reposition") return accept(ParamKind::reposition, request_id);
+  if (name == "trial") {
+    const std::string t = value.text.value_or("");
+    if (t == "start" || value.flag == true) return accept(ParamKind::trial_start, request_id);
+    if (t == "stop" || value.flag == false) return accept(ParamKind::trial_stop, request_id);
+    return refuse("trial needs start or stop\n  fix: sim.trial start, or sim.trial stop");
+  }
+  std::string names;
+  for (const std::string& n : param_names()) names += (names.empty() ? "" : ", ") + n;
+  return refuse("unknown parameter '" + name + "'\n  fix: use one of " + names);
+}
+
+}  // namespace enact::sim
