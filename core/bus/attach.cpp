@@ -1,5 +1,6 @@
 #include "core/bus/attach.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <exception>
@@ -60,6 +61,8 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
       xsub_(make_socket(zmq::socket_type::xsub)),
       control_(make_socket(zmq::socket_type::pair)),
       requester_(make_socket(zmq::socket_type::pair)),
+      inbound_(make_socket(zmq::socket_type::pub)),
+      inbound_topics_(options.inbound_topics),
       descriptor_set_(msgs_descriptor_set()) {
   // refuse a bad or exposed endpoint before binding it
   const std::string& bind = options.bind_endpoint;
@@ -83,6 +86,18 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
                         "\n  fix: choose a free port (or * for any)");
   }
   endpoint_ = xpub_.get(zmq::sockopt::last_endpoint);
+  // what observers send, republished for the nodes
+  if (!options.inbound_endpoint.empty()) {
+    validate_endpoint(options.inbound_endpoint, "inbound endpoint");
+    try {
+      inbound_.bind(options.inbound_endpoint);
+    } catch (const zmq::error_t& e) {
+      throw config::Error("inbound endpoint '" + options.inbound_endpoint + "': cannot bind: " + e.what() +
+                          "\n  fix: choose an ipc path no node binds");
+    }
+  } else {
+    inbound_topics_.clear();
+  }
   // command pair, then the thread (it owns xpub_, xsub_ and control_ from now on)
   const std::string control = control_endpoint();
   control_.bind(control);
@@ -138,7 +153,7 @@ void AttachPoint::run() {
       }
       bool graph_now = Clock::now() >= next_graph;
       if (items[0].revents & ZMQ_POLLIN) forward_data();
-      if (items[1].revents & ZMQ_POLLIN) graph_now |= forward_subscriptions();
+      if (items[1].revents & ZMQ_POLLIN) graph_now |= forward_from_observers();
       if (items[2].revents & ZMQ_POLLIN) {
         if (!handle_command()) return;
         graph_now = true;
@@ -188,16 +203,45 @@ void AttachPoint::forward_data() {
   }
 }
 
-bool AttachPoint::forward_subscriptions() {
-  // observers -> publishers; true when someone (re)subscribed to graph/topics
+bool AttachPoint::forward_from_observers() {
+  // subscriptions go to the publishers, messages on inbound topics to the nodes; true when
+  // someone (re)subscribed to graph/topics
   bool wants_graph = false;
   zmq::message_t notice;
   while (xpub_.recv(notice, zmq::recv_flags::dontwait)) {
+    if (notice.more()) {
+      relay_inbound(notice);
+      continue;
+    }
     const std::string_view n = notice.to_string_view();
-    if (!n.empty() && n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
+    if (n.empty() || (n.front() != 0 && n.front() != 1)) continue;  // a stray one-frame message
+    if (n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
     (void)xsub_.send(notice, zmq::send_flags::dontwait);
   }
   return wants_graph;
+}
+
+void AttachPoint::relay_inbound(zmq::message_t& first) {
+  // the rest of the message is there already (multipart messages arrive whole)
+  std::vector<zmq::message_t> frames;
+  frames.push_back(std::move(first));
+  while (frames.back().more()) {
+    frames.emplace_back();
+    (void)xpub_.recv(frames.back());
+  }
+  // a bus message (topic, type, payload) on an inbound topic, else dropped
+  if (frames.size() != 3) return;
+  const std::string_view topic = frames[0].to_string_view();
+  if (std::find(inbound_topics_.begin(), inbound_topics_.end(), topic) == inbound_topics_.end()) return;
+  // to the nodes, and to the observers of that topic
+  for (zmq::socket_t* out : {&inbound_, &xpub_}) {
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      zmq::message_t copy;
+      copy.copy(frames[i]);
+      const auto flags = i + 1 < frames.size() ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
+      if (!out->send(copy, flags)) break;
+    }
+  }
 }
 
 void AttachPoint::publish_graph() {
@@ -221,6 +265,28 @@ void AttachPoint::publish_graph() {
   if (!xpub_.send(zmq::const_buffer(kGraphTopic.data(), kGraphTopic.size()), more)) return;
   (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
   (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+}
+
+AttachSender::AttachSender(const std::string& endpoint, std::string source)
+    : socket_(make_socket(zmq::socket_type::xsub)), source_(std::move(source)) {
+  validate_endpoint(endpoint, "attach endpoint");
+  // it sends multipart messages: linger like a publisher (context.h)
+  socket_.set(zmq::sockopt::linger, kPublisherLinger_ms);
+  socket_.connect(endpoint);
+}
+
+bool AttachSender::send_bytes(std::string_view topic, std::string_view type, const std::string& payload) {
+  // XSUB passes a message upstream whose frames do not start with the subscription bytes 0
+  // and 1: a topic and a type name never do, a Protobuf payload never does (no field 0)
+  constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
+  try {
+    if (!socket_.send(zmq::const_buffer(topic.data(), topic.size()), more)) return false;
+    (void)socket_.send(zmq::const_buffer(type.data(), type.size()), more);
+    (void)socket_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+  } catch (const zmq::error_t&) {
+    return false;
+  }
+  return true;
 }
 
 }  // namespace enact::bus

@@ -11,6 +11,11 @@
 //
 // Observers are lossy: a slow observer loses messages at the attach point (it sees gaps),
 // and never slows the publishers. Wire format and a Python client: core/bus/README.md.
+//
+// Observers may also publish, on the few inbound topics the graph accepts (param/set): they
+// send bus messages upstream on the same connection (an XSUB socket: AttachSender), and the
+// attach point republishes them on its inbound publisher, which the graph's nodes subscribe
+// to like any other node's, and to the observers of that topic (a logger records them).
 #include <atomic>
 #include <cstdint>
 #include <initializer_list>
@@ -23,6 +28,7 @@
 #include <zmq.hpp>
 
 #include "core/bus/endpoints.h"
+#include "core/bus/typed.h"
 
 namespace enact::bus {
 
@@ -37,6 +43,10 @@ struct AttachOptions {
   bool allow_remote = false;
   // period of the GraphInfo messages, ms
   int graph_period_ms = 1000;
+  // where the attach point republishes what observers send (empty: observers only listen)
+  std::string inbound_endpoint{};
+  // the topics observers may send on; anything else they send is dropped
+  std::vector<std::string> inbound_topics{};
 };
 
 class AttachPoint {
@@ -87,7 +97,8 @@ class AttachPoint {
   void run();
   bool handle_command();
   void forward_data();
-  bool forward_subscriptions();
+  bool forward_from_observers();
+  void relay_inbound(zmq::message_t& first);
   void publish_graph();
 
   std::string graph_;
@@ -97,6 +108,8 @@ class AttachPoint {
   zmq::socket_t xsub_;        // connects to every node's publisher
   zmq::socket_t control_;     // forwarding thread's end of the command pair
   zmq::socket_t requester_;   // callers' end, used under request_mutex_
+  zmq::socket_t inbound_;     // republishes what observers send (bound only with an endpoint)
+  std::vector<std::string> inbound_topics_;
   std::mutex request_mutex_;
   std::atomic<bool> failed_ = false;
   std::string failure_;       // why the thread stopped, set before failed_
@@ -105,6 +118,36 @@ class AttachPoint {
   std::string descriptor_set_;
   std::uint64_t graph_seq_ = 0;
   std::thread thread_;
+};
+
+// an observer's way to send on a graph's inbound topics (param/set): an XSUB socket
+// connected to the attach point, sending bus messages upstream. Nothing tells the sender
+// whether a message arrived (it is dropped while the connection is not up yet, and when the
+// topic is not inbound): senders expect an answer and repeat the message until it comes.
+// Used by one thread at a time.
+class AttachSender {
+ public:
+  // connects to `endpoint` (an AttachPoint::endpoint()); `source` goes into header.source.
+  // Throws config::Error for a malformed endpoint.
+  AttachSender(const std::string& endpoint, std::string source);
+
+  // fills msg.header (seq +1 per call, stamp_ns now, source) and sends it on `topic`
+  // without blocking; false when it could not be queued
+  template <class Msg>
+  bool send(const std::string& topic, Msg& msg) {
+    msgs::Header& h = *msg.mutable_header();
+    h.set_seq(++seq_);
+    h.set_stamp_ns(monotonic_ns());
+    h.set_source(source_);
+    return send_bytes(topic, Msg::descriptor()->full_name(), msg.SerializeAsString());
+  }
+
+ private:
+  bool send_bytes(std::string_view topic, std::string_view type, const std::string& payload);
+
+  zmq::socket_t socket_;
+  std::string source_;
+  std::uint64_t seq_ = 0;
 };
 
 }  // namespace enact::bus
