@@ -13,7 +13,15 @@ void ColocatedLoop::activate(std::int64_t now_ns) {
   obs_ = {};
 }
 
+void ColocatedLoop::connect_params(ParamQueue& changes, AppliedQueue& applied) {
+  changes_ = &changes;
+  applied_ = &applied;
+}
+
 const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
+  // parameter changes, between the last step and this one
+  sim::ParamChange change;
+  while (changes_ && changes_->try_pop(change)) applied_->try_push(sim_.apply(change, now_ns - start_ns_, now_ns));
   // read the device, step the model on that sample, write the force, in one tick
   force_.read(now_ns, obs_.sample);
   obs_.step = sim_.step(now_ns - start_ns_, obs_.sample.position_m);

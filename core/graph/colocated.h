@@ -7,6 +7,8 @@
 #include <cstdint>
 
 #include "core/devices/device.h"
+#include "core/rt/spsc_queue.h"
+#include "core/sim/params.h"
 #include "core/sim/simulator.h"
 
 namespace enact::graph {
@@ -22,13 +24,22 @@ struct Observation {
 // reads the monotonic clock (ns); a parameter so tests can drive time
 using Clock = std::int64_t (*)();
 
+// parameter changes into the tick, and what it applied back out (a ParamPort never has
+// more than sim::kMaxParamsInFlight in flight, so neither queue overflows)
+using ParamQueue = rt::SpscQueue<sim::ParamChange, sim::kMaxParamsInFlight>;
+using AppliedQueue = rt::SpscQueue<sim::ParamApplied, sim::kMaxParamsInFlight>;
+
 class ColocatedLoop {
  public:
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
 
   // activate the devices and the simulator; zero force, pins down
   void activate(std::int64_t now_ns);
-  // one tick of the zero-delay loop
+  // from now on, take the changes waiting in `changes` at the top of each tick, apply them
+  // and report them in `applied` (both outlive the loop; this thread pops `changes` and
+  // pushes `applied`)
+  void connect_params(ParamQueue& changes, AppliedQueue& applied);
+  // one tick of the zero-delay loop: parameter changes first, between two steps
   const Observation& tick(std::int64_t now_ns);
   // zero the force and lower the pins first, then stop the simulator
   void deactivate() noexcept;
@@ -38,6 +49,8 @@ class ColocatedLoop {
   devices::ForceDevice& force_;
   devices::TactileDevice& tactile_;
   Clock clock_;
+  ParamQueue* changes_ = nullptr;
+  AppliedQueue* applied_ = nullptr;
   Observation obs_;
   std::int64_t start_ns_ = 0;
 };

@@ -5,6 +5,7 @@
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
 #include "msgs/node_status.pb.h"
+#include "msgs/param_update.pb.h"
 #include "msgs/scene_state.pb.h"
 #include "msgs/tactile_frame.pb.h"
 #include "msgs/task_event.pb.h"
@@ -19,10 +20,11 @@ std::vector<TopicDecl> topics_of(const std::string& exec) {
   const TopicDecl scene{kSceneState, msgs::SceneState::descriptor()->full_name()};
   const TopicDecl event{kTaskEvent, msgs::TaskEvent::descriptor()->full_name()};
   const TopicDecl status{kNodeStatus, msgs::NodeStatus::descriptor()->full_name()};
+  const TopicDecl ack{kParamAck, msgs::ParamAck::descriptor()->full_name()};
   if (exec == "enact-ffd") return {state, status};
-  if (exec == "enact-sim") return {force, frame, scene, event, status};
+  if (exec == "enact-sim") return {force, frame, scene, event, status, ack};
   if (exec == "enact-tactile") return {shown, status};
-  if (exec == "enact-rt") return {state, force, frame, shown, scene, event, status};
+  if (exec == "enact-rt") return {state, force, frame, shown, scene, event, status, ack};
   return {};
 }
 

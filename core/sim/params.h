@@ -28,6 +28,9 @@ namespace enact::sim {
 
 class Simulator;
 
+// the most changes planned but not applied yet at any time (the capacity of a loop's queues)
+inline constexpr std::size_t kMaxParamsInFlight = 16;
+
 // the value of a request as sent on the bus: at most one of them is set
 struct ParamValue {
   std::optional<double> number;

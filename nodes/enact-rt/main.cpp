@@ -14,6 +14,7 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
@@ -32,7 +33,10 @@ process and one real-time thread, ticking at rate_hz: read the device, step the 
 write the force, write the pins (down-sampled), in the same tick. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, sim/scene at scene_rate_hz, tactile/shown at
-shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub).
+shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
+param/set (SIM.model, SIM.stiffness_n_per_m, ...: README "Live viewer"; SIM is the sim
+component's name) are checked on that thread, handed to the real-time thread through a
+lock-free queue, applied at the top of a tick, and answered on param/ack.
 
 container parameters:
   rate_hz=5000          loop rate (1..44000 Hz); also the simulator's rate
@@ -123,6 +127,17 @@ int run(int argc, char** argv) {
 
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
+  // the publishers, and the parameter port (it copies the simulator's model: before the
+  // real-time thread starts)
+  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
+  bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
+  bus::Publisher<msgs::ForceCommand> force_pub(out, graph::kForceCommand);
+  bus::Publisher<msgs::TactileFrame> frame_pub(out, graph::kTactileFrame);
+  bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
+  bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
+  bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
+  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  graph::ParamPort params(simulator, sim_name, out, event_pub);
   graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   struct Shown {
@@ -133,6 +148,9 @@ int run(int argc, char** argv) {
   static rt::SpscQueue<graph::SceneSnapshot, 64> scenes;
   static rt::SpscQueue<Shown, 64> shown_queue;
   static rt::SpscQueue<rt::LoopSummary, 8> summaries;
+  static graph::ParamQueue changes;
+  static graph::AppliedQueue applied;
+  loop.connect_params(changes, applied);
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
@@ -179,14 +197,6 @@ int run(int argc, char** argv) {
   });
 
   // the publisher thread (this one): every topic for observers
-  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
-  bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
-  bus::Publisher<msgs::ForceCommand> force_pub(out, graph::kForceCommand);
-  bus::Publisher<msgs::TactileFrame> frame_pub(out, graph::kTactileFrame);
-  bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
-  bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
-  bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
-  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   msgs::DeviceState state_msg;
   msgs::ForceCommand force_msg;
   msgs::TactileFrame frame_msg;
@@ -195,7 +205,6 @@ int run(int argc, char** argv) {
   msgs::TaskEvent event_msg;
   msgs::NodeStatus status_msg;
   std::uint64_t frame_seq = 0;
-  const std::string model_name = simulator.computer_model().name;
   auto publish = [&](const graph::Observation& o) {
     graph::fill(state_msg, o.sample);
     state_pub.publish(state_msg);
@@ -208,20 +217,24 @@ int run(int argc, char** argv) {
       frame_pub.publish(frame_msg);
       frame_seq = frame_msg.header().seq();
     }
-    if (graph::fill(event_msg, o.step.event, model_name)) event_pub.publish(event_msg);
+    if (graph::fill(event_msg, o.step.event, params.model_name())) event_pub.publish(event_msg);
   };
   Felt felt;
   graph::Observation o;
   graph::SceneSnapshot snap;
   Shown levels;
   rt::LoopSummary summary;
+  sim::ParamApplied done;
   auto drain = [&] {
+    // parameter changes to the real-time thread (never more than the queue holds), and back
+    while (const auto change = params.next()) changes.try_push(*change);
+    while (applied.try_pop(done)) params.applied(done);
     while (queue.try_pop(o)) {
       consume(o, felt);
       publish(o);
     }
     while (scenes.try_pop(snap)) {
-      graph::fill(scene_msg, snap, model_name);
+      graph::fill(scene_msg, snap, params.model_name());
       scene_pub.publish(scene_msg);
     }
     while (shown_queue.try_pop(levels)) {
@@ -231,7 +244,7 @@ int run(int argc, char** argv) {
     }
     while (summaries.try_pop(summary)) {
       graph::fill(status_msg, args.name, summary, felt.device_faults + felt.sim_faults, "");
-      graph::add_counters(status_msg, out, nullptr);
+      graph::add_counters(status_msg, out, &params.subscriber());
       status_pub.publish(status_msg);
     }
   };

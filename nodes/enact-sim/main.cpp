@@ -8,6 +8,7 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
@@ -20,13 +21,18 @@ constexpr const char* kHelp = R"(usage: enact-sim [--name NAME] --param NAME=VAL
 
 The simulator of a distributed graph: for every ffd/state it steps the model and answers
 on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
-sim/scene (scene_rate_hz), task/event and node/status (1 Hz).
+sim/scene (scene_rate_hz), task/event and node/status (1 Hz). Parameter changes on
+param/set (NAME.model, NAME.stiffness_n_per_m, ...: README "Live viewer") are applied
+between two DeviceStates and answered on param/ack.
 
 parameters:
   scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
   tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
   ffd_node=ffd  scene_rate_hz=60
 )";
+
+// how often parameter requests are looked for while states flow
+constexpr std::int64_t kParamPoll_ns = 10'000'000;
 
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "sim");
@@ -53,6 +59,7 @@ int run(int argc, char** argv) {
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
   in.connect(graph::node_endpoint(ffd_node));
+  graph::ParamPort params(simulator, args.name, out, event_pub);
 
   msgs::DeviceState state;
   msgs::ForceCommand command;
@@ -64,23 +71,36 @@ int run(int argc, char** argv) {
   rt::LoopStats stats;
   const physics::Proxy& body = simulator.model().proxies[0];
   const std::int64_t scene_period_ns = scene_rate_hz > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz) : INT64_MAX;
-  std::int64_t first_ns = -1, next_scene = 0, next_status = 0;
+  std::int64_t first_ns = -1, next_scene = 0, next_status = 0, next_params = 0, last_step_ns = 0;
   std::uint64_t steps = 0;
   simulator.activate(0);
   graph::report_ready();
+  // parameter changes, between two steps
+  auto apply_params = [&] {
+    while (const auto change = params.next()) params.applied(simulator.apply(*change, last_step_ns, rt::now_ns()));
+  };
   while (!graph::stop_requested()) {
-    if (!states.receive(state, 100)) continue;
+    if (!states.receive(state, 100)) {
+      apply_params();
+      continue;
+    }
     const std::int64_t received = rt::now_ns();
     if (first_ns < 0) {
       first_ns = state.header().stamp_ns();
       next_scene = next_status = received;
     }
     // step on this sample and answer it at once
-    const sim::StepOutput& o = simulator.step(state.header().stamp_ns() - first_ns, graph::get(state.position()));
+    last_step_ns = state.header().stamp_ns() - first_ns;
+    const sim::StepOutput& o = simulator.step(last_step_ns, graph::get(state.position()));
     graph::fill(command, state.header().seq(), o.force_n, o.fault);
     force_pub.publish(command);
     stats.latency.record(rt::now_ns() - received);
     ++steps;
+    // answered: now is between two steps
+    if (received >= next_params) {
+      next_params = received + kParamPoll_ns;
+      apply_params();
+    }
     if (o.frame_due) {
       graph::fill(frame, body.rows, body.cols, o.frame);
       frame_pub.publish(frame);

@@ -12,6 +12,7 @@
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
+#include "msgs/param_update.pb.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
@@ -36,7 +37,8 @@ options:
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
                      port; printed, and kept in /tmp/enact-<uid>/attach for `enact topic`)
   --allow-remote     allow an --attach endpoint other machines can reach (no authentication
-                     yet: anyone who reaches the port sees every topic)
+                     yet: anyone who reaches the port sees every topic and can send
+                     param/set)
 
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end.
@@ -94,7 +96,11 @@ int launch(int argc, char** argv) {
   bus::AttachOptions attach_options;
   attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
   attach_options.allow_remote = a.flag("allow-remote");
+  // observers may send parameter changes; the nodes find them at the inbound publisher
+  attach_options.inbound_endpoint = bus::ipc_endpoint(dir, graph::kInboundNode);
+  attach_options.inbound_topics = {graph::kParamSet};
   bus::AttachPoint attach(std::filesystem::path(a.positional[0]).stem().string(), attach_options);
+  attach.declare_topic<msgs::ParamUpdate>(graph::kParamSet, "attach");
   for (const auto& n : graph.nodes) {
     const std::string exec = std::filesystem::path(n.path).filename().string();
     const auto topics = graph::topics_of(exec);

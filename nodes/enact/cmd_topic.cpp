@@ -35,14 +35,6 @@ launched on this machine (/tmp/enact-<uid>/attach).
 std::atomic<bool> g_stop{false};
 void on_stop(int) { g_stop.store(true); }
 
-std::string attach_endpoint(const Args& a) {
-  if (a.has("attach")) return a.get("attach");
-  std::ifstream in(graph::attach_file());
-  std::string endpoint;
-  if (!(in >> endpoint)) throw UsageError("no running graph found (" + graph::attach_file() + "): start one with `enact launch`, or give --attach ENDPOINT");
-  return endpoint;
-}
-
 // the graph's topics, from its attach point
 msgs::GraphInfo graph_info(const std::string& endpoint) {
   bus::ByteSubscriber sub;
@@ -127,6 +119,14 @@ int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo,
 }
 
 }  // namespace
+
+std::string attach_endpoint(const Args& a) {
+  if (a.has("attach")) return a.get("attach");
+  std::ifstream in(graph::attach_file());
+  std::string endpoint;
+  if (!(in >> endpoint)) throw UsageError("no running graph found (" + graph::attach_file() + "): start one with `enact launch`, or give --attach ENDPOINT");
+  return endpoint;
+}
 
 int topic(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"attach", "count", "duration"}, {});

@@ -1,5 +1,7 @@
 #pragma once
 // The subcommands of the `enact` command line; each returns the process exit code.
+#include <string>
+
 #include "nodes/enact/args.h"
 
 namespace enact::cli {
@@ -11,5 +13,9 @@ int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
+int param(int argc, char** argv);
+
+// --attach, else the endpoint of the last graph launched on this machine (UsageError if none)
+std::string attach_endpoint(const Args& a);
 
 }  // namespace enact::cli

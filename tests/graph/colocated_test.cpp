@@ -9,6 +9,7 @@
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/colocated.h"
 #include "core/haptics/computer_model.h"
+#include "core/sim/params.h"
 #include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
 
@@ -104,6 +105,44 @@ TEST(Colocated, TickAllocatesNothing) {
   std::vector<int> v;
   v.push_back(1);
   EXPECT_GT(guard.allocations(), 0u);
+}
+
+TEST(Colocated, QueuedParamChangesApplyAtTheTopOfATickWithoutAllocating) {
+  Rig rig("CM1");
+  ParamQueue changes;
+  AppliedQueue applied;
+  rig.loop->connect_params(changes, applied);
+  // planned off the loop, as enact-rt's publisher thread does
+  sim::ParamPlanner planner(rig.simulator);
+  const sim::ParamPlan cm3 = planner.plan("model", {std::nullopt, "CM3", std::nullopt}, 1);
+  const sim::ParamPlan stop = planner.plan("trial", {std::nullopt, "stop", std::nullopt}, 2);
+  ASSERT_TRUE(cm3.accepted && stop.accepted);
+  std::int64_t n = 0;
+  while (n < 20'000 && rig.tick(n).step.contacts == 0) ++n;
+  ASSERT_LT(n, 20'000) << "the hand never touched";
+  std::size_t allocations = 0;
+  std::uint32_t pins = 0, contacts = 0;
+  {
+    test::AllocGuard guard;
+    ASSERT_TRUE(changes.try_push(cm3.change));
+    ASSERT_TRUE(changes.try_push(stop.change));
+    const Observation& o = rig.tick(++n);
+    pins = o.step.pins;
+    contacts = static_cast<std::uint32_t>(o.step.contacts);
+    allocations = guard.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  // this tick's pins already follow CM3: down where a mass touches
+  EXPECT_EQ(static_cast<std::uint32_t>(__builtin_popcount(pins)), 16u - contacts);
+  EXPECT_EQ(rig.simulator.computer_model().name, "CM3");
+  EXPECT_FALSE(rig.simulator.trial_running());
+  sim::ParamApplied a;
+  ASSERT_TRUE(applied.try_pop(a));
+  EXPECT_EQ(a.request_id, 1u);
+  EXPECT_EQ(a.time_ns, n * kPeriod_ns);
+  ASSERT_TRUE(applied.try_pop(a));
+  EXPECT_EQ(a.kind, sim::ParamKind::trial_stop);
+  EXPECT_FALSE(applied.try_pop(a));
 }
 
 TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {

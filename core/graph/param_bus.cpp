@@ -1,0 +1,159 @@
+#include "core/graph/param_bus.h"
+
+#include <cstdlib>
+#include <random>
+
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
+
+namespace enact::graph {
+namespace {
+
+// answers kept for requests sent again
+constexpr std::size_t kAnswersKept = 64;
+
+}  // namespace
+
+sim::ParamValue value_of(const msgs::ParamUpdate& m) {
+  sim::ParamValue v;
+  switch (m.value_case()) {
+    case msgs::ParamUpdate::kNumber: v.number = m.number(); break;
+    case msgs::ParamUpdate::kText: v.text = m.text(); break;
+    case msgs::ParamUpdate::kFlag: v.flag = m.flag(); break;
+    case msgs::ParamUpdate::VALUE_NOT_SET: break;
+  }
+  return v;
+}
+
+void set_value(msgs::ParamUpdate& m, const std::string& value) {
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  if (!value.empty() && *end == '\0') m.set_number(number);
+  else if (value == "true" || value == "false") m.set_flag(value == "true");
+  else m.set_text(value);
+}
+
+ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events)
+    : planner_(simulator),
+      prefix_(std::move(prefix) + "."),
+      in_(in_bytes_, kParamSet),
+      acks_(out, kParamAck),
+      events_(events),
+      model_name_(simulator.computer_model().name) {
+  in_bytes_.connect(node_endpoint(kInboundNode));
+}
+
+std::optional<sim::ParamChange> ParamPort::next() {
+  while (in_flight_.size() < sim::kMaxParamsInFlight && in_.receive(request_, 0)) {
+    // another node's parameter
+    if (!request_.name().starts_with(prefix_)) continue;
+    // a request sent again: answer it again once known, never apply it twice
+    const std::uint64_t id = request_.request_id();
+    if (in_flight_.contains(id)) continue;
+    bool repeated = false;
+    for (msgs::ParamAck& a : answered_) {
+      if (a.request_id() != id) continue;
+      acks_.publish(a);
+      repeated = true;
+    }
+    if (repeated) continue;
+    const sim::ParamPlan plan = planner_.plan(request_.name().substr(prefix_.size()), value_of(request_), id);
+    if (!plan.accepted) {
+      ack(id, false, plan.reason);
+      continue;
+    }
+    in_flight_[id] = plan.change.kind == sim::ParamKind::model ? planner_.computer_model().name : "";
+    return plan.change;
+  }
+  return std::nullopt;
+}
+
+void ParamPort::applied(const sim::ParamApplied& a) {
+  const auto it = in_flight_.find(a.request_id);
+  if (it != in_flight_.end()) {
+    if (a.kind == sim::ParamKind::model) model_name_ = it->second;
+    in_flight_.erase(it);
+  }
+  ack(a.request_id, true, "");
+  // commands are task events too
+  msgs::TaskEvent e;
+  switch (a.kind) {
+    case sim::ParamKind::model:
+      e.set_kind(msgs::TaskEvent::CONDITION);
+      e.set_detail("computer model " + model_name_);
+      break;
+    case sim::ParamKind::reset:
+      e.set_kind(msgs::TaskEvent::RESET);
+      e.set_detail("reset");
+      break;
+    case sim::ParamKind::reposition:
+      e.set_kind(msgs::TaskEvent::RESET);
+      e.set_detail("repositioned at the start");
+      break;
+    case sim::ParamKind::trial_start: e.set_kind(msgs::TaskEvent::TRIAL_START); break;
+    case sim::ParamKind::trial_stop:
+      e.set_kind(msgs::TaskEvent::TRIAL_END);
+      e.set_detail("stopped");
+      break;
+    case sim::ParamKind::threshold:
+    case sim::ParamKind::stiffness:
+    case sim::ParamKind::damping: return;
+  }
+  e.set_time_ns(a.time_ns);
+  e.set_condition(model_name_);
+  events_.publish(e);
+}
+
+void ParamPort::ack(std::uint64_t request_id, bool applied, const std::string& reason) {
+  msgs::ParamAck a;
+  a.set_request_id(request_id);
+  a.set_applied(applied);
+  a.set_reason(reason);
+  acks_.publish(a);
+  answered_.push_back(std::move(a));
+  if (answered_.size() > kAnswersKept) answered_.pop_front();
+}
+
+ParamClient::ParamClient(const std::string& endpoint, std::string source) : sender_(endpoint, std::move(source)) {
+  // ids from a random start: several senders on one graph do not collide
+  std::random_device rd;
+  next_id_ = (std::uint64_t{rd()} << 32 | rd()) | 1u;
+}
+
+std::uint64_t ParamClient::send(msgs::ParamUpdate update) {
+  const std::uint64_t id = next_id_++;
+  const std::int64_t now = bus::monotonic_ns();
+  update.set_request_id(id);
+  sender_.send(kParamSet, update);
+  pending_[id] = {std::move(update), now, now};
+  return id;
+}
+
+std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
+  std::vector<ParamAnswer> given_up;
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    Pending& p = it->second;
+    if (now_ns - p.first_ns >= kTimeout_ns) {
+      given_up.push_back({it->first, p.update.name(), false,
+                          "no answer in 5 s: no simulator of that name in the graph, or the graph is not running", false});
+      it = pending_.erase(it);
+      continue;
+    }
+    if (now_ns - p.last_ns >= kResend_ns) {
+      sender_.send(kParamSet, p.update);
+      p.last_ns = now_ns;
+    }
+    ++it;
+  }
+  return given_up;
+}
+
+std::optional<ParamAnswer> ParamClient::take(const msgs::ParamAck& ack) {
+  const auto it = pending_.find(ack.request_id());
+  if (it == pending_.end()) return std::nullopt;
+  ParamAnswer answer{ack.request_id(), it->second.update.name(), ack.applied(), ack.reason(), true};
+  pending_.erase(it);
+  return answer;
+}
+
+}  // namespace enact::graph

@@ -1,0 +1,108 @@
+#pragma once
+// param/set and param/ack on the bus (README, "Live viewer"). The simulator's end, ParamPort,
+// is the same for enact-sim and enact-rt: requests in (from the attach point's inbound
+// publisher), checked by a sim::ParamPlanner, changes out to whoever applies them between
+// steps, acks and task events back. The sender's end, ParamClient, is the viewer's and
+// `enact param set`'s: a request goes up through the attach point and is sent again until
+// its ParamAck comes (the sim answers a repeated request without applying it twice).
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/bus/attach.h"
+#include "core/bus/bytes.h"
+#include "core/bus/typed.h"
+#include "core/sim/params.h"
+#include "core/sim/simulator.h"
+#include "msgs/param_update.pb.h"
+#include "msgs/task_event.pb.h"
+
+namespace enact::graph {
+
+// a ParamUpdate's value as the simulator reads it
+sim::ParamValue value_of(const msgs::ParamUpdate& m);
+
+// VALUE as typed on a command line: a number, true / false (a flag), or text
+void set_value(msgs::ParamUpdate& m, const std::string& value);
+
+class ParamPort {
+ public:
+  // for `simulator` (configured, its model not being written by another thread while this
+  // runs) named `prefix` (its node or component name): requests named "<prefix>.<param>"
+  // are its own, others are ignored (another node's). Subscribes to param/set at the
+  // graph's inbound publisher (node_endpoint(kInboundNode)), acks on param/ack through
+  // `out`, task events of applied commands through `events` (both must outlive the port).
+  ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events);
+
+  // the next accepted change to apply (non-blocking; nullopt when none is waiting, or when
+  // sim::kMaxParamsInFlight changes are not applied yet: a loop's queue of that capacity never
+  // overflows). Refused requests are acked here; a repeated request (same request_id) is
+  // not planned again: its ack is sent again once known.
+  std::optional<sim::ParamChange> next();
+
+  // the loop applied `a`: ack it (applied) and publish its task event
+  void applied(const sim::ParamApplied& a);
+
+  // the computer model's name as of the last applied change
+  const std::string& model_name() const { return model_name_; }
+
+  // requests received, for NodeStatus
+  const bus::ByteSubscriber& subscriber() const { return in_bytes_; }
+
+ private:
+  void ack(std::uint64_t request_id, bool applied, const std::string& reason);
+
+  sim::ParamPlanner planner_;
+  std::string prefix_;
+  bus::ByteSubscriber in_bytes_;
+  bus::Subscriber<msgs::ParamUpdate> in_;
+  bus::Publisher<msgs::ParamAck> acks_;
+  bus::Publisher<msgs::TaskEvent>& events_;
+  msgs::ParamUpdate request_;
+  std::string model_name_;
+  std::map<std::uint64_t, std::string> in_flight_;  // request id -> model name it sets ("" if none)
+  std::deque<msgs::ParamAck> answered_;              // the last answers, for repeated requests
+};
+
+// the answer to one request, as the sender sees it
+struct ParamAnswer {
+  std::uint64_t request_id = 0;
+  std::string name;      // as sent, e.g. "sim.stiffness_n_per_m"
+  bool applied = false;
+  std::string reason;    // refused: why; no answer in time: says so
+  bool answered = false; // false: the graph did not answer in time
+};
+
+class ParamClient {
+ public:
+  // sends through the attach point at `endpoint`; `source` names the sender in headers
+  ParamClient(const std::string& endpoint, std::string source);
+
+  // sends `update` (name and value set) with a fresh request id, returned
+  std::uint64_t send(msgs::ParamUpdate update);
+  // resends the requests still unanswered every resend_ns; the ones older than timeout_ns
+  // are given up and returned, unanswered
+  std::vector<ParamAnswer> tick(std::int64_t now_ns);
+  // a ParamAck received on param/ack: the answer when it is one of ours still unanswered
+  std::optional<ParamAnswer> take(const msgs::ParamAck& ack);
+  std::size_t pending() const { return pending_.size(); }
+
+  static constexpr std::int64_t kResend_ns = 250'000'000;
+  static constexpr std::int64_t kTimeout_ns = 5'000'000'000;
+
+ private:
+  struct Pending {
+    msgs::ParamUpdate update;
+    std::int64_t first_ns = 0;
+    std::int64_t last_ns = 0;
+  };
+
+  bus::AttachSender sender_;
+  std::uint64_t next_id_;
+  std::map<std::uint64_t, Pending> pending_;
+};
+
+}  // namespace enact::graph
