@@ -33,6 +33,12 @@ void set_value(msgs::ParamUpdate& m, const std::string& value) {
   else m.set_text(value);
 }
 
+void set_value(msgs::ParamUpdate& m, const sim::ParamValue& value) {
+  if (value.number) m.set_number(*value.number);
+  else if (value.text) m.set_text(*value.text);
+  else if (value.flag) m.set_flag(*value.flag);
+}
+
 ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events)
     : planner_(simulator),
       prefix_(std::move(prefix) + "."),

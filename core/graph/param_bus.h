@@ -27,6 +27,8 @@ sim::ParamValue value_of(const msgs::ParamUpdate& m);
 
 // VALUE as typed on a command line: a number, true / false (a flag), or text
 void set_value(msgs::ParamUpdate& m, const std::string& value);
+// the value held in `value` (none set: none sent)
+void set_value(msgs::ParamUpdate& m, const sim::ParamValue& value);
 
 class ParamPort {
  public:

@@ -1,0 +1,41 @@
+#pragma once
+// Drawing the scene into ImGui draw lists: the top view (the bridge, the workspace, the
+// trail, the grid with its masses in contact highlighted), the side view along the path
+// (height against the top surface, per-mass forces), the pins as shown, the forces. Pure
+// geometry through layout.h, so tests can find what was drawn where.
+#include <imgui.h>
+
+#include "core/viewer/layout.h"
+#include "core/viewer/scene_geometry.h"
+#include "core/viewer/view_model.h"
+
+namespace enact::viewer {
+
+// the colours (tests look for them in snapshots)
+namespace palette {
+inline constexpr ImU32 kBackground = IM_COL32(24, 26, 30, 255);
+inline constexpr ImU32 kPanel = IM_COL32(34, 37, 43, 255);
+inline constexpr ImU32 kTitle = IM_COL32(200, 204, 212, 255);
+inline constexpr ImU32 kWorkspace = IM_COL32(80, 86, 96, 255);
+inline constexpr ImU32 kBridge = IM_COL32(70, 110, 170, 255);     // the task surface's top
+inline constexpr ImU32 kOtherBox = IM_COL32(110, 110, 120, 255);  // other rigid boxes
+inline constexpr ImU32 kCentreline = IM_COL32(120, 160, 220, 255);
+inline constexpr ImU32 kTrail = IM_COL32(240, 200, 60, 255);
+inline constexpr ImU32 kMassFree = IM_COL32(235, 235, 235, 255);
+inline constexpr ImU32 kMassContact = IM_COL32(255, 90, 40, 255);
+inline constexpr ImU32 kForce = IM_COL32(90, 220, 120, 255);
+inline constexpr ImU32 kPinDown = IM_COL32(60, 60, 66, 255);
+inline constexpr ImU32 kPinUp = IM_COL32(250, 250, 250, 255);
+}  // namespace palette
+
+// the radius of a grid mass in the top view, px
+float mass_radius(const SceneGeometry& geometry, const TopView& view);
+
+// a panel: background, border and title
+void draw_panel(ImDrawList& dl, const Rect& r, const char* title);
+void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
+void draw_side_view(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
+void draw_pins(ImDrawList& dl, const Rect& r, const ViewModel& model);
+void draw_forces(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
+
+}  // namespace enact::viewer

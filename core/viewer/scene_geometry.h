@@ -1,0 +1,41 @@
+#pragma once
+// What the viewer draws of a scene, taken from its file (the same file the simulator
+// loaded; `enact-viewer --scene`): the rigid boxes seen from above, the task path and its
+// top surface, the floor, the device workspace, and the exploratory body's grid.
+#include <string>
+#include <vector>
+
+#include "core/physics/model.h"
+#include "core/task/polyline.h"
+
+namespace enact::viewer {
+
+// a box's top face seen from above: its 4 corners (x, y), in order around it
+struct TopFace {
+  task::Point2 corner[4];
+  double top_z_m = 0.0;
+  bool task_surface = false;  // part of the task's path (the bridge)
+};
+
+struct SceneGeometry {
+  std::string name;
+  // what the top view shows, m: the device workspace when the scene names a device profile,
+  // else the boxes and the body's start with a margin
+  task::Point2 view_min_m, view_max_m;
+  double floor_z_m = 0.0;             // the highest plane under the body (0 without one)
+  std::vector<TopFace> faces;         // every box of every box object
+  bool has_path = false;              // the scene has a task path
+  task::Polyline path;                // its centreline
+  double path_width_m = 0.0;
+  double top_z_m = 0.0;               // its top surface
+  int rows = 0, cols = 0;             // the body's grid (pin i = row * cols + col)
+  std::vector<physics::Vec3> grid_offsets_m;  // grid mass i relative to the body centre
+};
+
+// from a loaded model (a model without a body gives an empty grid)
+SceneGeometry geometry_of(const physics::Model& model);
+
+// the scene file, loaded and checked (config::Error on bad input)
+SceneGeometry load_geometry(const std::string& scene_file);
+
+}  // namespace enact::viewer

@@ -1,0 +1,67 @@
+// enact-viewer: watch a running graph from this machine or another one, change its
+// parameters, or take a snapshot (README, "Live viewer").
+#include <cstdio>
+#include <exception>
+
+#include "core/viewer/app.h"
+#include "nodes/enact/args.h"
+
+namespace {
+
+constexpr const char* kHelp = R"(usage: enact-viewer [--attach ENDPOINT] [--scene FILE] [--sim NAME]
+                    [--snapshot OUT.png [--after SECONDS]] [--size WxH]
+
+Attach to a running graph and show it: the bridge from above with the grid (masses in
+contact highlighted) and its trail, the height against the top surface along the path,
+the pins as shown, the forces, a scrolling plot of force and contacts, the task state and
+every node's status. Change the computer model, threshold, stiffness and damping (checked
+against the stability analysis before they are sent), reset, reposition, start and stop a
+trial; each change is shown applied or refused with the simulator's reason. Keys: 0-3
+CM0-CM3, r reset, p reposition, t trial start/stop, +/- stiffness x1.25, ]/[ threshold
++/-0.5 mm. The graph never notices a viewer coming or going.
+
+options:
+  --attach ENDPOINT  the graph's attach point (printed by `enact launch`; from another
+                     machine: tcp://HOST:PORT of a graph launched with --allow-remote).
+                     Default: the last graph launched on this machine, followed: a viewer
+                     started first waits, and connects when the graph appears
+  --scene FILE       the scene the simulator runs (default launch/scenes/bridge.yaml, from
+                     the current folder or the source tree of this build)
+  --sim NAME         the simulator's node or component name (default sim)
+  --snapshot OUT.png render, write OUT.png, print what it shows, exit
+  --after SECONDS    when to take the snapshot, from the start (default 2)
+  --size WxH         window size in pixels (default 1280x800)
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using enact::cli::UsageError;
+  enact::viewer::ViewerOptions o;
+  try {
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size"}, {});
+    if (a.flag("help")) {
+      std::fputs(kHelp, stdout);
+      return 0;
+    }
+    if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
+    o.attach = a.get("attach");
+    o.scene = enact::cli::find_file(a.get("scene", "launch/scenes/bridge.yaml"));
+    o.sim = a.get("sim", o.sim);
+    o.snapshot = a.get("snapshot");
+    o.after_s = a.number("after", o.after_s);
+    if (o.after_s < 0.0) throw UsageError("--after must be >= 0");
+    if (a.has("size") && (std::sscanf(a.get("size").c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 320 || o.height < 240)) {
+      throw UsageError("--size needs WxH, at least 320x240");
+    }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "enact-viewer: %s\n  (enact-viewer --help lists the options)\n", e.what());
+    return 2;
+  }
+  try {
+    return enact::viewer::run_viewer(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "enact-viewer: error: %s\n", e.what());
+    return 1;
+  }
+}
