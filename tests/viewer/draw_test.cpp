@@ -1,0 +1,169 @@
+// Where the viewer draws: the layout, the scene-to-pixel mappings, and what the top view
+// puts into an ImGui draw list (run headless: an ImGui context without any window).
+#include "core/viewer/draw.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/physics/scene.h"
+#include "core/viewer/layout.h"
+#include "core/viewer/scene_geometry.h"
+#include "tests/support/test_util.h"
+
+namespace enact::viewer {
+namespace {
+
+float area(const Rect& r) { return r.width() * r.height(); }
+float overlap(const Rect& a, const Rect& b) {
+  const float w = std::min(a.x1, b.x1) - std::max(a.x0, b.x0), h = std::min(a.y1, b.y1) - std::max(a.y0, b.y0);
+  return w > 0 && h > 0 ? w * h : 0.0f;
+}
+
+SceneGeometry bridge() { return load_geometry(test::source_path("launch/scenes/bridge.yaml")); }
+
+TEST(Layout, PanelsTileTheWindowWithoutOverlapping) {
+  for (const auto& [w, h] : std::vector<std::pair<float, float>>{{1280, 800}, {1920, 1080}, {640, 480}}) {
+    const Layout l = layout(w, h);
+    const std::vector<Rect> panels{l.top_view, l.side_view, l.pins, l.forces, l.plot, l.task, l.controls, l.status};
+    float total = 0;
+    for (std::size_t i = 0; i < panels.size(); ++i) {
+      total += area(panels[i]);
+      for (std::size_t j = i + 1; j < panels.size(); ++j) EXPECT_EQ(overlap(panels[i], panels[j]), 0.0f) << i << " and " << j;
+    }
+    EXPECT_NEAR(total, w * h, 1.0f);
+  }
+}
+
+TEST(Layout, TopViewFitsTheWorkspaceWithOneScaleAndYUp) {
+  const SceneGeometry g = bridge();
+  // the ERGOS workspace, 60 x 60 mm
+  EXPECT_DOUBLE_EQ(g.view_min_m.x_m, -0.030);
+  EXPECT_DOUBLE_EQ(g.view_max_m.y_m, 0.030);
+  const Rect r = layout(1280, 800).top_view;
+  const TopView v(g, r);
+  const Pixel lo = v.to_screen(-0.030, -0.030), hi = v.to_screen(0.030, 0.030);
+  EXPECT_TRUE(r.contains(lo.x, lo.y) && r.contains(hi.x, hi.y));
+  EXPECT_LT(hi.y, lo.y);  // forward is up
+  EXPECT_NEAR(hi.x - lo.x, lo.y - hi.y, 1e-3);
+  EXPECT_NEAR(hi.x - lo.x, 0.060f * v.pixels_per_m(), 1e-3);
+  // the fitted area fills the panel's shorter side but for the margins
+  EXPECT_GT(hi.x - lo.x, 0.85f * std::min(r.width(), r.height()));
+}
+
+TEST(Layout, SideViewPutsTheTopSurfaceAtItsHeight) {
+  const SceneGeometry g = bridge();
+  const Rect r = layout(1280, 800).side_view;
+  const SideView v(g, r);
+  const Pixel start = v.to_screen(0.0, g.top_z_m), end = v.to_screen(g.path.length_m(), g.top_z_m);
+  const Pixel below = v.to_screen(0.0, g.top_z_m - SideView::kBelow_m), above = v.to_screen(0.0, g.top_z_m + SideView::kAbove_m);
+  EXPECT_NEAR(start.y, end.y, 1e-3);
+  EXPECT_NEAR((below.y - start.y) / (below.y - above.y), SideView::kBelow_m / (SideView::kBelow_m + SideView::kAbove_m), 1e-5);
+  EXPECT_TRUE(r.contains(start.x, below.y - 1) && r.contains(end.x - 1, above.y));
+}
+
+TEST(SceneGeometry, TheBridgeIsThreeTopFacesAlongItsPath) {
+  const SceneGeometry g = bridge();
+  ASSERT_TRUE(g.has_path);
+  ASSERT_EQ(g.faces.size(), 3u);
+  for (const TopFace& f : g.faces) {
+    EXPECT_TRUE(f.task_surface);
+    EXPECT_NEAR(f.top_z_m, 0.012, 1e-12);
+  }
+  EXPECT_NEAR(g.path.length_m(), 0.063, 1e-4);  // three segments of 21 mm
+  EXPECT_EQ(g.rows * g.cols, 16);
+  EXPECT_NEAR(g.grid_offsets_m[0].x, -1.5 * 0.00245, 1e-12);  // row 0 col 0: far left
+  EXPECT_NEAR(g.grid_offsets_m[0].y, 1.5 * 0.00245, 1e-12);
+}
+
+// an ImGui frame with no window and no renderer: enough to fill draw lists
+class Headless : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    context_ = ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = {1280, 800};
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+    ImGui::NewFrame();
+  }
+  void TearDown() override {
+    ImGui::EndFrame();
+    ImGui::DestroyContext(context_);
+  }
+
+  // the draw list's vertices of one colour within `radius` px of `at`
+  static std::vector<ImVec2> vertices(const ImDrawList& dl, ImU32 colour, Pixel at, float radius) {
+    std::vector<ImVec2> out;
+    for (const ImDrawVert& v : dl.VtxBuffer) {
+      if (v.col == colour && std::hypot(v.pos.x - at.x, v.pos.y - at.y) <= radius) out.push_back(v.pos);
+    }
+    return out;
+  }
+
+  ImGuiContext* context_ = nullptr;
+};
+
+TEST_F(Headless, TopViewDrawsTheBridgeFacesAndTheGridWhereTheSceneSays) {
+  const SceneGeometry g = bridge();
+  const physics::Model model = physics::load_scene(test::source_path("launch/scenes/bridge.yaml"));
+  // a scene: the body over the start of the path, its first 6 masses in contact
+  msgs::SceneState s;
+  const physics::Vec3 body{-0.0074246, -0.0222739, 0.0119};
+  s.mutable_body_position()->set_x(body.x);
+  s.mutable_body_position()->set_y(body.y);
+  s.mutable_body_position()->set_z(body.z);
+  for (int i = 0; i < 16; ++i) {
+    s.add_in_contact(i < 6);
+    s.add_contact_force();
+  }
+  ViewModel vm;
+  vm.on_scene(s);
+  const Rect r = layout(1280, 800).top_view;
+  ImDrawList& dl = *ImGui::GetBackgroundDrawList();
+  draw_top_view(dl, r, g, vm);
+  const TopView view(g, r);
+  // each box of the bridge (from the scene file, independently of the viewer's geometry):
+  // its top face's corners are vertices of the bridge colour (anti-aliasing moves them by
+  // half a pixel)
+  const physics::Object& bridge_object = model.objects[model.find_object("bridge")];
+  ASSERT_EQ(bridge_object.box_count, 3);
+  for (int b = bridge_object.first_box; b < bridge_object.first_box + bridge_object.box_count; ++b) {
+    const physics::Box& box = model.boxes[b];
+    for (const double sx : {-1.0, 1.0}) {
+      for (const double sy : {-1.0, 1.0}) {
+        const physics::Vec3 c = box.center_m + box.rotation * physics::Vec3{sx * box.half_extents_m.x, sy * box.half_extents_m.y, box.half_extents_m.z};
+        EXPECT_FALSE(vertices(dl, palette::kBridge, view.to_screen(c.x, c.y), 1.0f).empty()) << "box " << b << " corner " << sx << ", " << sy;
+      }
+    }
+  }
+  // each grid mass: a disc of its colour centred where the body puts it
+  const float radius = mass_radius(g, view);
+  for (int i = 0; i < 16; ++i) {
+    const physics::Point& p = model.points[model.proxies[0].first_body + i];
+    const Pixel at = view.to_screen(body.x + p.offset_m.x, body.y + p.offset_m.y);
+    const std::vector<ImVec2> disc = vertices(dl, i < 6 ? palette::kMassContact : palette::kMassFree, at, radius + 1.0f);
+    ASSERT_GE(disc.size(), 8u) << "mass " << i;
+    ImVec2 mean{0, 0};
+    for (const ImVec2& v : disc) mean = {mean.x + v.x / static_cast<float>(disc.size()), mean.y + v.y / static_cast<float>(disc.size())};
+    EXPECT_NEAR(mean.x, at.x, 0.5f) << "mass " << i;
+    EXPECT_NEAR(mean.y, at.y, 0.5f) << "mass " << i;
+  }
+}
+
+TEST_F(Headless, WithoutASceneThereIsNoGrid) {
+  const SceneGeometry g = bridge();
+  ViewModel vm;
+  ImDrawList& dl = *ImGui::GetBackgroundDrawList();
+  draw_top_view(dl, layout(1280, 800).top_view, g, vm);
+  for (const ImDrawVert& v : dl.VtxBuffer) {
+    EXPECT_NE(v.col, palette::kMassFree);
+    EXPECT_NE(v.col, palette::kMassContact);
+  }
+}
+
+}  // namespace
+}  // namespace enact::viewer

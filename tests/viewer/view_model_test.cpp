@@ -1,0 +1,121 @@
+// The viewer's model of a graph, fed with messages: histories, the task state from events,
+// node statuses, the link state; the ring buffer under the histories.
+#include "core/viewer/view_model.h"
+
+#include <gtest/gtest.h>
+
+#include "core/viewer/ring.h"
+
+namespace enact::viewer {
+namespace {
+
+msgs::SceneState scene(std::int64_t t_ns, double x, bool on_top, int touching, double fz) {
+  msgs::SceneState s;
+  s.mutable_header()->set_stamp_ns(t_ns);
+  s.mutable_body_position()->set_x(x);
+  s.mutable_resultant_force()->set_z(fz);
+  for (int i = 0; i < 16; ++i) s.add_in_contact(i < touching);
+  s.set_on_top(on_top);
+  s.set_progress(0.25);
+  return s;
+}
+
+msgs::TaskEvent event(msgs::TaskEvent::Kind kind, const std::string& detail = "") {
+  msgs::TaskEvent e;
+  e.set_kind(kind);
+  e.set_detail(detail);
+  return e;
+}
+
+TEST(Ring, KeepsTheLatestInOrderAndGivesThePlotOffset) {
+  Ring<int, 4> r;
+  EXPECT_TRUE(r.empty());
+  for (int i = 1; i <= 3; ++i) r.push(i);
+  EXPECT_EQ(r.size(), 3u);
+  EXPECT_EQ(r.offset(), 0u);
+  EXPECT_EQ(r[0], 1);
+  for (int i = 4; i <= 6; ++i) r.push(i);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_EQ(r[0], 3);
+  EXPECT_EQ(r.back(), 6);
+  // the storage read from offset() wraps around in order, as ImGui::PlotLines reads it
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(r.data()[(r.offset() + i) % 4], static_cast<int>(3 + i));
+}
+
+TEST(ViewModel, ScenesFillTheTrailAndTheHistories) {
+  ViewModel m;
+  EXPECT_FALSE(m.has_scene());
+  m.on_scene(scene(1'000'000, 0.001, true, 5, 0.3));
+  m.on_scene(scene(2'000'000, 0.002, true, 7, -0.4));
+  ASSERT_TRUE(m.has_scene());
+  ASSERT_EQ(m.trail().size(), 2u);
+  EXPECT_EQ(m.trail()[1].x, 0.002);
+  EXPECT_FLOAT_EQ(m.force_history().back(), 0.4f);
+  EXPECT_FLOAT_EQ(m.contact_history()[0], 5.0f);
+  EXPECT_FLOAT_EQ(m.contact_history().back(), 7.0f);
+  EXPECT_TRUE(m.task().on_top);
+  EXPECT_EQ(m.task().time_ns, 2'000'000);
+}
+
+TEST(ViewModel, EventsCountFallsAndRestartTheTrialClock) {
+  ViewModel m;
+  m.on_scene(scene(5'000'000'000, 0, false, 0, 0));
+  m.on_event(event(msgs::TaskEvent::FALL_START));
+  EXPECT_EQ(m.task().falls, 1);
+  EXPECT_TRUE(m.task().falling);
+  m.on_event(event(msgs::TaskEvent::FALL_END));
+  EXPECT_FALSE(m.task().falling);
+  // a repositioning keeps the trial, a reset starts a new one at the next scene
+  m.on_event(event(msgs::TaskEvent::RESET, "repositioned at the start"));
+  EXPECT_EQ(m.task().falls, 1);
+  m.on_event(event(msgs::TaskEvent::RESET, "reset"));
+  EXPECT_EQ(m.task().falls, 0);
+  m.on_scene(scene(6'000'000'000, 0, true, 16, 1));
+  m.on_scene(scene(6'500'000'000, 0, true, 16, 1));
+  EXPECT_EQ(m.task().time_ns, 500'000'000);
+  // stopped: the clock freezes; completed only when the simulator ended it itself
+  m.on_event(event(msgs::TaskEvent::TRIAL_END, "stopped"));
+  m.on_scene(scene(7'000'000'000, 0, true, 16, 1));
+  EXPECT_FALSE(m.task().running);
+  EXPECT_FALSE(m.task().completed);
+  EXPECT_EQ(m.task().time_ns, 500'000'000);
+  m.on_event(event(msgs::TaskEvent::TRIAL_START));
+  m.on_event(event(msgs::TaskEvent::TRIAL_END));
+  EXPECT_TRUE(m.task().completed);
+  EXPECT_EQ(m.log().back(), "trial end");
+}
+
+TEST(ViewModel, LinkIsWaitingThenConnectedThenLost) {
+  ViewModel m;
+  EXPECT_EQ(m.link(0), LinkState::waiting);
+  msgs::GraphInfo g;
+  g.set_graph("bridge_rt");
+  m.on_graph(g, 1'000'000'000);
+  EXPECT_EQ(m.link(2'000'000'000), LinkState::connected);
+  EXPECT_EQ(m.graph_name(), "bridge_rt");
+  EXPECT_EQ(m.link(1'000'000'000 + ViewModel::kLost_ns + 1), LinkState::lost);
+  m.clear();
+  EXPECT_EQ(m.link(2'000'000'000), LinkState::waiting);
+}
+
+TEST(ViewModel, KeepsTheLastStatusOfEveryNodeAndLogsAnswers) {
+  ViewModel m;
+  msgs::NodeStatus a, b;
+  a.set_node("sim");
+  a.set_faults(1);
+  b.set_node("ffd");
+  m.on_status(a, 10);
+  m.on_status(b, 20);
+  a.set_faults(3);
+  m.on_status(a, 30);
+  ASSERT_EQ(m.nodes().size(), 2u);
+  EXPECT_EQ(m.nodes().at("sim").status.faults(), 3u);
+  EXPECT_EQ(m.nodes().at("sim").received_ns, 30);
+  m.on_answer({7, "sim.stiffness_n_per_m", false, "too stiff", true});
+  EXPECT_EQ(m.log().back(), "sim.stiffness_n_per_m: refused: too stiff");
+  EXPECT_EQ(format_ns(1234), "1.23 us");
+  EXPECT_EQ(format_ns(25'000'000), "25.0 ms");
+}
+
+}  // namespace
+}  // namespace enact::viewer
