@@ -65,9 +65,11 @@ inline bool process_gone(pid_t pid) { return kill(pid, 0) == -1 && errno == ESRC
 // (SIGTERM, then SIGKILL; its nodes die with it: PR_SET_PDEATHSIG in the supervisor).
 class Launcher {
  public:
-  Launcher(const TempDir& dir, const std::string& file, double duration_s, const std::vector<std::string>& launch_args = {})
+  // `endpoint`: the attach point's ("" : a free loopback port)
+  Launcher(const TempDir& dir, const std::string& file, double duration_s, const std::vector<std::string>& launch_args = {},
+           const std::string& endpoint = "")
       : out_(dir.file("launcher.out")), err_(dir.file("launcher.err")) {
-    endpoint_ = "tcp://127.0.0.1:" + std::to_string(free_port());
+    endpoint_ = endpoint.empty() ? "tcp://127.0.0.1:" + std::to_string(free_port()) : endpoint;
     std::vector<std::string> argv = {ENACT_CLI, "launch", file, "--duration", std::to_string(duration_s), "--attach", endpoint_};
     for (const auto& a : launch_args) {
       argv.push_back("--arg");
@@ -96,6 +98,15 @@ class Launcher {
 
   pid_t pid() const { return pid_; }
   const std::string& endpoint() const { return endpoint_; }
+
+  // the launcher's stdout so far (its nodes' summaries)
+  std::string out() const {
+    try {
+      return read_file(out_);
+    } catch (const std::exception&) {
+      return "";
+    }
+  }
 
   // the launcher's stderr so far (its own log lines and its nodes')
   std::string log() const {
