@@ -11,6 +11,9 @@ packages=(
   libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # devices, config
   libusb-1.0-0-dev libyaml-cpp-dev
+  # the live viewer: Dear ImGui (with its SDL2 and OpenGL 3 backends) and stb, SDL2, OpenGL
+  # headers; Mesa's software OpenGL and Xvfb for snapshots and its tests without a screen
+  libimgui-dev libstb-dev libsdl2-dev libgl-dev libgl1-mesa-dri libegl-mesa0 xvfb
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # analysis and plotting scripts (run under /usr/bin/python3)
