@@ -1,5 +1,6 @@
 #include "core/graph/param_bus.h"
 
+#include <climits>
 #include <cstdlib>
 #include <random>
 
@@ -11,6 +12,8 @@ namespace {
 
 // answers kept for requests sent again
 constexpr std::size_t kAnswersKept = 64;
+// model names kept with the time they took effect
+constexpr std::size_t kNamesKept = 16;
 
 }  // namespace
 
@@ -45,7 +48,7 @@ ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::B
       in_(in_bytes_, kParamSet),
       acks_(out, kParamAck),
       events_(events),
-      model_name_(simulator.computer_model().name) {
+      names_{{INT64_MIN, simulator.computer_model().name}} {
   in_bytes_.connect(node_endpoint(kInboundNode));
 }
 
@@ -77,7 +80,8 @@ std::optional<sim::ParamChange> ParamPort::next() {
 void ParamPort::applied(const sim::ParamApplied& a) {
   const auto it = in_flight_.find(a.request_id);
   if (it != in_flight_.end()) {
-    if (a.kind == sim::ParamKind::model) model_name_ = it->second;
+    if (a.kind == sim::ParamKind::model) names_.emplace_back(a.time_ns, it->second);
+    if (names_.size() > kNamesKept) names_.pop_front();
     in_flight_.erase(it);
   }
   ack(a.request_id, true, "");
@@ -86,7 +90,7 @@ void ParamPort::applied(const sim::ParamApplied& a) {
   switch (a.kind) {
     case sim::ParamKind::model:
       e.set_kind(msgs::TaskEvent::CONDITION);
-      e.set_detail("computer model " + model_name_);
+      e.set_detail("computer model " + model_name());
       break;
     case sim::ParamKind::reset:
       e.set_kind(msgs::TaskEvent::RESET);
@@ -106,8 +110,15 @@ void ParamPort::applied(const sim::ParamApplied& a) {
     case sim::ParamKind::damping: return;
   }
   e.set_time_ns(a.time_ns);
-  e.set_condition(model_name_);
+  e.set_condition(model_name());
   events_.publish(e);
+}
+
+const std::string& ParamPort::model_name_at(std::int64_t time_ns) const {
+  for (auto it = names_.rbegin(); it != names_.rend(); ++it) {
+    if (it->first <= time_ns) return it->second;
+  }
+  return names_.front().second;
 }
 
 void ParamPort::ack(std::uint64_t request_id, bool applied, const std::string& reason) {

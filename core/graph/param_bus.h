@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/bus/attach.h"
@@ -49,7 +50,10 @@ class ParamPort {
   void applied(const sim::ParamApplied& a);
 
   // the computer model's name as of the last applied change
-  const std::string& model_name() const { return model_name_; }
+  const std::string& model_name() const { return names_.back().second; }
+  // its name at `time_ns` (the clock of ParamApplied::time_ns), for what the loop did then:
+  // right once every change applied until then was passed to applied()
+  const std::string& model_name_at(std::int64_t time_ns) const;
 
   // requests received, for NodeStatus
   const bus::ByteSubscriber& subscriber() const { return in_bytes_; }
@@ -64,7 +68,7 @@ class ParamPort {
   bus::Publisher<msgs::ParamAck> acks_;
   bus::Publisher<msgs::TaskEvent>& events_;
   msgs::ParamUpdate request_;
-  std::string model_name_;
+  std::deque<std::pair<std::int64_t, std::string>> names_;  // the model's name from a time on
   std::map<std::uint64_t, std::string> in_flight_;  // request id -> model name it sets ("" if none)
   std::deque<msgs::ParamAck> answered_;              // the last answers, for repeated requests
 };

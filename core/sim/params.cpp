@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
+#include <iomanip>
+#include <sstream>
 
 #include "core/config/yaml.h"
 #include "core/haptics/device_profile.h"
@@ -13,10 +14,11 @@
 namespace enact::sim {
 namespace {
 
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c);
-  return buf;
+// a number with `digits` significant digits, for messages
+std::string num(double v, int digits = 4) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << v;
+  return out.str();
 }
 
 ParamPlan refuse(std::string reason) { return {false, {}, std::move(reason)}; }
@@ -133,11 +135,10 @@ ParamPlan ParamPlanner::check_contact(ParamKind kind, double value, std::uint64_
     const double at0 = demand(0.0), slope = demand(1.0) - at0;
     const double largest = slope > 0.0 ? std::max(0.0, (envelope_ - at0) / slope) : 0.0;
     const std::string device = model_.device_profile.empty() ? "a device without a profile (b = 0)" : model_.device_profile;
-    return refuse(std::string(name) + format(" = %.6g ", value) + unit + ": the loop would not stay stable on " + device +
-                  format(" at %.0f Hz: the passivity bound (Colgate & Schenkel) needs K T/2 + B = %.4g N s/m with every body point in contact,",
-                         model_.rate_hz, asked) +
-                  format(" past %.4g N s/m (the device damping b = %.4g N s/m, or the scene as loaded if larger)", envelope_, device_damping_) +
-                  "\n  fix: at most " + format("%.6g ", largest) + unit);
+    return refuse(std::string(name) + " = " + num(value, 6) + " " + unit + ": the loop would not stay stable on " + device + " at " +
+                  num(model_.rate_hz, 6) + " Hz: the passivity bound (Colgate & Schenkel) needs K T/2 + B = " + num(asked) +
+                  " N s/m with every body point in contact, past " + num(envelope_) + " N s/m (the device damping b = " + num(device_damping_) +
+                  " N s/m, or the scene as loaded if larger)\n  fix: at most " + num(largest, 6) + " " + unit);
   }
   set_body_contacts(model_, stiffness ? std::optional(value) : std::nullopt, stiffness ? std::nullopt : std::optional(value));
   return accept(kind, request_id, value);

@@ -144,8 +144,12 @@ int run(int argc, char** argv) {
     std::int64_t time_ns;
     float level[32];
   };
+  struct Scene {
+    std::int64_t tick_ns;  // the tick it was taken at (names its computer model)
+    graph::SceneSnapshot snap;
+  };
   static rt::SpscQueue<graph::Observation, 16384> queue;
-  static rt::SpscQueue<graph::SceneSnapshot, 64> scenes;
+  static rt::SpscQueue<Scene, 64> scenes;
   static rt::SpscQueue<Shown, 64> shown_queue;
   static rt::SpscQueue<rt::LoopSummary, 8> summaries;
   static graph::ParamQueue changes;
@@ -166,7 +170,7 @@ int run(int argc, char** argv) {
     const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / scene_rate_hz));
     const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / shown_rate_hz));
     const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz));
-    graph::SceneSnapshot snap;
+    Scene scene{};
     Shown levels{};
     loop.activate(start);
     scheduler.start(start);
@@ -178,8 +182,9 @@ int run(int argc, char** argv) {
       stats.latency.record(o.force_ns - o.sample.time_ns);
       if (!queue.try_push(o)) dropped.fetch_add(1, std::memory_order_relaxed);
       if (n % scene_every == 0) {
-        graph::snapshot(simulator, o.step.pins, o.step.force_n, snap);
-        scenes.try_push(snap);
+        scene.tick_ns = woke;
+        graph::snapshot(simulator, o.step.pins, o.step.force_n, scene.snap);
+        scenes.try_push(scene);
       }
       if (n % shown_every == 0) {
         levels.time_ns = woke;
@@ -205,6 +210,12 @@ int run(int argc, char** argv) {
   msgs::TaskEvent event_msg;
   msgs::NodeStatus status_msg;
   std::uint64_t frame_seq = 0;
+  // what the real-time thread applied, before anything it did after: a tick's messages name
+  // the computer model in force at that tick
+  sim::ParamApplied done;
+  auto take_applied = [&] {
+    while (applied.try_pop(done)) params.applied(done);
+  };
   auto publish = [&](const graph::Observation& o) {
     graph::fill(state_msg, o.sample);
     state_pub.publish(state_msg);
@@ -217,26 +228,27 @@ int run(int argc, char** argv) {
       frame_pub.publish(frame_msg);
       frame_seq = frame_msg.header().seq();
     }
-    if (graph::fill(event_msg, o.step.event, params.model_name())) event_pub.publish(event_msg);
+    if (graph::fill(event_msg, o.step.event, params.model_name_at(o.sample.time_ns))) event_pub.publish(event_msg);
   };
   Felt felt;
   graph::Observation o;
-  graph::SceneSnapshot snap;
+  Scene scene;
   Shown levels;
   rt::LoopSummary summary;
-  sim::ParamApplied done;
   auto drain = [&] {
     // parameter changes to the real-time thread (never more than the queue holds), and back
     while (const auto change = params.next()) changes.try_push(*change);
-    while (applied.try_pop(done)) params.applied(done);
     while (queue.try_pop(o)) {
+      take_applied();
       consume(o, felt);
       publish(o);
     }
-    while (scenes.try_pop(snap)) {
-      graph::fill(scene_msg, snap, params.model_name());
+    while (scenes.try_pop(scene)) {
+      take_applied();
+      graph::fill(scene_msg, scene.snap, params.model_name_at(scene.tick_ns));
       scene_pub.publish(scene_msg);
     }
+    take_applied();
     while (shown_queue.try_pop(levels)) {
       graph::fill(shown_msg, rows, cols, levels.level, frame_seq);
       shown_msg.mutable_header()->set_stamp_ns(levels.time_ns);

@@ -60,6 +60,27 @@ inline int free_port() {
 
 inline bool process_gone(pid_t pid) { return kill(pid, 0) == -1 && errno == ESRCH; }
 
+// starts argv[0] (a path) in the background, stdout and stderr into the files `out` and
+// `err`, with `env` entries ("NAME=VALUE") added to its environment; its pid
+inline pid_t spawn(std::vector<std::string> argv, const std::string& out, const std::string& err, const std::vector<std::string>& env = {}) {
+  std::vector<char*> cargv;
+  for (auto& a : argv) cargv.push_back(a.data());
+  cargv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    for (const std::string& e : env) putenv(const_cast<char*>(e.c_str()));
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (o < 0 || e < 0) _exit(126);
+    dup2(o, 1);
+    dup2(e, 2);
+    execv(cargv[0], cargv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
 // `enact launch FILE --duration D --attach ENDPOINT [--arg K=V]...` in the background (fork
 // and exec), stdout and stderr into files of `dir`. The destructor makes sure it is gone
 // (SIGTERM, then SIGKILL; its nodes die with it: PR_SET_PDEATHSIG in the supervisor).
@@ -75,20 +96,7 @@ class Launcher {
       argv.push_back("--arg");
       argv.push_back(a);
     }
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    pid_ = fork();
-    if (pid_ < 0) throw std::runtime_error("fork failed");
-    if (pid_ == 0) {
-      const int out = open(out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int err = open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (out < 0 || err < 0) _exit(126);
-      dup2(out, 1);
-      dup2(err, 2);
-      execv(cargv[0], cargv.data());
-      _exit(127);
-    }
+    pid_ = spawn(argv, out_, err_);
   }
   ~Launcher() {
     if (pid_ > 0) stop(5.0);
