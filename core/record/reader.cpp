@@ -56,14 +56,16 @@ Reader::Reader(const std::string& path) : path_(path) {
   file_ = std::string_view(static_cast<const char*>(map_), size);
   if (file_.substr(0, kMagic.size()) != kMagic) {
     const bool empty = file_.empty();
-    this->~Reader();
+    unmap();
     throw Error(path + (empty ? ": empty file, not an MCAP recording" : ": not an MCAP file (it does not start with the MCAP magic 0x89 'MCAP0')") +
                 "\n  fix: give a recording made by `enact record` (or another MCAP writer)");
   }
   index();
 }
 
-Reader::~Reader() {
+Reader::~Reader() { unmap(); }
+
+void Reader::unmap() {
   if (map_) ::munmap(map_, file_.size());
   map_ = nullptr;
 }
@@ -114,7 +116,7 @@ void Reader::index() {
       profile_ = in.str();
       library_ = in.str();
       if (op != Op::header || in.bad) {
-        this->~Reader();
+        unmap();
         throw Error(path_ + ": not an MCAP file (no header record after the magic)\n  fix: give a recording made by `enact record`");
       }
       header = false;
@@ -160,6 +162,10 @@ void Reader::index() {
     if (!ok) report(at, std::string("malformed ") + op_name(op) + " record, skipped");
     at += kRecordPrefix + content.size();
     if (data_end || op == Op::footer) break;
+  }
+  if (header) {
+    unmap();
+    throw Error(path_ + ": not an MCAP file (no header record after the magic)\n  fix: give a recording made by `enact record`");
   }
   // a closed file ends with a 20-byte footer and the magic
   const std::size_t tail = kRecordPrefix + 20 + kMagic.size();

@@ -97,6 +97,7 @@ class Reader {
     std::string_view content;
   };
   void index();
+  void unmap();
   bool add_schema(In in);
   bool add_channel(In in);
   // parses a message record; false when malformed

@@ -103,6 +103,8 @@ std::uint16_t Writer::add_channel(std::uint16_t schema_id, std::string_view topi
 
 void Writer::write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_t log_time_ns, std::int64_t publish_time_ns,
                    std::string_view data) {
+  // a message past the open chunk's span closes it first
+  flush_if_due(log_time_ns);
   if (!chunk_open_) {
     chunk_open_ = true;
     chunk_start_ = chunk_end_ = log_time_ns;
@@ -122,7 +124,6 @@ void Writer::write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_
   ++message_count_;
   ++channel_counts_[channel_id];
   if (chunk_.size() >= options_.chunk_size_bytes) flush();
-  else flush_if_due(log_time_ns);
 }
 
 void Writer::flush_if_due(std::int64_t now_ns) {
