@@ -26,8 +26,10 @@ class ColocatedLoop {
  public:
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
 
-  // activate the devices and the simulator; zero force, pins down
-  void activate(std::int64_t now_ns);
+  // activate the devices and the simulator; zero force, pins down. The first tick is the
+  // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
+  // device states replays exactly (enact resim)
+  void activate();
   // one tick of the zero-delay loop
   const Observation& tick(std::int64_t now_ns);
   // zero the force and lower the pins first, then stop the simulator
@@ -39,7 +41,7 @@ class ColocatedLoop {
   devices::TactileDevice& tactile_;
   Clock clock_;
   Observation obs_;
-  std::int64_t start_ns_ = 0;
+  std::int64_t start_ns_ = -1;  // time of the first tick
 };
 
 }  // namespace enact::graph
