@@ -9,6 +9,7 @@ int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
+int bench_record(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
 int record(int argc, char** argv);

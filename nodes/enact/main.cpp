@@ -19,6 +19,7 @@ commands:
   path SCENE        write the built-in scripted hand path of a scene as CSV
   bench physics     integrator speed against error, bridge step cost
   bench loop        the real-time loop and the bus against the machine's floor
+  bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
   record            keep a running graph's messages in an MCAP file
