@@ -20,7 +20,7 @@ constexpr double kAngleAtZero_deg = 35.0;
 constexpr double kDegPerCount = (kShaftDiameter_m * kPi / (kWheelSlots * 4.0)) / (kCapstanDiameter_m * kPi / 360.0);
 
 // forward kinematics: Newton's method until the arm angles match within this (rad), or give up
-constexpr double kAngleTolerance_rad = 1e-13;
+constexpr double kAngleTolerance_rad = 1e-12;
 constexpr int kMaxIterations = 30;
 
 // a leg's frame coordinates of a device-frame position
@@ -110,21 +110,28 @@ bool forward(const std::array<double, 3>& t1, const Vec3& guess, Vec3& out) noex
     p = {0.0, 0.0, kCentreZ_m};
     if (!inverse(p, at)) return false;
   }
+  auto miss_at = [&](const LegAngles& a) { return Vec3{t1[0] - a.t1[0], t1[1] - a.t1[1], t1[2] - a.t1[2]}; };
+  Vec3 miss = miss_at(at);
   for (int it = 0; it < kMaxIterations; ++it) {
-    const Vec3 miss{t1[0] - at.t1[0], t1[1] - at.t1[1], t1[2] - at.t1[2]};
     if (std::max({std::abs(miss.x), std::abs(miss.y), std::abs(miss.z)}) < kAngleTolerance_rad) {
       out = p;
       return true;
     }
-    // the Newton step, halved while it leaves the reachable set
+    // the Newton step, halved until it lands in reach with a smaller miss (backtracking)
     Vec3 step;
     if (!solve(angle_jacobian(at), miss, step)) return false;
-    for (int halve = 0; halve < 20; ++halve) {
-      if (inverse(p + step, at)) break;
-      step *= 0.5;
+    bool moved = false;
+    for (int halve = 0; halve < 40 && !moved; ++halve, step *= 0.5) {
+      LegAngles next;
+      if (!inverse(p + step, next)) continue;
+      const Vec3 next_miss = miss_at(next);
+      if (physics::norm(next_miss) >= physics::norm(miss)) continue;
+      p += step;
+      at = next;
+      miss = next_miss;
+      moved = true;
     }
-    p += step;
-    if (!inverse(p, at)) return false;
+    if (!moved) return false;
   }
   return false;
 }
