@@ -163,17 +163,19 @@ bool MetecTactileDevice::set_high_voltage(bool on) noexcept {
   return true;
 }
 
-// a fault: pins down, high voltage off (tried; the display may be gone), and say so
+// a fault: high voltage off (tried; the display may be gone), pins shown falling from now,
+// and then it is said (faulted() true means all of that is done)
 void MetecTactileDevice::fault(usb::Status status) noexcept {
-  faulted_.store(true);
-  if (status == usb::Status::no_device) unplugged_.store(true);
-  if (!unplugged_.load()) {
+  const bool gone = status == usb::Status::no_device;
+  if (!gone) {
     std::uint8_t off = kHighVoltageOff;
     transport_->control({usb::kVendorOut, kSetHighVoltage, 0, 0}, &off, 1, params_.timeout_ms);
   }
   high_voltage_ = false;
   shown_.set_targets(rt::now_ns(), 0, layout_.pins());
   motion_.store(shown_);
+  unplugged_.store(gone);
+  faulted_.store(true);
 }
 
 bool MetecTactileDevice::io_step(std::int64_t now_ns) noexcept {
