@@ -11,5 +11,6 @@ int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
+int devices(int argc, char** argv);
 
 }  // namespace enact::cli

@@ -21,6 +21,7 @@ commands:
   bench loop        the real-time loop and the bus against the machine's floor
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
+  devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     if (command == "bench") return enact::cli::bench(argc, argv);
     if (command == "launch") return enact::cli::launch(argc, argv);
     if (command == "topic") return enact::cli::topic(argc, argv);
+    if (command == "devices") return enact::cli::devices(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {

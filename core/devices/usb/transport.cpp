@@ -50,7 +50,10 @@ std::string usb_id(std::uint16_t vendor, std::uint16_t product) {
 }
 
 std::string udev_rules() {
-  std::string out = "# enact: access for the logged-in user (uaccess) and the plugdev group to its USB devices\n";
+  std::string out =
+      "# enact: access for the logged-in user (uaccess) and the plugdev group to its USB devices.\n"
+      "# Install (as root): cp 99-enact.rules /etc/udev/rules.d/ && udevadm control --reload-rules && udevadm trigger\n"
+      "# (written by `enact devices --udev-rules`)\n";
   for (const auto& d : supported_devices()) {
     const std::string id = usb_id(d.vendor, d.product);
     out += "# " + std::string(d.name) + " (" + id + ", device: " + d.backend + ")\n";
@@ -64,6 +67,28 @@ std::string udev_fix() {
   return "install enact's udev rules (as root): cp scripts/udev/99-enact.rules /etc/udev/rules.d/ && udevadm control --reload-rules && "
          "udevadm trigger, then unplug and replug the device (or add yourself to the plugdev group). The rules:\n" +
          udev_rules();
+}
+
+std::string report(const std::vector<Found>& devices) {
+  std::string out;
+  bool denied = false;
+  for (const Found& f : devices) {
+    for (const auto& kind : supported_devices()) {
+      if (kind.vendor != f.vendor || kind.product != f.product) continue;
+      char line[512];
+      std::snprintf(line, sizeof line, "%s  %-20s  %-22s  serial %-12s  device: %-7s  %s\n", usb_id(f.vendor, f.product).c_str(), kind.name, f.path.c_str(),
+                    f.serial.empty() ? "?" : f.serial.c_str(), kind.backend, f.access == Status::ok ? "ready" : to_string(f.access));
+      out += line;
+      denied = denied || f.access == Status::access;
+    }
+  }
+  if (out.empty()) {
+    out = "no supported USB device found. enact looks for:\n";
+    for (const auto& kind : supported_devices()) out += "  " + usb_id(kind.vendor, kind.product) + "  " + kind.name + " (device: " + kind.backend + ")\n";
+    out += "Plug one in (and power it on). Without hardware, the emulators stand in: transport=emulator (launch/bridge_rt_usb_emulated.yaml).\n";
+  }
+  if (denied) out += "\nPermission denied: enact may not open a device above.\n  fix: " + udev_fix();
+  return out;
 }
 
 namespace {

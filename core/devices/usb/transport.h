@@ -119,6 +119,12 @@ std::string udev_rules();
 // how to install them
 std::string udev_fix();
 
+// what `enact devices` prints for the supported devices found on a bus: one line per device
+// (id, name, where, serial, the `device:` backend, and whether enact may open it), or that
+// none was found and what enact looks for; the udev rules and how to install them when one
+// could not be opened for lack of permission
+std::string report(const std::vector<Found>& devices);
+
 // "vvvv:pppp", lower-case hex
 std::string usb_id(std::uint16_t vendor, std::uint16_t product);
 
