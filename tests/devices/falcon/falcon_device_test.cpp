@@ -182,7 +182,9 @@ TEST(FalconDevice, ReadsTrackTheMovingGrip) {
   double worst = 0.0, moved = 0.0;
   int reads = 0;
   Vec3 first;
-  const auto end = rt::now_ns() + 800 * kMs;
+  const std::uint64_t exchanges = rig.device.exchanges();
+  const auto start = rt::now_ns();
+  const auto end = start + 800 * kMs;
   while (rt::now_ns() < end) {
     rig.device.write(rt::now_ns(), {});
     ForceSample s;
@@ -193,7 +195,9 @@ TEST(FalconDevice, ReadsTrackTheMovingGrip) {
     }
     std::this_thread::sleep_for(std::chrono::microseconds(500));
   }
-  std::printf("[ falcon ] %d reads, worst |read - grip| %.3g m while moving %.3g m\n", reads, worst, moved);
+  std::printf("[ falcon ] %d reads, worst |read - grip| %.3g m while moving %.3g m; %.0f lock-step exchanges per second, %llu missed\n", reads, worst,
+              moved, static_cast<double>(rig.device.exchanges() - exchanges) / (static_cast<double>(rt::now_ns() - start) * 1e-9),
+              static_cast<unsigned long long>(rig.device.missed()));
   EXPECT_GT(reads, 100);
   EXPECT_GT(moved, 0.01) << "the grip did not move: the comparison above was vacuous";
   EXPECT_LT(worst, 5e-4);
