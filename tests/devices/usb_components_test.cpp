@@ -17,16 +17,6 @@
 namespace enact::graph {
 namespace {
 
-template <class F>
-std::string refusal(F f) {
-  try {
-    f();
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(UsbComponents, AnEmulatedFalconComesConfiguredInsideTheSafetyLayer) {
   Params p("ffd");
   p.set("device", "falcon");
@@ -91,30 +81,30 @@ TEST(UsbComponents, ParamsOfAnotherDeviceOrTransportAreRefused) {
   Params hand("ffd");
   hand.set("device", "falcon");
   hand.set("hand_path", "x.csv");
-  EXPECT_NE(refusal([&] { make_force_device(hand); }).find("hand_path is only for transport=emulator"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_force_device(hand); }).find("hand_path is only for transport=emulator"), std::string::npos);
 
   Params profile("ffd");
   profile.set("device", "falcon");
   profile.set("transport", "emulator");
   profile.set("profile", "ergos");
-  EXPECT_NE(refusal([&] { make_force_device(profile); }).find("profile is only for device=simulated"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_force_device(profile); }).find("profile is only for device=simulated"), std::string::npos);
 
   Params simulated("ffd");
   simulated.set("firmware", "fw.bin");
-  EXPECT_NE(refusal([&] { make_force_device(simulated); }).find("firmware is only for device=falcon"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_force_device(simulated); }).find("firmware is only for device=falcon"), std::string::npos);
 
   Params cells("tactile");
   cells.set("first_cell", "3");
-  EXPECT_NE(refusal([&] { make_tactile_device(cells); }).find("first_cell is only for device=metec"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_tactile_device(cells); }).find("first_cell is only for device=metec"), std::string::npos);
 
   Params transport("tactile");
   transport.set("device", "metec");
   transport.set("transport", "serial");
-  EXPECT_NE(refusal([&] { make_tactile_device(transport); }).find("transport=usb (the real device) or transport=emulator"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_tactile_device(transport); }).find("transport=usb (the real device) or transport=emulator"), std::string::npos);
 
   Params unknown("ffd");
   unknown.set("device", "phantom");
-  EXPECT_NE(refusal([&] { make_force_device(unknown); }).find("device=simulated or device=falcon"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { make_force_device(unknown); }).find("device=simulated or device=falcon"), std::string::npos);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
 // Helpers of the USB backend tests: a fake bus holding one emulated device (the test keeps
 // the emulator and the cable), polling for a condition with a bound (no timing assertion:
-// the bound only keeps a broken program from hanging the suite), and a recording emulator.
+// the bound only keeps a broken program from hanging the suite), the message of a refusal,
+// and a recording emulator.
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -9,6 +10,9 @@
 #include <utility>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "core/config/yaml.h"
 #include "core/devices/usb/fake.h"
 
 namespace enact::test {
@@ -21,6 +25,18 @@ inline bool eventually(const std::function<bool()>& done, double timeout_s = 10.
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return done();
+}
+
+// the config::Error message of f(); a test failure and "" when it did not throw one
+template <class F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const config::Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no config::Error";
+  return "";
 }
 
 // a fake bus with one emulated device of `backend`; the cable stays reachable

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <thread>
 
 #include "core/config/format.h"
 #include "core/devices/params_error.h"
@@ -28,10 +27,6 @@ std::vector<std::uint8_t> read_bytes(const std::string& path) {
   return bytes;
 }
 
-void check(bool ok, const char* name, double value, const char* range) {
-  if (!ok) refuse(kDevice, std::string(name) + " is " + config::number(value), std::string("set ") + name + " in " + range);
-}
-
 }  // namespace
 
 FalconForceDevice::FalconForceDevice(FalconParams params, std::unique_ptr<usb::Bus> bus) : params_(std::move(params)), bus_(std::move(bus)) {}
@@ -47,12 +42,12 @@ FalconForceDevice::~FalconForceDevice() {
 
 void FalconForceDevice::validate() const {
   const FalconParams& p = params_;
-  check(p.firmware_attempts >= 1, "firmware_attempts", p.firmware_attempts, "1 .. (default 5)");
-  check(p.handshake_tries >= 1, "handshake_tries", p.handshake_tries, "1 .. (default 20)");
-  check(std::isfinite(p.homing_timeout_s) && p.homing_timeout_s > 0.0, "homing_timeout_s", p.homing_timeout_s, "(0, ...) s (default 60)");
-  check(std::isfinite(p.max_force_n) && p.max_force_n > 0.0 && p.max_force_n <= 9.0, "max_force_n", p.max_force_n, "(0, 9] N (default 8)");
-  check(std::isfinite(p.stale_s) && p.stale_s > 0.0 && p.stale_s <= 0.009, "stale_s", p.stale_s, "(0, 0.009] s: faults must show within 10 ms (default 0.005)");
-  check(std::isfinite(p.io_period_s) && p.io_period_s > 0.0 && p.io_period_s <= 0.01, "io_period_s", p.io_period_s, "(0, 0.01] s (default 0.001)");
+  require(p.firmware_attempts >= 1, kDevice, "firmware_attempts", p.firmware_attempts, "1 .. (default 5)");
+  require(p.handshake_tries >= 1, kDevice, "handshake_tries", p.handshake_tries, "1 .. (default 20)");
+  require(std::isfinite(p.homing_timeout_s) && p.homing_timeout_s > 0.0, kDevice, "homing_timeout_s", p.homing_timeout_s, "(0, ...) s (default 60)");
+  require(std::isfinite(p.max_force_n) && p.max_force_n > 0.0 && p.max_force_n <= 9.0, kDevice, "max_force_n", p.max_force_n, "(0, 9] N (default 8)");
+  require(std::isfinite(p.stale_s) && p.stale_s > 0.0 && p.stale_s <= 0.009, kDevice, "stale_s", p.stale_s, "(0, 0.009] s: faults must show within 10 ms (default 0.005)");
+  require(std::isfinite(p.io_period_s) && p.io_period_s > 0.0 && p.io_period_s <= 0.01, kDevice, "io_period_s", p.io_period_s, "(0, 0.01] s (default 0.001)");
 }
 
 void FalconForceDevice::configure() {
@@ -154,9 +149,7 @@ void FalconForceDevice::activate() {
 void FalconForceDevice::deactivate() noexcept {
   if (!active_.exchange(false)) return;
   // wait for a zero packet to have gone out (the thread may be gone: unplugged)
-  const std::uint64_t before = zeroed_.load();
-  const std::int64_t give_up = rt::now_ns() + kDeactivateWait_ns;
-  while (zeroed_.load() == before && io_.running() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  io_.await(zeroed_, zeroed_.load(), kDeactivateWait_ns);
 }
 
 bool FalconForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept {

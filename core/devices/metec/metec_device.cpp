@@ -1,11 +1,8 @@
 #include "core/devices/metec/metec_device.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <thread>
 
-#include "core/config/format.h"
 #include "core/devices/params_error.h"
 #include "core/rt/clock.h"
 
@@ -16,10 +13,6 @@ constexpr const char* kDevice = "metec";
 constexpr int kSetupTimeout_ms = 1000;
 constexpr int kIdentityTimeout_ms = 200;
 constexpr std::int64_t kWait_ns = 100'000'000;  // activate / deactivate wait for the I/O thread
-
-void check(bool ok, const char* name, double value, const char* range) {
-  if (!ok) refuse(kDevice, std::string(name) + " is " + config::number(value), std::string("set ") + name + " in " + range);
-}
 
 }  // namespace
 
@@ -38,13 +31,13 @@ MetecTactileDevice::~MetecTactileDevice() {
 
 void MetecTactileDevice::validate() const {
   const MetecParams& p = params_;
-  check(p.rows >= 1 && p.rows <= 4, "rows", p.rows, "1 .. 4 (a cell has 4 dot rows)");
-  check(p.cols >= 1 && p.cols <= 8, "cols", p.cols, "1 .. 8 (two pin columns per cell, up to 4 cells: 32 pins)");
-  check(p.first_cell >= 0 && p.first_cell < kMaxModules * kCellsPerModule, "first_cell", p.first_cell, "0 .. 79");
-  check(std::isfinite(p.rise_time_s) && p.rise_time_s > 0.0, "rise_time_s", p.rise_time_s, "(0, ...) s (Metec: 0.024)");
-  check(std::isfinite(p.io_period_s) && p.io_period_s > 0.0 && p.io_period_s <= 0.05, "io_period_s", p.io_period_s, "(0, 0.05] s (default 0.001)");
-  check(std::isfinite(p.status_period_s) && p.status_period_s > 0.0 && p.status_period_s <= 1.0, "status_period_s", p.status_period_s, "(0, 1] s (default 0.05)");
-  check(p.timeout_ms >= 1 && p.timeout_ms <= 1000, "timeout_ms", p.timeout_ms, "1 .. 1000 (default 20)");
+  require(p.rows >= 1 && p.rows <= 4, kDevice, "rows", p.rows, "1 .. 4 (a cell has 4 dot rows)");
+  require(p.cols >= 1 && p.cols <= 8, kDevice, "cols", p.cols, "1 .. 8 (two pin columns per cell, up to 4 cells: 32 pins)");
+  require(p.first_cell >= 0 && p.first_cell < kMaxModules * kCellsPerModule, kDevice, "first_cell", p.first_cell, "0 .. 79");
+  require(std::isfinite(p.rise_time_s) && p.rise_time_s > 0.0, kDevice, "rise_time_s", p.rise_time_s, "(0, ...) s (Metec: 0.024)");
+  require(std::isfinite(p.io_period_s) && p.io_period_s > 0.0 && p.io_period_s <= 0.05, kDevice, "io_period_s", p.io_period_s, "(0, 0.05] s (default 0.001)");
+  require(std::isfinite(p.status_period_s) && p.status_period_s > 0.0 && p.status_period_s <= 1.0, kDevice, "status_period_s", p.status_period_s, "(0, 1] s (default 0.05)");
+  require(p.timeout_ms >= 1 && p.timeout_ms <= 1000, kDevice, "timeout_ms", p.timeout_ms, "1 .. 1000 (default 20)");
 }
 
 void MetecTactileDevice::configure() {
@@ -100,17 +93,12 @@ void MetecTactileDevice::activate() {
   target_.store(0);
   const std::uint64_t before = switched_on_.load();
   active_.store(true);
-  wait_for(before, switched_on_);
+  io_.await(switched_on_, before, kWait_ns);
 }
 
 void MetecTactileDevice::deactivate() noexcept {
   if (!active_.exchange(false)) return;
-  wait_for(switched_off_.load(), switched_off_);
-}
-
-void MetecTactileDevice::wait_for(std::uint64_t before, const std::atomic<std::uint64_t>& counter) noexcept {
-  const std::int64_t give_up = rt::now_ns() + kWait_ns;
-  while (counter.load() == before && io_.running() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  io_.await(switched_off_, switched_off_.load(), kWait_ns);
 }
 
 void MetecTactileDevice::write(std::int64_t, std::uint32_t pins) noexcept { target_.store(pins & mask_, std::memory_order_relaxed); }

@@ -76,7 +76,6 @@ class MetecTactileDevice final : public TactileDevice {
   bool write_modules(std::uint32_t pins, bool all) noexcept;
   bool set_high_voltage(bool on) noexcept;
   void fault(usb::Status status) noexcept;
-  void wait_for(std::uint64_t before, const std::atomic<std::uint64_t>& counter) noexcept;
   static void emergency(void* self) noexcept;
 
   MetecParams params_;

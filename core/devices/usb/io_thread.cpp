@@ -1,6 +1,7 @@
 #include "core/devices/usb/io_thread.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "core/rt/clock.h"
 
@@ -27,6 +28,11 @@ void IoThread::stop() noexcept {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
   running_.store(false);
+}
+
+void IoThread::await(const std::atomic<std::uint64_t>& counter, std::uint64_t before, std::int64_t timeout_ns) const noexcept {
+  const std::int64_t give_up = rt::now_ns() + timeout_ns;
+  while (counter.load() == before && running() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
 }
 
 }  // namespace enact::devices::usb

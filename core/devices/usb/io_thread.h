@@ -25,6 +25,9 @@ class IoThread {
   void stop() noexcept;
   // whether the thread is still calling step
   bool running() const { return running_.load(); }
+  // wait (polling, not real-time) until `counter` moved on from `before` (the thread did
+  // what was asked), the thread ended, or timeout_ns passed
+  void await(const std::atomic<std::uint64_t>& counter, std::uint64_t before, std::int64_t timeout_ns) const noexcept;
 
  private:
   std::thread thread_;

@@ -35,16 +35,8 @@ struct Rig {
       : on("falcon", std::make_shared<FalconEmulator>(e), open_status), device(f, std::move(on.bus)) {}
 };
 
-// the error message of configure()
-std::string configure_error(FalconForceDevice& d) {
-  try {
-    d.configure();
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "configure() did not throw";
-  return "";
-}
+// the message of configure()'s refusal
+std::string configure_error(FalconForceDevice& d) { return test::error_of([&] { d.configure(); }); }
 
 std::string firmware_file(const test::TempDir& dir, std::size_t n) {
   std::string bytes(n, '\0');

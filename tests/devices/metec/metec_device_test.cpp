@@ -30,15 +30,8 @@ struct Rig {
       : on("metec", std::make_shared<MetecEmulator>(), open_status), device(p, std::move(on.bus)) {}
 };
 
-std::string configure_error(MetecTactileDevice& d) {
-  try {
-    d.configure();
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "configure() did not throw";
-  return "";
-}
+// the message of configure()'s refusal
+std::string configure_error(MetecTactileDevice& d) { return test::error_of([&] { d.configure(); }); }
 
 std::array<float, 32> shown(MetecTactileDevice& d, std::int64_t now_ns) {
   std::array<float, 32> levels{};

@@ -33,13 +33,7 @@ FakeDevice falcon(const std::string& serial, int address, Status open_status = S
 }
 
 std::string open_error(Bus& bus, const std::string& backend, const std::string& serial) {
-  try {
-    open_device(bus, backend, serial, {});
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "open_device did not throw";
-  return "";
+  return test::error_of([&] { open_device(bus, backend, serial, {}); });
 }
 
 TEST(UsbTransport, TheSupportedDevicesAreTheFalconAndTheMetecCells) {
