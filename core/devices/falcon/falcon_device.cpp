@@ -16,7 +16,7 @@ constexpr const char* kDevice = "falcon";
 constexpr std::int64_t kProbeTimeout_ns = 20'000'000;     // an answer to a probe packet
 constexpr int kProbes = 5;                                 // probe packets before deciding no firmware runs
 constexpr std::int64_t kHomingExchange_ns = 20'000'000;    // an answer while homing
-constexpr std::int64_t kDeactivateWait_ns = 50'000'000;    // for the zero packet to go out
+constexpr std::int64_t kDeactivateWait_ns = 200'000'000;   // at most, for the zero packet to go out
 constexpr double kVelocityTimeConstant_s = 0.005;          // the velocity estimate's low-pass
 
 std::vector<std::uint8_t> read_bytes(const std::string& path) {

@@ -19,7 +19,7 @@
 // reports device_error when the device is unplugged (a transfer answered no_device) or its
 // newest sample is older than stale_s (the device stopped answering): within stale_s plus
 // one read, under the 10 ms the safety layer allows. deactivate() zeroes the force and
-// waits (at most 50 ms) for a zero packet to have gone out. The destructor stops the
+// waits (at most 200 ms) for a zero packet to have gone out. The destructor stops the
 // thread, sends a last zero packet with the LEDs off, and closes the device. A fatal signal
 // in the process sends a zero packet from the signal handler (usb/emergency.h).
 #include <atomic>

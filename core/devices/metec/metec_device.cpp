@@ -12,7 +12,7 @@ namespace {
 constexpr const char* kDevice = "metec";
 constexpr int kSetupTimeout_ms = 1000;
 constexpr int kIdentityTimeout_ms = 200;
-constexpr std::int64_t kWait_ns = 100'000'000;  // activate / deactivate wait for the I/O thread
+constexpr std::int64_t kWait_ns = 200'000'000;  // at most: activate / deactivate wait for the I/O thread
 
 }  // namespace
 
@@ -109,6 +109,8 @@ void MetecTactileDevice::shown(std::int64_t now_ns, float* levels, int count) no
   for (int i = 0; i < n; ++i) levels[i] = static_cast<float>(m.level(i, now_ns));
 }
 
+std::int64_t MetecTactileDevice::now() const noexcept { return params_.clock ? params_.clock() : rt::now_ns(); }
+
 bool MetecTactileDevice::write_modules(std::uint32_t pins, bool all) noexcept {
   // the pins' cells, placed in their modules
   std::array<std::uint8_t, 8> cells{};
@@ -132,7 +134,7 @@ bool MetecTactileDevice::write_modules(std::uint32_t pins, bool all) noexcept {
     module_writes_.fetch_add(1);
   }
   // the cells take it now: they start moving
-  if (high_voltage_) shown_.set_targets(rt::now_ns(), pins, layout_.pins());
+  if (high_voltage_) shown_.set_targets(now(), pins, layout_.pins());
   motion_.store(shown_);
   return true;
 }
@@ -146,7 +148,7 @@ bool MetecTactileDevice::set_high_voltage(bool on) noexcept {
   }
   high_voltage_ = on;
   // with the high voltage off every pin drops
-  if (!on) shown_.set_targets(rt::now_ns(), 0, layout_.pins());
+  if (!on) shown_.set_targets(now(), 0, layout_.pins());
   motion_.store(shown_);
   return true;
 }
@@ -160,7 +162,7 @@ void MetecTactileDevice::fault(usb::Status status) noexcept {
     transport_->control({usb::kVendorOut, kSetHighVoltage, 0, 0}, &off, 1, params_.timeout_ms);
   }
   high_voltage_ = false;
-  shown_.set_targets(rt::now_ns(), 0, layout_.pins());
+  shown_.set_targets(now(), 0, layout_.pins());
   motion_.store(shown_);
   unplugged_.store(gone);
   faulted_.store(true);

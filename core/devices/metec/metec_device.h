@@ -42,6 +42,7 @@ struct MetecParams {
   double io_period_s = 0.001;  // (0, 0.05]: how often changed pins are written
   double status_period_s = 0.05;  // (0, 1]: how often the status is polled
   int timeout_ms = 20;         // 1 .. 1000: a control transfer's timeout (a display that stops answering)
+  std::int64_t (*clock)() = nullptr;  // stamps the cells' motion (monotonic ns); null: CLOCK_MONOTONIC
 };
 
 class MetecTactileDevice final : public TactileDevice {
@@ -52,13 +53,13 @@ class MetecTactileDevice final : public TactileDevice {
   MetecTactileDevice& operator=(const MetecTactileDevice&) = delete;
 
   void configure() override;
-  // pins down, then high voltage on (done by the I/O thread; waits at most 100 ms for it)
+  // pins down, then high voltage on (done by the I/O thread; waits at most 200 ms for it)
   void activate() override;
   void write(std::int64_t now_ns, std::uint32_t pins) noexcept override;
   void shown(std::int64_t now_ns, float* levels, int count) noexcept override;
   int rows() const override { return params_.rows; }
   int cols() const override { return params_.cols; }
-  // pins lowered, high voltage off (waits at most 100 ms for the I/O thread)
+  // pins lowered, high voltage off (waits at most 200 ms for the I/O thread)
   void deactivate() noexcept override;
 
   // a fault lowered the pins and switched the high voltage off (the device must be configured again)
@@ -77,6 +78,7 @@ class MetecTactileDevice final : public TactileDevice {
   bool set_high_voltage(bool on) noexcept;
   void fault(usb::Status status) noexcept;
   static void emergency(void* self) noexcept;
+  std::int64_t now() const noexcept;
 
   MetecParams params_;
   std::unique_ptr<usb::Bus> bus_;

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <string>
 
 #include "core/config/yaml.h"
@@ -62,33 +64,47 @@ TEST(MetecDevice, ConfigureReadsTheDisplayAndActivateSwitchesTheHighVoltageOnWit
   EXPECT_EQ(rig.on.emulator->module_writes(0), 1u);
 }
 
+// one clock for the backend's model of the cells and the emulated cells, held still: the
+// motion of both is compared at chosen times, whatever the threads' scheduling
+std::atomic<std::int64_t> g_now{5'000'000'000};
+std::int64_t manual_clock() { return g_now.load(); }
+
 TEST(MetecDevice, PinsReachTheCellsAndShownIsWhatTheCellsPhysicallyShow) {
-  Rig rig;
+  MetecParams p;
+  p.clock = manual_clock;
+  MetecEmulatorParams e;
+  e.clock = manual_clock;
+  test::OnBus<MetecEmulator> on("metec", std::make_shared<MetecEmulator>(e));
+  MetecTactileDevice device(p, std::move(on.bus));
   const Layout l{4, 4, 0};
-  rig.device.configure();
-  rig.device.activate();
-  // the left pin column and pin 15
+  device.configure();
+  device.activate();
+  // the left pin column and pin 15, written at T
+  const std::int64_t t0 = g_now.load();
   const std::uint32_t pins = 0x1111 | (1u << 15);
-  rig.device.write(rt::now_ns(), pins);
-  ASSERT_TRUE(eventually([&] { return rig.on.emulator->cell(1) == 0x01; }));
-  EXPECT_EQ(rig.on.emulator->cell(0), 0xE2);
-  // right after the write, mid-stroke, and after the rise time: the backend's model of the
-  // cells and the emulated dots agree (both start when the display takes the write)
-  for (std::int64_t later : {0 * kMs, 6 * kMs, 12 * kMs, 30 * kMs}) {
-    const std::int64_t t = rt::now_ns() + later;
-    const auto model = shown(rig.device, t);
-    const auto physical = dots(*rig.on.emulator, l, t);
-    for (int pin = 0; pin < 16; ++pin) EXPECT_NEAR(model[static_cast<std::size_t>(pin)], physical[static_cast<std::size_t>(pin)], 0.05) << "pin " << pin << " at +" << later / kMs << " ms";
+  device.write(t0, pins);
+  ASSERT_TRUE(eventually([&] { return shown(device, t0 + 100 * kMs)[15] == 1.0f; })) << "the backend took the write";
+  EXPECT_EQ(on.emulator->cell(0), 0xE2);
+  EXPECT_EQ(on.emulator->cell(1), 0x01);
+  // the cells rise over 24 ms from T; shown() says the same at every time
+  for (std::int64_t later : {0 * kMs, 6 * kMs, 12 * kMs, 24 * kMs, 30 * kMs}) {
+    const auto model = shown(device, t0 + later);
+    const auto physical = dots(*on.emulator, l, t0 + later);
+    for (int pin = 0; pin < 16; ++pin) {
+      const auto i = static_cast<std::size_t>(pin);
+      EXPECT_NEAR(model[i], physical[i], 1e-6) << "pin " << pin << " at +" << later / kMs << " ms";
+      const double want = ((pins >> pin) & 1u) ? std::min(1.0, static_cast<double>(later) / 24e6) : 0.0;
+      EXPECT_NEAR(physical[i], want, 1e-9) << "pin " << pin << " at +" << later / kMs << " ms";
+    }
   }
-  // and after the rise time they are up, exactly those
-  const auto up = shown(rig.device, rt::now_ns() + 30 * kMs);
-  for (int pin = 0; pin < 16; ++pin) EXPECT_EQ(up[static_cast<std::size_t>(pin)], ((pins >> pin) & 1u) ? 1.0f : 0.0f) << pin;
-  // rate limited like the cells: not up before the rise time is out
-  const std::int64_t t0 = rt::now_ns();
-  rig.device.write(t0, 1u << 5);
-  ASSERT_TRUE(eventually([&] { return rig.on.emulator->cell(0) == 0x08; }));
-  EXPECT_LT(rig.on.emulator->dot_level(0, 5, rt::now_ns() + 10 * kMs), 0.9);
-  EXPECT_LT(shown(rig.device, rt::now_ns() + 10 * kMs)[5], 0.9f);
+  // a pin lowered mid-stroke reverses from where it was (12 ms up: half way)
+  g_now += 12 * kMs;
+  device.write(g_now.load(), pins & ~1u);
+  ASSERT_TRUE(eventually([&] { return on.emulator->cell(0) == 0x62; }));
+  ASSERT_TRUE(eventually([&] { return shown(device, g_now.load() + 100 * kMs)[0] == 0.0f; }));
+  EXPECT_NEAR(shown(device, g_now.load() + 6 * kMs)[0], 0.25, 1e-6);
+  EXPECT_NEAR(on.emulator->dot_level(0, 1, g_now.load() + 6 * kMs), 0.25, 1e-9);
+  device.deactivate();
 }
 
 TEST(MetecDevice, OnlyChangedModulesAreRewritten) {
@@ -116,22 +132,30 @@ TEST(MetecDevice, OnlyChangedModulesAreRewritten) {
 }
 
 TEST(MetecDevice, DeactivateLowersThePinsAndSwitchesTheHighVoltageOff) {
-  Rig rig;
-  rig.device.configure();
-  rig.device.activate();
-  rig.device.write(rt::now_ns(), 0xFFFF);
-  ASSERT_TRUE(eventually([&] { return rig.on.emulator->cell(0) == 0xFF; }));
-  rig.device.deactivate();
-  EXPECT_FALSE(rig.on.emulator->high_voltage());
-  EXPECT_EQ(rig.on.emulator->cell(0), 0);
-  EXPECT_EQ(rig.on.emulator->cell(1), 0);
-  // everything down a rise time later, in the cells and in shown()
-  const std::int64_t t = rt::now_ns() + 30 * kMs;
-  const auto levels = shown(rig.device, t);
-  const auto physical = dots(*rig.on.emulator, {4, 4, 0}, t);
-  for (int pin = 0; pin < 16; ++pin) {
-    EXPECT_EQ(levels[static_cast<std::size_t>(pin)], 0.0f) << pin;
-    EXPECT_EQ(physical[static_cast<std::size_t>(pin)], 0.0) << pin;
+  MetecParams p;
+  p.clock = manual_clock;
+  MetecEmulatorParams e;
+  e.clock = manual_clock;
+  test::OnBus<MetecEmulator> on("metec", std::make_shared<MetecEmulator>(e));
+  MetecTactileDevice device(p, std::move(on.bus));
+  device.configure();
+  device.activate();
+  device.write(g_now.load(), 0xFFFF);
+  ASSERT_TRUE(eventually([&] { return on.emulator->cell(0) == 0xFF; }));
+  g_now += 100 * kMs;  // all up
+  device.deactivate();
+  EXPECT_FALSE(on.emulator->high_voltage());
+  EXPECT_EQ(on.emulator->cell(0), 0);
+  EXPECT_EQ(on.emulator->cell(1), 0);
+  // falling from now, in the cells and in shown(): half way at 12 ms, down at 24 ms
+  const std::int64_t t = g_now.load();
+  for (std::int64_t later : {12 * kMs, 24 * kMs}) {
+    const auto levels = shown(device, t + later);
+    const auto physical = dots(*on.emulator, {4, 4, 0}, t + later);
+    for (int pin = 0; pin < 16; ++pin) {
+      EXPECT_NEAR(levels[static_cast<std::size_t>(pin)], later == 12 * kMs ? 0.5 : 0.0, 1e-6) << pin;
+      EXPECT_NEAR(physical[static_cast<std::size_t>(pin)], later == 12 * kMs ? 0.5 : 0.0, 1e-9) << pin;
+    }
   }
 }
 
