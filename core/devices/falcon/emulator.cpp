@@ -1,7 +1,6 @@
 #include "core/devices/falcon/emulator.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "core/rt/clock.h"
 

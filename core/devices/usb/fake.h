@@ -16,8 +16,9 @@
 
 namespace enact::devices::usb {
 
-// the device side of a fake transport; called from one thread at a time (the transport
-// serialises), each implementation guards the state its test accessors read
+// the device side of a fake transport; called by one thread at a time (a backend's
+// configure, then its I/O thread); each implementation guards with a lock the state its
+// test accessors read from other threads
 class Emulator {
  public:
   virtual ~Emulator();
