@@ -69,13 +69,26 @@ TEST(MetecDevice, ConfigureReadsTheDisplayAndActivateSwitchesTheHighVoltageOnWit
 std::atomic<std::int64_t> g_now{5'000'000'000};
 std::int64_t manual_clock() { return g_now.load(); }
 
-TEST(MetecDevice, PinsReachTheCellsAndShownIsWhatTheCellsPhysicallyShow) {
-  MetecParams p;
-  p.clock = manual_clock;
+// the backend and the emulated display on the manual clock
+MetecEmulatorParams clocked_display() {
   MetecEmulatorParams e;
   e.clock = manual_clock;
-  test::OnBus<MetecEmulator> on("metec", std::make_shared<MetecEmulator>(e));
-  MetecTactileDevice device(p, std::move(on.bus));
+  return e;
+}
+MetecParams clocked_backend() {
+  MetecParams p;
+  p.clock = manual_clock;
+  return p;
+}
+struct ClockedRig {
+  test::OnBus<MetecEmulator> on{"metec", std::make_shared<MetecEmulator>(clocked_display())};
+  MetecTactileDevice device{clocked_backend(), std::move(on.bus)};
+};
+
+TEST(MetecDevice, PinsReachTheCellsAndShownIsWhatTheCellsPhysicallyShow) {
+  ClockedRig rig;
+  auto& on = rig.on;
+  auto& device = rig.device;
   const Layout l{4, 4, 0};
   device.configure();
   device.activate();
@@ -132,12 +145,9 @@ TEST(MetecDevice, OnlyChangedModulesAreRewritten) {
 }
 
 TEST(MetecDevice, DeactivateLowersThePinsAndSwitchesTheHighVoltageOff) {
-  MetecParams p;
-  p.clock = manual_clock;
-  MetecEmulatorParams e;
-  e.clock = manual_clock;
-  test::OnBus<MetecEmulator> on("metec", std::make_shared<MetecEmulator>(e));
-  MetecTactileDevice device(p, std::move(on.bus));
+  ClockedRig rig;
+  auto& on = rig.on;
+  auto& device = rig.device;
   device.configure();
   device.activate();
   device.write(g_now.load(), 0xFFFF);
