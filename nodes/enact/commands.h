@@ -18,5 +18,6 @@ int export_csv(int argc, char** argv);
 int recover(int argc, char** argv);
 int play(int argc, char** argv);
 int resim(int argc, char** argv);
+int devices(int argc, char** argv);
 
 }  // namespace enact::cli

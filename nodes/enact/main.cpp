@@ -28,6 +28,7 @@ commands:
   export FILE       one topic of a recording as CSV
   recover FILE      rebuild a complete recording from a damaged or unclosed one
   resim FILE        rerun a recording's device states through the simulator, compare
+  devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     if (command == "export") return enact::cli::export_csv(argc, argv);
     if (command == "recover") return enact::cli::recover(argc, argv);
     if (command == "resim") return enact::cli::resim(argc, argv);
+    if (command == "devices") return enact::cli::devices(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {
