@@ -5,11 +5,11 @@ namespace enact::graph {
 ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock)
     : sim_(simulator), force_(force), tactile_(tactile), clock_(clock) {}
 
-void ColocatedLoop::activate(std::int64_t now_ns) {
+void ColocatedLoop::activate() {
   force_.activate();
   tactile_.activate();
   sim_.activate(0);
-  start_ns_ = now_ns;
+  start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
   obs_ = {};
 }
 
@@ -19,6 +19,7 @@ void ColocatedLoop::connect_params(ParamQueue& changes, AppliedQueue& applied) {
 }
 
 const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
+  if (start_ns_ < 0) start_ns_ = now_ns;
   // parameter changes, between the last step and this one
   sim::ParamChange change;
   while (changes_ && changes_->try_pop(change)) applied_->try_push(sim_.apply(change, now_ns - start_ns_, now_ns));

@@ -33,8 +33,10 @@ class ColocatedLoop {
  public:
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
 
-  // activate the devices and the simulator; zero force, pins down
-  void activate(std::int64_t now_ns);
+  // activate the devices and the simulator; zero force, pins down. The first tick is the
+  // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
+  // device states replays exactly (enact resim)
+  void activate();
   // from now on, take the changes waiting in `changes` at the top of each tick, apply them
   // and report them in `applied` (both outlive the loop; this thread pops `changes` and
   // pushes `applied`)
@@ -52,7 +54,7 @@ class ColocatedLoop {
   ParamQueue* changes_ = nullptr;
   AppliedQueue* applied_ = nullptr;
   Observation obs_;
-  std::int64_t start_ns_ = 0;
+  std::int64_t start_ns_ = -1;  // time of the first tick
 };
 
 }  // namespace enact::graph

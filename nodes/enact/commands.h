@@ -11,8 +11,16 @@ int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
+int bench_record(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
+int record(int argc, char** argv);
+int info(int argc, char** argv);
+int export_csv(int argc, char** argv);
+int recover(int argc, char** argv);
+int play(int argc, char** argv);
+int resim(int argc, char** argv);
+int devices(int argc, char** argv);
 int param(int argc, char** argv);
 
 // --attach, else the endpoint of the last graph launched on this machine (UsageError if none)

@@ -19,8 +19,16 @@ commands:
   path SCENE        write the built-in scripted hand path of a scene as CSV
   bench physics     integrator speed against error, bridge step cost
   bench loop        the real-time loop and the bus against the machine's floor
+  bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
+  record            keep a running graph's messages in an MCAP file
+  info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
+  play FILE         republish a recording with its timing, as if live
+  export FILE       one topic of a recording as CSV
+  recover FILE      rebuild a complete recording from a damaged or unclosed one
+  resim FILE        rerun a recording's device states through the simulator, compare
+  devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
   param set NAME VALUE  change a parameter of a running graph (answered: applied or refused)
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
@@ -45,6 +53,13 @@ int main(int argc, char** argv) {
     if (command == "bench") return enact::cli::bench(argc, argv);
     if (command == "launch") return enact::cli::launch(argc, argv);
     if (command == "topic") return enact::cli::topic(argc, argv);
+    if (command == "record") return enact::cli::record(argc, argv);
+    if (command == "info") return enact::cli::info(argc, argv);
+    if (command == "play") return enact::cli::play(argc, argv);
+    if (command == "export") return enact::cli::export_csv(argc, argv);
+    if (command == "recover") return enact::cli::recover(argc, argv);
+    if (command == "resim") return enact::cli::resim(argc, argv);
+    if (command == "devices") return enact::cli::devices(argc, argv);
     if (command == "param") return enact::cli::param(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
