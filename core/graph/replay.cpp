@@ -1,10 +1,6 @@
 #include "core/graph/replay.h"
 
-#include <stdlib.h>
-
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <vector>
 
@@ -13,6 +9,7 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/params.h"
+#include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
@@ -31,26 +28,6 @@ struct State {
 struct Force {
   physics::Vec3 force_n;
   bool zero;
-};
-
-// a folder for the recorded files, removed at the end
-struct TempFolder {
-  std::string path;
-  TempFolder() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "enact-resim-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder");
-    path = pattern;
-  }
-  ~TempFolder() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  // writes `data` as `name` (keeping the extension of `like`); returns the path
-  std::string put(const std::string& name, const std::string& like, const std::string& data) const {
-    const std::string p = path + "/" + name + std::filesystem::path(like).extension().string();
-    std::ofstream(p, std::ios::binary) << data;
-    return p;
-  }
 };
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }

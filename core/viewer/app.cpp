@@ -4,12 +4,16 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <thread>
 
+#include "core/graph/temp_folder.h"
 #include "core/rt/clock.h"
 #include "core/viewer/draw.h"
 #include "core/viewer/link.h"
 #include "core/viewer/panels.h"
+#include "core/viewer/playback.h"
 #include "core/viewer/scene_geometry.h"
 #include "core/viewer/window.h"
 
@@ -35,55 +39,112 @@ void report_snapshot(const ViewerOptions& o, const ViewModel& model, int w, int 
   std::fflush(stdout);
 }
 
+// the scene drawn and the controls checked against it: from --scene, else from what the
+// graph (or the recording) names, once it does
+class SceneInUse {
+ public:
+  explicit SceneInUse(const ViewerOptions& o) : fixed_(!o.scene.empty()), sim_(o.sim) {
+    if (fixed_) load(o.scene, sim_.empty() ? "sim" : sim_);
+    else controls_ = std::make_unique<Controls>(sim_.empty() ? "sim" : sim_, "");
+  }
+
+  // a scene named by the graph or the recording: loaded when new (and no --scene)
+  void offer(const std::optional<NamedScene>& named) {
+    if (fixed_ || !named || named->data == data_) return;
+    data_ = named->data;
+    load(files_.put("scene", "scene.yaml", named->data), sim_.empty() ? named->sim : sim_);
+  }
+
+  const SceneGeometry& geometry() const { return geometry_; }
+  Controls& controls() { return *controls_; }
+
+ private:
+  void load(const std::string& path, const std::string& sim) {
+    geometry_ = load_geometry(path);
+    controls_ = std::make_unique<Controls>(sim, path);
+  }
+
+  bool fixed_;
+  std::string sim_;
+  std::string data_;
+  graph::TempFolder files_;
+  SceneGeometry geometry_;
+  std::unique_ptr<Controls> controls_;
+};
+
+// the live graph: follow it, take what arrived, send what the experimenter asked for
+void live_frame(GraphLink& link, ViewModel& model, SceneInUse& scene, std::int64_t now, const Layout& l, const std::vector<char>& keys) {
+  if (link.follow(now)) {
+    model.clear();
+    model.note("attaching to " + link.endpoint());
+  }
+  Controls& controls = scene.controls();
+  for (const graph::ParamAnswer& a : link.receive(model, now)) {
+    model.on_answer(a);
+    controls.answered(a);
+  }
+  scene.offer(model.graph_scene());
+  // the pre-check at the rate of the node that runs the simulator
+  if (model.has_scene()) {
+    const auto it = model.nodes().find(model.scene().header().source());
+    if (it != model.nodes().end()) scene.controls().set_rate(it->second.status.rate_hz());
+  }
+  task_window(l.task, model, now, link.describe());
+  status_window(l.status, model, now);
+  std::vector<msgs::ParamUpdate> requests = scene.controls().draw(l.controls, model);
+  for (const char key : keys) {
+    if (const auto action = key_action(key)) {
+      for (const msgs::ParamUpdate& u : scene.controls().on_key(*action, model)) requests.push_back(u);
+    }
+  }
+  for (const msgs::ParamUpdate& u : requests) {
+    if (const std::uint64_t id = link.send(u)) scene.controls().sent(id, u);
+    else model.note(u.name() + ": not sent (no graph yet)");
+  }
+}
+
+// a recording: the timeline moves the model
+void recording_frame(Playback& playback, ViewModel& model, std::int64_t wall_ns, const Layout& l, const std::vector<char>& keys) {
+  for (const char key : keys) playback.on_key(key, model);
+  playback.advance(wall_ns, model);
+  task_window(l.task, model, playback.clock_ns(), "", playback.path());
+  status_window(l.status, model, playback.clock_ns());
+  playback.draw(l.controls, model);
+}
+
 }  // namespace
 
 int run_viewer(const ViewerOptions& o) {
-  const SceneGeometry geometry = load_geometry(o.scene);
+  // a recording is read (and refused) before any window opens
+  std::unique_ptr<Playback> playback = o.recording.empty() ? nullptr : std::make_unique<Playback>(o.recording);
+  SceneInUse scene(o);
   Window window("enact viewer", o.width, o.height, !o.snapshot.empty());
-  GraphLink link(o.attach, "viewer");
   ViewModel model;
-  Controls controls(o.sim, o.scene);
+  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.attach, "viewer");
+  if (playback) {
+    scene.offer(playback->scene());
+    playback->seek(o.at_s >= 0.0 ? static_cast<std::int64_t>(o.at_s * 1e9) : 0, model);
+    playback->set_playing(o.at_s < 0.0);
+  }
   const std::int64_t start = rt::now_ns();
+  std::int64_t last = start;
   std::vector<char> keys;
   for (;;) {
     const std::int64_t now = rt::now_ns();
     keys.clear();
     if (!window.poll(keys)) return 0;
-    // the graph: follow the attach file, take what arrived
-    if (link.follow(now)) {
-      model.clear();
-      model.note("attaching to " + link.endpoint());
-    }
-    for (const graph::ParamAnswer& a : link.receive(model, now)) {
-      model.on_answer(a);
-      controls.answered(a);
-    }
-    // the pre-check at the rate of the node that runs the simulator
-    if (model.has_scene()) {
-      const auto it = model.nodes().find(model.scene().header().source());
-      if (it != model.nodes().end()) controls.set_rate(it->second.status.rate_hz());
-    }
-    // draw
     window.begin_frame();
     const Layout l = layout(static_cast<float>(window.width()), static_cast<float>(window.height()));
+    if (playback) recording_frame(*playback, model, now - last, l, keys);
+    else live_frame(*link, model, scene, now, l, keys);
+    last = now;
+    // the scene, into the background
     ImDrawList& dl = *ImGui::GetBackgroundDrawList();
-    draw_top_view(dl, l.top_view, geometry, model);
-    draw_side_view(dl, l.side_view, geometry, model);
+    draw_top_view(dl, l.top_view, scene.geometry(), model);
+    draw_side_view(dl, l.side_view, scene.geometry(), model);
     draw_pins(dl, l.pins, model);
-    draw_forces(dl, l.forces, geometry, model);
+    draw_forces(dl, l.forces, scene.geometry(), model);
     plot_window(l.plot, model);
-    task_window(l.task, model, now, link.describe());
-    status_window(l.status, model, now);
-    std::vector<msgs::ParamUpdate> requests = controls.draw(l.controls, model);
-    for (const char key : keys) {
-      if (const auto action = key_action(key)) {
-        for (const msgs::ParamUpdate& u : controls.on_key(*action, model)) requests.push_back(u);
-      }
-    }
-    for (const msgs::ParamUpdate& u : requests) {
-      if (const std::uint64_t id = link.send(u)) controls.sent(id, u);
-      else model.note(u.name() + ": not sent (no graph yet)");
-    }
     // a snapshot ends the run
     if (!o.snapshot.empty() && now - start >= static_cast<std::int64_t>(o.after_s * 1e9)) {
       if (!window.end_frame(o.snapshot)) {

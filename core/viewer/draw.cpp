@@ -60,6 +60,7 @@ void draw_panel(ImDrawList& dl, const Rect& r, const char* title) {
 
 void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const ViewModel& model) {
   draw_panel(dl, r, "top view (x right, y forward)");
+  if (g.faces.empty() && !g.has_path) text(dl, r.x0 + kTitleX, r.y0 + 24, palette::kTitle, "no scene yet (it comes with the graph, or give --scene)");
   const TopView view(g, r);
   // the workspace, the boxes seen from above, the task path's centreline
   dl.AddRect(im(view.to_screen(g.view_min_m.x_m, g.view_max_m.y_m)), im(view.to_screen(g.view_max_m.x_m, g.view_min_m.y_m)), palette::kWorkspace);

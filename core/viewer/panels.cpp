@@ -33,12 +33,16 @@ bool prechecked(const std::string& param) { return param == "threshold_m" || par
 
 }  // namespace
 
-void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source) {
+void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, const std::string& recording) {
   begin_fixed("task", r);
-  switch (model.link(now_ns)) {
-    case LinkState::waiting: ImGui::TextColored(kDim, "waiting for a graph at %s", source.c_str()); break;
-    case LinkState::connected: ImGui::TextColored(kGood, "graph '%s' at %s", model.graph_name().c_str(), source.c_str()); break;
-    case LinkState::lost: ImGui::TextColored(kBad, "graph '%s' lost (no answer for 3 s)", model.graph_name().c_str()); break;
+  if (!recording.empty()) {
+    ImGui::TextColored(kGood, "recording %s", recording.c_str());
+  } else {
+    switch (model.link(now_ns)) {
+      case LinkState::waiting: ImGui::TextColored(kDim, "waiting for a graph at %s", source.c_str()); break;
+      case LinkState::connected: ImGui::TextColored(kGood, "graph '%s' at %s", model.graph_name().c_str(), source.c_str()); break;
+      case LinkState::lost: ImGui::TextColored(kBad, "graph '%s' lost (no answer for 3 s)", model.graph_name().c_str()); break;
+    }
   }
   ImGui::Separator();
   const TaskView& t = model.task();

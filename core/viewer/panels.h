@@ -17,8 +17,9 @@
 
 namespace enact::viewer {
 
-// the link, the task (on or off the bridge, falls, time, progress), the log
-void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source);
+// the link (or, given `recording`, that one), the task (on or off the bridge, falls, time,
+// progress)
+void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, const std::string& recording = "");
 // one row per node: rate, loop latency percentiles, overruns, drops, faults, age
 void status_window(const Rect& r, const ViewModel& model, std::int64_t now_ns);
 // |F| and the contact count over the last ViewModel::kHistory scenes

@@ -32,6 +32,16 @@ struct SceneGeometry {
   std::vector<physics::Vec3> grid_offsets_m;  // grid mass i relative to the body centre
 };
 
+// the scene a graph's simulator runs, as the graph names it (GraphInfo files, a recording's
+// attachments): under the parameter "<node>.scene" or "<container>.<component>.scene"
+struct NamedScene {
+  std::string sim;   // the simulator's node or component name (its parameters' prefix)
+  std::string data;  // the scene file's text
+};
+
+// "rt.sim.scene" -> "sim", "sim.scene" -> "sim"; "" for a key that names no scene
+std::string sim_of_scene_key(const std::string& key);
+
 // from a loaded model (a model without a body gives an empty grid)
 SceneGeometry geometry_of(const physics::Model& model);
 

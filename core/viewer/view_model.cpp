@@ -78,6 +78,10 @@ void ViewModel::on_status(const msgs::NodeStatus& m, std::int64_t now_ns) { node
 void ViewModel::on_graph(const msgs::GraphInfo& m, std::int64_t now_ns) {
   graph_ = m.graph();
   last_graph_ns_ = now_ns;
+  for (const auto& f : m.files()) {
+    const std::string sim = sim_of_scene_key(f.name());
+    if (!sim.empty() && (!graph_scene_ || graph_scene_->data != f.data())) graph_scene_ = NamedScene{sim, f.data()};
+  }
 }
 
 void ViewModel::on_answer(const graph::ParamAnswer& a) {

@@ -5,12 +5,14 @@
 // here (draw.h), no sockets (link.h).
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/graph/param_bus.h"
 #include "core/physics/vec3.h"
 #include "core/viewer/ring.h"
+#include "core/viewer/scene_geometry.h"
 #include "msgs/graph.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/scene_state.pb.h"
@@ -62,6 +64,9 @@ class ViewModel {
 
   LinkState link(std::int64_t now_ns) const;
   const std::string& graph_name() const { return graph_; }
+  // the scene the graph's simulator runs, when its GraphInfo carries it (graphs started by
+  // `enact launch`)
+  const std::optional<NamedScene>& graph_scene() const { return graph_scene_; }
 
   bool has_scene() const { return has_scene_; }
   const msgs::SceneState& scene() const { return scene_; }
@@ -81,6 +86,7 @@ class ViewModel {
  private:
   std::string graph_;
   std::int64_t last_graph_ns_ = -1;
+  std::optional<NamedScene> graph_scene_;
   bool has_scene_ = false;
   msgs::SceneState scene_;
   Ring<physics::Vec3, kHistory> trail_;

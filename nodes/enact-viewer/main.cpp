@@ -10,6 +10,7 @@ namespace {
 
 constexpr const char* kHelp = R"(usage: enact-viewer [--attach ENDPOINT] [--scene FILE] [--sim NAME]
                     [--snapshot OUT.png [--after SECONDS]] [--size WxH]
+       enact-viewer FILE.mcap [--at SECONDS] [--scene FILE] [--snapshot OUT.png [--after SECONDS]]
 
 Attach to a running graph and show it: the bridge from above with the grid (masses in
 contact highlighted) and its trail, the height against the top surface along the path,
@@ -20,14 +21,19 @@ trial; each change is shown applied or refused with the simulator's reason. Keys
 CM0-CM3, r reset, p reposition, t trial start/stop, +/- stiffness x1.25, ]/[ threshold
 +/-0.5 mm. The graph never notices a viewer coming or going.
 
+With a recording (FILE.mcap, from `enact record` or enact-logger), play it instead, on a
+timeline: play, pause, seek, speed (keys: space, ',' '.' 5 s back / on, '<' '>' speed).
+
 options:
   --attach ENDPOINT  the graph's attach point (printed by `enact launch`; from another
                      machine: tcp://HOST:PORT of a graph launched with --allow-remote).
                      Default: the last graph launched on this machine, followed: a viewer
                      started first waits, and connects when the graph appears
-  --scene FILE       the scene the simulator runs (default launch/scenes/bridge.yaml, from
-                     the current folder or the source tree of this build)
-  --sim NAME         the simulator's node or component name (default sim)
+  --scene FILE       the scene to draw (default: the one the graph's launch names, or the
+                     one attached to the recording)
+  --sim NAME         the simulator's node or component name (default: as the graph names
+                     it, else sim)
+  --at SECONDS       recording: start there, paused (default: play from the start)
   --snapshot OUT.png render, write OUT.png, print what it shows, exit
   --after SECONDS    when to take the snapshot, from the start (default 2)
   --size WxH         window size in pixels (default 1280x800)
@@ -39,15 +45,20 @@ int main(int argc, char** argv) {
   using enact::cli::UsageError;
   enact::viewer::ViewerOptions o;
   try {
-    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size"}, {});
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at"}, {});
     if (a.flag("help")) {
       std::fputs(kHelp, stdout);
       return 0;
     }
-    if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
+    if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
+    if (!a.positional.empty()) o.recording = a.positional[0];
+    if (!o.recording.empty() && a.has("attach")) throw UsageError("give a recording or --attach, not both");
+    if (o.recording.empty() && a.has("at")) throw UsageError("--at is for a recording");
     o.attach = a.get("attach");
-    o.scene = enact::cli::find_file(a.get("scene", "launch/scenes/bridge.yaml"));
-    o.sim = a.get("sim", o.sim);
+    o.scene = a.get("scene");
+    o.sim = a.get("sim");
+    o.at_s = a.number("at", -1.0);
+    if (a.has("at") && o.at_s < 0.0) throw UsageError("--at must be >= 0");
     o.snapshot = a.get("snapshot");
     o.after_s = a.number("after", o.after_s);
     if (o.after_s < 0.0) throw UsageError("--after must be >= 0");

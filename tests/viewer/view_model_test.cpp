@@ -117,5 +117,26 @@ TEST(ViewModel, KeepsTheLastStatusOfEveryNodeAndLogsAnswers) {
   EXPECT_EQ(format_ns(25'000'000), "25.0 ms");
 }
 
+TEST(ViewModel, TakesTheSceneTheGraphNames) {
+  EXPECT_EQ(sim_of_scene_key("rt.sim.scene"), "sim");
+  EXPECT_EQ(sim_of_scene_key("simulator.scene"), "simulator");
+  EXPECT_EQ(sim_of_scene_key("rt.ffd.hand_path"), "");
+  EXPECT_EQ(sim_of_scene_key(".scene"), "");
+  ViewModel m;
+  msgs::GraphInfo g;
+  auto* hand = g.add_files();
+  hand->set_name("rt.ffd.hand_path");
+  hand->set_data("t_s,x_m,y_m,z_m");
+  m.on_graph(g, 1);
+  EXPECT_FALSE(m.graph_scene());
+  auto* scene = g.add_files();
+  scene->set_name("rt.sim.scene");
+  scene->set_data("scene: bridge");
+  m.on_graph(g, 2);
+  ASSERT_TRUE(m.graph_scene());
+  EXPECT_EQ(m.graph_scene()->sim, "sim");
+  EXPECT_EQ(m.graph_scene()->data, "scene: bridge");
+}
+
 }  // namespace
 }  // namespace enact::viewer

@@ -1,9 +1,9 @@
 // The viewer and parameter changes against the real co-located graph (launch/bridge_rt.yaml
 // started with the real `enact launch`), the viewer's window on an Xvfb display of its own:
-// a snapshot shows the bridge and the grid where the scene says they are; a parameter change
-// round-trips (applied by the simulator, acknowledged; an unstable stiffness refused with
-// the reason); killing the viewer leaves the graph running with no fault; a viewer started
-// before the graph connects when the graph appears.
+// a snapshot shows the bridge and the grid where the scene says they are, live and from a
+// recording; a parameter change round-trips (applied by the simulator, acknowledged; an
+// unstable stiffness refused with the reason); killing the viewer leaves the graph running
+// with no fault; a viewer started before the graph connects when the graph appears.
 #include <poll.h>
 #include <signal.h>
 #include <stb_image.h>
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/physics/scene.h"
+#include "core/record/reader.h"
 #include "core/viewer/draw.h"
 #include "core/viewer/layout.h"
 #include "core/viewer/scene_geometry.h"
@@ -95,15 +96,15 @@ class Xvfb {
   std::string display_;
 };
 
-// a viewer on a display of its own, attached to `endpoint`, its output in the test's folder
+// a viewer on a display of its own, its output in the test's folder
 class ViewerTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (x_.display().empty()) GTEST_SKIP() << "Xvfb is not installed or did not start (apt-get install xvfb): the viewer's window tests need a display";
   }
-  std::unique_ptr<Process> viewer(const std::string& endpoint, const std::vector<std::string>& more) {
-    std::vector<std::string> argv{ENACT_VIEWER, "--attach", endpoint, "--scene", source_path("launch/scenes/bridge.yaml")};
-    argv.insert(argv.end(), more.begin(), more.end());
+  std::unique_ptr<Process> viewer(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{ENACT_VIEWER};
+    argv.insert(argv.end(), args.begin(), args.end());
     return std::make_unique<Process>(argv, dir_.file("viewer.out"), dir_.file("viewer.err"), std::vector<std::string>{"DISPLAY=" + x_.display()});
   }
   std::string viewer_out() const { return read_file(dir_.file("viewer.out")); }
@@ -149,26 +150,17 @@ struct Image {
   }
 };
 
-TEST_F(ViewerTest, SnapshotShowsTheBridgeAndTheGridWhereTheSceneSays) {
-  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0);
-  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
-  const std::string png = dir_.file("snap.png");
-  ASSERT_EQ(viewer(launcher.endpoint(), {"--snapshot", png, "--after", "2.5"})->wait(30.0), 0) << viewer_err();
-  const std::string out = viewer_out();
-  const auto shown = parse_snapshot_line(out);
-  ASSERT_TRUE(shown) << "the viewer showed no scene: " << out;
-  EXPECT_EQ(shown->model, "CM1");
-
+// the snapshot `png` shows the bridge where the scene file says it is, nothing far from it,
+// and the grid where `shown` puts the body, each mass in its contact colour
+void expect_bridge_and_grid(const std::string& png, const Shown& shown) {
   const Image img(png);
   ASSERT_EQ(img.w, 1280);
   ASSERT_EQ(img.h, 800);
   // the scene, read from its file here, and where the layout puts the top view
   const physics::Model model = physics::load_scene(source_path("launch/scenes/bridge.yaml"));
-  const viewer::SceneGeometry g = viewer::geometry_of(model);
-  const viewer::TopView view(g, viewer::layout(1280, 800).top_view);
-  const auto& centre = model.objects[model.find_object("bridge")].path.centerline_m;
+  const viewer::TopView view(viewer::geometry_of(model), viewer::layout(1280, 800).top_view);
   std::vector<task::Point2> line;
-  for (const auto& p : centre) line.push_back({p.x, p.y});
+  for (const auto& p : model.objects[model.find_object("bridge")].path.centerline_m) line.push_back({p.x, p.y});
   const task::Polyline path(line);
   // the bridge: 3.5 mm either side of its centreline (inside its 10 mm width), away from
   // the grid; the trail may cross a few of these points
@@ -177,7 +169,7 @@ TEST_F(ViewerTest, SnapshotShowsTheBridgeAndTheGridWhereTheSceneSays) {
     const task::Point2 p = path.at(s), d = path.direction_at(s);
     for (const double side : {-0.0035, 0.0035}) {
       const double qx = p.x_m - d.y_m * side, qy = p.y_m + d.x_m * side;
-      if (std::hypot(qx - shown->body_m.x, qy - shown->body_m.y) < 0.009) continue;
+      if (std::hypot(qx - shown.body_m.x, qy - shown.body_m.y) < 0.009) continue;
       ++bridge_samples;
       bridge += img.is(view.to_screen(qx, qy), viewer::palette::kBridge);
     }
@@ -198,10 +190,51 @@ TEST_F(ViewerTest, SnapshotShowsTheBridgeAndTheGridWhereTheSceneSays) {
   // the grid: each mass where the body and its offset put it, in its contact colour
   for (int i = 0; i < 16; ++i) {
     const physics::Vec3& offset = model.points[model.proxies[0].first_body + i].offset_m;
-    const viewer::Pixel at = view.to_screen(shown->body_m.x + offset.x, shown->body_m.y + offset.y);
-    const bool touching = (shown->contact >> i) & 1u;
+    const viewer::Pixel at = view.to_screen(shown.body_m.x + offset.x, shown.body_m.y + offset.y);
+    const bool touching = (shown.contact >> i) & 1u;
     EXPECT_TRUE(img.is(at, touching ? viewer::palette::kMassContact : viewer::palette::kMassFree)) << "mass " << i << (touching ? " (in contact)" : " (free)");
   }
+}
+
+TEST_F(ViewerTest, SnapshotShowsTheBridgeAndTheGridWhereTheSceneSays) {
+  // no --scene: the viewer draws the scene the graph's GraphInfo carries
+  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  const std::string png = dir_.file("snap.png");
+  ASSERT_EQ(viewer({"--attach", launcher.endpoint(), "--snapshot", png, "--after", "2.5"})->wait(30.0), 0) << viewer_err();
+  const auto shown = parse_snapshot_line(viewer_out());
+  ASSERT_TRUE(shown) << "the viewer showed no scene: " << viewer_out();
+  EXPECT_EQ(shown->model, "CM1");
+  expect_bridge_and_grid(png, *shown);
+}
+
+TEST_F(ViewerTest, ARecordingShowsTheSceneRecordedAtTheTimeAsked) {
+  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  const std::string mcap = dir_.file("trial.mcap");
+  const RunResult rec = run(std::string(ENACT_CLI) + " record -o " + mcap + " --attach " + launcher.endpoint() + " --duration 4");
+  ASSERT_EQ(rec.exit_code, 0) << rec.out << rec.err;
+  launcher.stop();
+  // what the recording holds 2 s after its first message the viewer reads
+  record::Reader r(mcap);
+  std::int64_t first_ns = -1;
+  msgs::SceneState at_2s;
+  r.for_each([&](const record::Message& m) {
+    if (m.topic != "sim/scene" && m.topic != "task/event" && m.topic != "node/status" && m.topic != "tactile/shown") return true;
+    if (first_ns < 0) first_ns = m.log_time_ns;
+    if (m.topic == "sim/scene" && m.log_time_ns <= first_ns + 2'000'000'000) at_2s.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()));
+    return true;
+  });
+  ASSERT_TRUE(at_2s.has_body_position());
+  // the viewer alone with the recording (no graph), paused at 2 s
+  const std::string png = dir_.file("snap.png");
+  ASSERT_EQ(viewer({mcap, "--at", "2", "--snapshot", png, "--after", "0.5"})->wait(30.0), 0) << viewer_err();
+  const auto shown = parse_snapshot_line(viewer_out());
+  ASSERT_TRUE(shown) << viewer_out();
+  EXPECT_NEAR(shown->body_m.x, at_2s.body_position().x(), 1e-6);
+  EXPECT_NEAR(shown->body_m.y, at_2s.body_position().y(), 1e-6);
+  EXPECT_NEAR(shown->body_m.z, at_2s.body_position().z(), 1e-6);
+  expect_bridge_and_grid(png, *shown);
 }
 
 TEST(ParamGraph, ParameterChangesRoundTripAndAnUnstableStiffnessIsRefused) {
@@ -253,7 +286,7 @@ TEST(ParamGraph, ParameterChangesRoundTripAndAnUnstableStiffnessIsRefused) {
 TEST_F(ViewerTest, KillingTheViewerLeavesTheGraphRunningWithoutFault) {
   Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 6.0);
   ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
-  const auto running = viewer(launcher.endpoint(), {});
+  const auto running = viewer({"--attach", launcher.endpoint()});
   std::this_thread::sleep_for(std::chrono::milliseconds(2000));
   ASSERT_TRUE(running->running()) << viewer_err();
   running->kill_now();
@@ -268,7 +301,7 @@ TEST_F(ViewerTest, KillingTheViewerLeavesTheGraphRunningWithoutFault) {
 
 TEST_F(ViewerTest, AViewerStartedBeforeTheGraphConnectsWhenItAppears) {
   const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(free_port());
-  const auto early = viewer(endpoint, {"--snapshot", dir_.file("snap.png"), "--after", "7"});
+  const auto early = viewer({"--attach", endpoint, "--scene", source_path("launch/scenes/bridge.yaml"), "--snapshot", dir_.file("snap.png"), "--after", "7"});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   ASSERT_TRUE(early->running()) << viewer_err();
   Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 20.0, {}, endpoint);

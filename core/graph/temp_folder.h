@@ -1,0 +1,42 @@
+#pragma once
+// A temporary folder for files taken out of a graph's GraphInfo or a recording (a scene, a
+// computer model) so that the loaders, which read paths, can read them; removed with
+// everything in it when destroyed.
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace enact::graph {
+
+class TempFolder {
+ public:
+  // a fresh folder under the system's temporary directory; throws std::runtime_error
+  TempFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "enact-files-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder");
+    path_ = pattern;
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+
+  // writes `data` as `name` (with the extension of `like`); returns its path
+  std::string put(const std::string& name, const std::string& like, const std::string& data) const {
+    const std::string p = path_ + "/" + name + std::filesystem::path(like).extension().string();
+    std::ofstream(p, std::ios::binary) << data;
+    return p;
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace enact::graph
