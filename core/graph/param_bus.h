@@ -94,7 +94,6 @@ class ParamClient {
   std::vector<ParamAnswer> tick(std::int64_t now_ns);
   // a ParamAck received on param/ack: the answer when it is one of ours still unanswered
   std::optional<ParamAnswer> take(const msgs::ParamAck& ack);
-  std::size_t pending() const { return pending_.size(); }
 
   static constexpr std::int64_t kResend_ns = 250'000'000;
   static constexpr std::int64_t kTimeout_ns = 5'000'000'000;

@@ -33,8 +33,6 @@ class TempFolder {
     return p;
   }
 
-  const std::string& path() const { return path_; }
-
  private:
   std::string path_;
 };

@@ -20,9 +20,6 @@
 namespace enact::viewer {
 namespace {
 
-// frames per second the viewer draws at most (the scene comes at 60 Hz)
-constexpr std::int64_t kFrame_ns = 16'666'667;
-
 // what a snapshot showed, for people and tests
 void report_snapshot(const ViewerOptions& o, const ViewModel& model, int w, int h) {
   std::printf("enact-viewer: snapshot %s (%d x %d)", o.snapshot.c_str(), w, h);
@@ -126,6 +123,7 @@ int run_viewer(const ViewerOptions& o) {
     playback->seek(o.at_s >= 0.0 ? static_cast<std::int64_t>(o.at_s * 1e9) : 0, model);
     playback->set_playing(o.at_s < 0.0);
   }
+  const std::int64_t frame_ns = static_cast<std::int64_t>(1e9 / o.fps);
   const std::int64_t start = rt::now_ns();
   std::int64_t last = start;
   std::vector<char> keys;
@@ -145,17 +143,21 @@ int run_viewer(const ViewerOptions& o) {
     draw_pins(dl, l.pins, model);
     draw_forces(dl, l.forces, scene.geometry(), model);
     plot_window(l.plot, model);
-    // a snapshot ends the run
-    if (!o.snapshot.empty() && now - start >= static_cast<std::int64_t>(o.after_s * 1e9)) {
-      if (!window.end_frame(o.snapshot)) {
+    // a snapshot ends the run; the frames before it are not drawn
+    if (!o.snapshot.empty()) {
+      if (now - start < static_cast<std::int64_t>(o.after_s * 1e9)) {
+        window.skip_frame();
+      } else if (!window.end_frame(o.snapshot)) {
         std::fprintf(stderr, "enact-viewer: error: cannot write %s\n", o.snapshot.c_str());
         return 1;
+      } else {
+        report_snapshot(o, model, window.width(), window.height());
+        return 0;
       }
-      report_snapshot(o, model, window.width(), window.height());
-      return 0;
+    } else {
+      window.end_frame();
     }
-    window.end_frame();
-    const std::int64_t left = now + kFrame_ns - rt::now_ns();
+    const std::int64_t left = now + frame_ns - rt::now_ns();
     if (left > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(left));
   }
 }

@@ -16,6 +16,7 @@ struct ViewerOptions {
   double at_s = -1.0;       // recording: start paused at this time (s from its start); < 0: play from the start
   int width = 1280;
   int height = 800;
+  double fps = 60.0;        // frames drawn per second at most
 };
 
 // runs until the window is closed (or the snapshot is written); the exit code. Throws

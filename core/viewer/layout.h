@@ -47,7 +47,6 @@ class SideView {
   static constexpr double kAbove_m = 0.004;
   SideView(const SceneGeometry& geometry, const Rect& rect);
   Pixel to_screen(double along_m, double z_m) const;
-  float pixels_per_m_along() const { return sx_; }
 
  private:
   Rect plot_;

@@ -84,6 +84,8 @@ int Window::height() const {
   return h;
 }
 
+void Window::skip_frame() { ImGui::Render(); }
+
 bool Window::end_frame(const std::string& png_path) {
   ImGui::Render();
   const int w = width(), h = height();

@@ -27,6 +27,9 @@ class Window {
   // renders the frame and shows it; with a path, first saves it there as an RGB PNG (false
   // when it could not be written)
   bool end_frame(const std::string& png_path = "");
+  // ends the frame without drawing it (the windows are still laid out): for frames nobody
+  // sees, as before a snapshot, where software OpenGL would only burn processor time
+  void skip_frame();
   // the drawable's size, px
   int width() const;
   int height() const;

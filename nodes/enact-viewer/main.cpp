@@ -37,6 +37,8 @@ options:
   --snapshot OUT.png render, write OUT.png, print what it shows, exit
   --after SECONDS    when to take the snapshot, from the start (default 2)
   --size WxH         window size in pixels (default 1280x800)
+  --fps N            frames drawn per second at most (default 60; the scene comes at 60 Hz;
+                     with software OpenGL a lower rate saves processor time)
 )";
 
 }  // namespace
@@ -45,7 +47,7 @@ int main(int argc, char** argv) {
   using enact::cli::UsageError;
   enact::viewer::ViewerOptions o;
   try {
-    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at"}, {});
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at", "fps"}, {});
     if (a.flag("help")) {
       std::fputs(kHelp, stdout);
       return 0;
@@ -59,6 +61,8 @@ int main(int argc, char** argv) {
     o.sim = a.get("sim");
     o.at_s = a.number("at", -1.0);
     if (a.has("at") && o.at_s < 0.0) throw UsageError("--at must be >= 0");
+    o.fps = a.number("fps", o.fps);
+    if (o.fps < 1.0 || o.fps > 240.0) throw UsageError("--fps must be from 1 to 240");
     o.snapshot = a.get("snapshot");
     o.after_s = a.number("after", o.after_s);
     if (o.after_s < 0.0) throw UsageError("--after must be >= 0");

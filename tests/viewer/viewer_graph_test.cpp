@@ -44,7 +44,6 @@ class Process {
   Process(const Process&) = delete;
   Process& operator=(const Process&) = delete;
 
-  pid_t pid() const { return pid_; }
   bool running() {
     if (pid_ > 0 && waitpid(pid_, &status_, WNOHANG) == pid_) pid_ = -1;
     return pid_ > 0;
@@ -105,7 +104,8 @@ class ViewerTest : public ::testing::Test {
   std::unique_ptr<Process> viewer(const std::vector<std::string>& args) {
     std::vector<std::string> argv{ENACT_VIEWER};
     argv.insert(argv.end(), args.begin(), args.end());
-    return std::make_unique<Process>(argv, dir_.file("viewer.out"), dir_.file("viewer.err"), std::vector<std::string>{"DISPLAY=" + x_.display()});
+    // one rendering thread for Mesa's llvmpipe: the graphs of other tests share the processors
+    return std::make_unique<Process>(argv, dir_.file("viewer.out"), dir_.file("viewer.err"), std::vector<std::string>{"DISPLAY=" + x_.display(), "LP_NUM_THREADS=1"});
   }
   std::string viewer_out() const { return read_file(dir_.file("viewer.out")); }
   std::string viewer_err() const { return read_file(dir_.file("viewer.err")); }
