@@ -96,7 +96,7 @@ TEST_P(Interop, TheIndependentReaderCatchesACorruptedChunk) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, Interop, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
-                         [](const auto& info) { return std::string(to_string(info.param)); });
+                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
 
 }  // namespace
 }  // namespace enact::record

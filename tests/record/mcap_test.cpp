@@ -95,7 +95,7 @@ TEST_P(RoundTrip, EveryMessageMetadataAndAttachmentComeBack) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, RoundTrip, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
-                         [](const auto& info) { return std::string(to_string(info.param)); });
+                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
 
 TEST(Mcap, FileStartsWithMagicAndHeaderAsTheSpecLaysThemOut) {
   TempDir dir;
