@@ -19,8 +19,8 @@ void only_simulated(const Params& p) {
 
 const std::vector<std::string> kSimParams{"scene", "rate_hz", "model", "tactile_period_s", "tactile_mode", "force",
                                           "min_fall_s", "min_recovery_s", "end_progress"};
-const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "start_m", "hand_stiffness_n_per_m",
-                                            "hand_damping_n_s_per_m", "watchdog_s", "ramp_s"};
+const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "subject", "subject_seed", "noise_seed", "start_m",
+                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m", "watchdog_s", "ramp_s"};
 const std::vector<std::string> kTactileParams{"device", "rows", "cols", "rise_time_s"};
 
 sim::SimParams sim_params(const Params& p) {
@@ -43,6 +43,9 @@ std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   devices::SimulatedForceParams f;
   f.profile = p.text("profile", f.profile);
   f.hand_path = p.text("hand_path", "");
+  f.subject = p.text("subject", "");
+  f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed", 0));
+  f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed", 0));
   f.start_m = p.vec3("start_m", f.start_m);
   f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m", f.hand_stiffness_n_per_m);
   f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m", f.hand_damping_n_s_per_m);

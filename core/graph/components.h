@@ -17,8 +17,9 @@ namespace enact::graph {
 sim::SimParams sim_params(const Params& p);
 extern const std::vector<std::string> kSimParams;
 
-// force device: device (simulated), profile (ergos, falcon), hand_path, start_m,
-// hand_stiffness_n_per_m, hand_damping_n_s_per_m, watchdog_s, ramp_s; wrapped in the safety
+// force device: device (simulated), profile (ergos, falcon), hand_path or subject (a virtual
+// subject's file) with subject_seed and noise_seed, start_m, hand_stiffness_n_per_m,
+// hand_damping_n_s_per_m, watchdog_s, ramp_s; wrapped in the safety
 // layer (clamp, NaN, watchdog); configured, not yet active
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
 extern const std::vector<std::string> kForceParams;
