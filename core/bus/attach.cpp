@@ -18,6 +18,8 @@ using Clock = std::chrono::steady_clock;
 
 // how long a caller waits for the forwarding thread to answer a command
 constexpr int kCommandTimeout_ms = 5000;
+// messages queued per observer (and from each publisher) at the attach point
+constexpr int kObserverQueue = 100000;
 
 // data messages forwarded per wake-up before commands and subscriptions get a turn
 constexpr int kForwardBatch = 256;
@@ -76,6 +78,10 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
   // observers' side: every subscription reaches us (so each new observer of graph/topics
   // gets a GraphInfo at once); lossy, so a slow observer never holds the publishers back
   xpub_.set(zmq::sockopt::xpub_verbose, true);
+  // deep queues both ways (about 100 ms of a 5 kHz graph's every topic, times 10), so an
+  // observer that pauses (a logger compressing a chunk) loses nothing
+  xpub_.set(zmq::sockopt::sndhwm, kObserverQueue);
+  xsub_.set(zmq::sockopt::rcvhwm, kObserverQueue);
   try {
     xpub_.bind(bind);
   } catch (const zmq::error_t& e) {
@@ -101,6 +107,14 @@ void AttachPoint::add_publisher(const std::string& node, const std::string& endp
 
 void AttachPoint::declare_topic(const std::string& name, const std::string& type, const std::string& publisher) {
   request({"topic", name, type, publisher});
+}
+
+void AttachPoint::set_launch_info(const msgs::GraphInfo& launch) {
+  const std::lock_guard lock(launch_mutex_);
+  launch_.set_launch_file(launch.launch_file());
+  launch_.set_launch_text(launch.launch_text());
+  *launch_.mutable_params() = launch.params();
+  *launch_.mutable_files() = launch.files();
 }
 
 void AttachPoint::stop() {
@@ -214,6 +228,13 @@ void AttachPoint::publish_graph() {
     out.set_publisher(t.publisher);
   }
   info.set_descriptor_set(descriptor_set_);
+  {
+    const std::lock_guard lock(launch_mutex_);
+    info.set_launch_file(launch_.launch_file());
+    info.set_launch_text(launch_.launch_text());
+    *info.mutable_params() = launch_.params();
+    *info.mutable_files() = launch_.files();
+  }
   const std::string payload = info.SerializeAsString();
   const std::string& type = msgs::GraphInfo::descriptor()->full_name();
   constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;

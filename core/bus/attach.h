@@ -23,6 +23,7 @@
 #include <zmq.hpp>
 
 #include "core/bus/endpoints.h"
+#include "msgs/graph.pb.h"
 
 namespace enact::bus {
 
@@ -71,6 +72,10 @@ class AttachPoint {
     declare_topic(name, Msg::descriptor()->full_name(), publisher);
   }
 
+  // how the graph was started, sent in every GraphInfo (launch_file, launch_text, params,
+  // files; its header, graph, topics and descriptor_set are ignored). Thread-safe.
+  void set_launch_info(const msgs::GraphInfo& launch);
+
   // stops forwarding and joins the thread; observers stay connected but receive nothing.
   // Safe to call twice.
   void stop();
@@ -102,6 +107,8 @@ class AttachPoint {
   std::string failure_;       // why the thread stopped, set before failed_
   // owned by the forwarding thread
   std::vector<Topic> topics_;
+  std::mutex launch_mutex_;
+  msgs::GraphInfo launch_;    // launch details, under launch_mutex_
   std::string descriptor_set_;
   std::uint64_t graph_seq_ = 0;
   std::thread thread_;

@@ -50,6 +50,8 @@ BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions optio
   // never block, never drop silently: a full queue makes send() fail, and we count it
   socket_.set(zmq::sockopt::sndhwm, options.send_hwm);
   socket_.set(zmq::sockopt::xpub_nodrop, true);
+  // every subscriber's subscribe and unsubscribe notice, not just the first and last: counted
+  socket_.set(zmq::sockopt::xpub_verboser, true);
   try {
     socket_.bind(endpoint);
   } catch (const zmq::error_t& e) {
@@ -82,7 +84,7 @@ bool BytePublisher::send(std::string_view topic, std::string_view type, const vo
 }
 
 void BytePublisher::read_subscriptions() {
-  // the XPUB socket reports the first subscriber of a prefix and the last one leaving
+  // the XPUB socket reports each subscriber's subscriptions (verboser)
   zmq::message_t notice;
   while (socket_.recv(notice, zmq::recv_flags::dontwait)) {
     const std::string_view n = notice.to_string_view();
@@ -96,12 +98,11 @@ void BytePublisher::read_subscriptions() {
   }
 }
 
-bool BytePublisher::has_subscribers(std::string_view topic) {
+int BytePublisher::subscriber_count(std::string_view topic) {
   read_subscriptions();
-  for (const std::string& prefix : subscriptions_) {
-    if (topic.starts_with(prefix)) return true;
-  }
-  return false;
+  int n = 0;
+  for (const std::string& prefix : subscriptions_) n += topic.starts_with(prefix) ? 1 : 0;
+  return n;
 }
 
 TopicCounters BytePublisher::counters(std::string_view topic) const { return find_counters(counters_, topic); }

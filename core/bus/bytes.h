@@ -60,7 +60,10 @@ class BytePublisher {
   bool send(std::string_view topic, std::string_view type, const void* data, std::size_t size) noexcept;
 
   // whether some subscriber's subscription matches `topic` (reads pending subscription notices)
-  bool has_subscribers(std::string_view topic);
+  bool has_subscribers(std::string_view topic) { return subscriber_count(topic) > 0; }
+  // how many subscriptions match `topic`: one per subscriber socket (an attach point counts
+  // once, however many observers it serves)
+  int subscriber_count(std::string_view topic);
 
   // counters of one topic (zero if nothing was sent on it)
   TopicCounters counters(std::string_view topic) const;
@@ -78,7 +81,7 @@ class BytePublisher {
   std::string endpoint_;
   std::string node_;
   std::map<std::string, TopicCounters, std::less<>> counters_;
-  std::set<std::string, std::less<>> subscriptions_;  // prefixes some subscriber asked for
+  std::multiset<std::string, std::less<>> subscriptions_;  // prefixes, once per subscriber asking
 };
 
 // one received bus message; its frames are reused by ByteSubscriber::receive(RawMessage&, ...)

@@ -38,7 +38,7 @@ VirtualTrialResult run_virtual_trial(const VirtualTrialParams& params) {
   const std::int64_t ticks = std::llround(params.limit_s * params.rate_hz);
   VirtualTrialResult result;
   result.hash = 0xcbf29ce484222325ULL;
-  loop.activate(0);
+  loop.activate();
   for (std::int64_t n = 0; n < ticks; ++n) {
     t_clock_ns = n * period_ns;
     const graph::Observation& o = loop.tick(n * period_ns);

@@ -7,18 +7,19 @@ namespace enact::graph {
 ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock)
     : sim_(simulator), force_(force), tactile_(tactile), clock_(clock) {}
 
-void ColocatedLoop::activate(std::int64_t now_ns) {
+void ColocatedLoop::activate() {
   force_.activate();
   tactile_.activate();
   sim_.activate(0);
   devices::HandSource* hand = force_.simulated_hand();
   hand_ = hand && hand->feels_pins() ? hand : nullptr;
-  start_ns_ = now_ns;
+  start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
   obs_ = {};
 }
 
 const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   // read the device, step the model on that sample, write the force, in one tick
+  if (start_ns_ < 0) start_ns_ = now_ns;
   force_.read(now_ns, obs_.sample);
   obs_.step = sim_.step(now_ns - start_ns_, obs_.sample.position_m);
   force_.write(now_ns, obs_.step.force_n);

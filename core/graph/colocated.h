@@ -2,8 +2,8 @@
 // The co-located real-time tick: the simulator and both device drivers in one thread, wired
 // by calls: read the device, step the model, write the force, write the pins (down-sampled),
 // all in the same tick: the zero-delay loop. A simulated hand that feels pins (a virtual
-// subject) is given what the tactile device shows at the end of each tick. What happened is returned as a trivially
-// copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
+// subject) is given what the tactile device shows at the end of each tick. What happened is
+// returned as a trivially copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
 // blocks and never throws.
 #include <cstdint>
 
@@ -27,8 +27,10 @@ class ColocatedLoop {
  public:
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
 
-  // activate the devices and the simulator; zero force, pins down
-  void activate(std::int64_t now_ns);
+  // activate the devices and the simulator; zero force, pins down. The first tick is the
+  // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
+  // device states replays exactly (enact resim)
+  void activate();
   // one tick of the zero-delay loop
   const Observation& tick(std::int64_t now_ns);
   // zero the force and lower the pins first, then stop the simulator
@@ -42,7 +44,7 @@ class ColocatedLoop {
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
   float shown_[32] = {};
   Observation obs_;
-  std::int64_t start_ns_ = 0;
+  std::int64_t start_ns_ = -1;  // time of the first tick
 };
 
 }  // namespace enact::graph

@@ -53,6 +53,14 @@ bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns) {
   }
 }
 
+void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who) {
+  if (count <= 0) return;
+  const std::int64_t give_up = rt::now_ns() + 10'000'000'000;
+  while (out.subscriber_count(topic) < count && rt::now_ns() < give_up && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+  const int n = out.subscriber_count(topic);
+  if (n < count) say(node, std::to_string(n) + " of " + std::to_string(count) + " " + who + " listening to " + topic + " after 10 s; running anyway");
+}
+
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in) {
   status.clear_topics();
   for (const auto& [topic, c] : out.all_counters()) {

@@ -24,6 +24,9 @@ bool stop_requested();
 // resolution, unlike zmq_poll's milliseconds); true when readable
 bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns);
 
+// waits up to 10 s (or a stop request) until `count` subscribers listen to `topic` on `out`;
+// says so on stderr, naming `who`, when they do not come (the node then runs anyway)
+void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who);
 // per-topic counters of a node's sockets into its NodeStatus
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);
 

@@ -27,6 +27,7 @@ at 1 Hz (sample-to-force latency percentiles, jitter, drops).
 
 parameters:
   rate_hz=5000  sim_node=sim  spin_us=50  duration_s=0  fifo_priority=0  lock_memory=false
+  observers=0 (wait up to 10 s for this many observers of ffd/state, e.g. a logger, too)
   device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
 Stops on SIGINT/SIGTERM: zero force first.
 )";
@@ -44,12 +45,13 @@ int run(int argc, char** argv) {
   sched.validate();
   const std::string sim_node = p.text("sim_node", "sim");
   const double duration_s = p.number("duration_s", 0.0);
+  const int observers = static_cast<int>(p.integer("observers", 0));
   rt::RtParams rtp;
   rtp.lock_memory = p.flag("lock_memory", false);
   rtp.fifo_priority = p.integer("fifo_priority", 0);
   auto device = graph::make_force_device(p);
   std::vector<std::string> known = graph::kForceParams;
-  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory"});
+  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory", "observers"});
   p.refuse_unread(known);
 
   // the bus: publish the samples, receive the answers straight from the simulator
@@ -60,10 +62,9 @@ int run(int argc, char** argv) {
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
   in.connect(graph::node_endpoint(sim_node));
-  // wait until the simulator listens (ZeroMQ drops what it sends before that)
-  const std::int64_t give_up = rt::now_ns() + 10'000'000'000;
-  while (!out.has_subscribers(graph::kDeviceState) && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
-  if (!out.has_subscribers(graph::kDeviceState)) graph::say(args.name, "no simulator listening after 10 s; running anyway (the watchdog holds the force at zero)");
+  // wait until the simulator (and the observers asked for) listen: ZeroMQ drops what it
+  // sends before that
+  graph::wait_for_subscribers(out, graph::kDeviceState, 1 + observers, args.name, "subscriber (the simulator, then observers)");
 
   const rt::RtReport report = rt::apply_rt_setup(rtp);
   graph::say(args.name, report.summary());

@@ -40,6 +40,8 @@ container parameters:
   spin_us=50            spin on the clock for the last microseconds before each tick
   lock_memory=false     mlockall; fifo_priority=0 (1..99: SCHED_FIFO); cpus= (e.g. 1)
   scene_rate_hz=60      shown_rate_hz=100
+  observers=0           wait (up to 10 s) for this many observers of ffd/state (a logger
+                        recording from the first tick) before the loop starts
 component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
   sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
   ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
@@ -119,7 +121,8 @@ int run(int argc, char** argv) {
   const double scene_rate_hz = args.params.number("scene_rate_hz", 60.0);
   const double shown_rate_hz = args.params.number("shown_rate_hz", 100.0);
   if (scene_rate_hz <= 0.0 || shown_rate_hz <= 0.0) throw config::Error(args.name + ": scene_rate_hz and shown_rate_hz must be > 0\n  fix: e.g. scene_rate_hz=60");
-  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz"});
+  const int observers = static_cast<int>(args.params.integer("observers", 0));
+  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz", "observers"});
 
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
@@ -139,6 +142,10 @@ int run(int argc, char** argv) {
   std::atomic<bool> rt_done{false};
   const int rows = tactile->rows(), cols = tactile->cols();
 
+  // observers' publisher; a recording from the first tick needs its logger subscribed first
+  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
+  graph::wait_for_subscribers(out, graph::kDeviceState, observers, args.name, "observer (logger)");
+
   // the real-time thread: set up, then tick on absolute deadlines
   std::thread rt_thread([&] {
     report = rt::apply_rt_setup(rtp);
@@ -150,7 +157,7 @@ int run(int argc, char** argv) {
     const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz));
     graph::SceneSnapshot snap;
     Shown levels{};
-    loop.activate(start);
+    loop.activate();
     scheduler.start(start);
     const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
     for (std::int64_t n = 0; !g_stop.load(std::memory_order_relaxed); ++n) {
@@ -179,7 +186,6 @@ int run(int argc, char** argv) {
   });
 
   // the publisher thread (this one): every topic for observers
-  bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
   bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
   bus::Publisher<msgs::ForceCommand> force_pub(out, graph::kForceCommand);
   bus::Publisher<msgs::TactileFrame> frame_pub(out, graph::kTactileFrame);

@@ -86,7 +86,7 @@ rt::LoopSummary colocated(const std::string& scene, double rate_hz, double secon
   devices::SimulatedTactileDevice tactile;
   tactile.configure();
   graph::ColocatedLoop loop(simulator, force, tactile, &g_now_for_loop);
-  loop.activate(rt::now_ns());
+  loop.activate();
   const auto summary = periodic(rate_hz, seconds, fifo, [&](std::int64_t now) {
     const graph::Observation& o = loop.tick(now);
     return o.force_ns - o.sample.time_ns;

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "core/bus/attach.h"
+#include "core/graph/logger.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
@@ -102,15 +103,15 @@ int launch(int argc, char** argv) {
     attach.add_publisher(n.name, bus::ipc_endpoint(dir, n.name));
     for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
   }
-  options.on_ready = [&] {
-    std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n";
-    std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(graph::attach_file()).parent_path(), ec);
-    std::ofstream(graph::attach_file()) << attach.endpoint() << "\n";
-  };
+  attach.set_launch_info(graph::launch_info(a.positional[0], graph));
+  options.env.push_back({"ENACT_ATTACH", attach.endpoint()});
+  // observers can find the graph from now on (a node may wait for them before it is ready)
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(graph::attach_file()).parent_path(), ec);
+  std::ofstream(graph::attach_file()) << attach.endpoint() << "\n";
+  options.on_ready = [&] { std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n"; };
   const int code = launch::supervise(graph, options, std::cerr);
   attach.stop();
-  std::error_code ec;
   std::filesystem::remove_all(dir, ec);
   return code;
 }

@@ -11,5 +11,11 @@ int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
+int record(int argc, char** argv);
+int info(int argc, char** argv);
+int export_csv(int argc, char** argv);
+int recover(int argc, char** argv);
+int play(int argc, char** argv);
+int resim(int argc, char** argv);
 
 }  // namespace enact::cli

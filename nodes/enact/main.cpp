@@ -21,6 +21,12 @@ commands:
   bench loop        the real-time loop and the bus against the machine's floor
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
+  record            keep a running graph's messages in an MCAP file
+  info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
+  play FILE         republish a recording with its timing, as if live
+  export FILE       one topic of a recording as CSV
+  recover FILE      rebuild a complete recording from a damaged or unclosed one
+  resim FILE        rerun a recording's device states through the simulator, compare
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -44,6 +50,12 @@ int main(int argc, char** argv) {
     if (command == "bench") return enact::cli::bench(argc, argv);
     if (command == "launch") return enact::cli::launch(argc, argv);
     if (command == "topic") return enact::cli::topic(argc, argv);
+    if (command == "record") return enact::cli::record(argc, argv);
+    if (command == "info") return enact::cli::info(argc, argv);
+    if (command == "play") return enact::cli::play(argc, argv);
+    if (command == "export") return enact::cli::export_csv(argc, argv);
+    if (command == "recover") return enact::cli::recover(argc, argv);
+    if (command == "resim") return enact::cli::resim(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {

@@ -96,7 +96,7 @@ TEST(VirtualTrial, TickWithASubjectAllocatesNothing) {
   auto force = graph::make_force_device(p.ffd);
   auto tactile = graph::make_tactile_device(p.tactile);
   graph::ColocatedLoop loop(simulator, *force, *tactile, &fake_clock);
-  loop.activate(0);
+  loop.activate();
   constexpr std::int64_t kPeriod = 200'000;
   for (std::int64_t n = 0; n < 100; ++n) loop.tick(g_clock_ns = n * kPeriod);
   std::size_t allocations = 0;

@@ -1,0 +1,302 @@
+#include "core/graph/logger.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/descriptor.pb.h>
+
+#include "core/bus/attach.h"
+#include "core/bus/endpoints.h"
+#include "core/bus/schema.h"
+#include "core/config/yaml.h"
+#include "core/graph/topics.h"
+#include "core/rt/clock.h"
+
+namespace enact::graph {
+namespace {
+
+constexpr std::uint16_t kNoChannel = 0xFFFF;
+
+// the attach endpoint to use: given, else $ENACT_ATTACH (set by `enact launch` for its
+// nodes), else the last graph started on this machine
+std::string find_endpoint(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv("ENACT_ATTACH"); env && *env) return env;
+  std::ifstream f(attach_file());
+  std::string endpoint;
+  if (!(f >> endpoint)) {
+    throw config::Error("no running graph found (" + attach_file() + " is missing)\n  fix: start one with `enact launch FILE`, or give its attach endpoint");
+  }
+  return endpoint;
+}
+
+// the header of a stream message: field 1 (length-delimited) of the payload
+bool parse_header(const bus::RawMessage& m, msgs::Header& out) {
+  const auto* p = static_cast<const unsigned char*>(m.payload());
+  const std::size_t n = m.payload_size();
+  if (n < 2 || p[0] != 0x0a) return false;
+  std::size_t len = 0, at = 1;
+  for (int shift = 0; at < n && shift < 35; shift += 7) {
+    len |= static_cast<std::size_t>(p[at] & 0x7F) << shift;
+    if (!(p[at++] & 0x80)) break;
+  }
+  return len <= n - at && out.ParseFromArray(p + at, static_cast<int>(len));
+}
+
+const char* media_type(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".yaml" || ext == ".yml") return "application/yaml";
+  if (ext == ".csv") return "text/csv";
+  return "application/octet-stream";
+}
+
+std::string numbered(const std::string& output, int index) {
+  const std::filesystem::path p(output);
+  char suffix[16];
+  std::snprintf(suffix, sizeof suffix, "_%03d", index);
+  return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
+}
+
+}  // namespace
+
+Logger::Logger(LoggerOptions options) : options_(std::move(options)) {}
+
+Logger::~Logger() {
+  try {
+    close();
+  } catch (...) {
+  }
+}
+
+void Logger::attach() {
+  endpoint_ = find_endpoint(options_.attach);
+  bus::validate_endpoint(endpoint_, "attach endpoint");
+  // deep receive queue: the logger must keep up with bursts while it compresses a chunk
+  sub_.set_receive_hwm(1'000'000);
+  sub_.connect(endpoint_);
+  sub_.subscribe(std::string(bus::kGraphTopic));
+  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(options_.wait_s * 1e9);
+  bus::RawMessage m;
+  while (!graph_.ByteSizeLong()) {
+    const std::int64_t left_ms = (give_up - rt::now_ns()) / 1'000'000;
+    if (left_ms <= 0) {
+      throw config::Error("no graph answers at " + endpoint_ + " (waited " + std::to_string(options_.wait_s) +
+                          " s)\n  fix: start the graph first (`enact launch FILE`), or check the endpoint");
+    }
+    if (sub_.receive(m, static_cast<int>(std::min<std::int64_t>(left_ms, 200))) && m.topic() == bus::kGraphTopic) {
+      graph_.ParseFromArray(m.payload(), static_cast<int>(m.payload_size()));
+    }
+  }
+  for (const std::string& t : options_.topics) {
+    bool found = false;
+    for (const auto& d : graph_.topics()) found |= d.name() == t;
+    if (!found) {
+      std::string known;
+      for (const auto& d : graph_.topics()) known += (known.empty() ? "" : ", ") + d.name();
+      throw config::Error("topic '" + t + "' is not in graph '" + graph_.graph() + "'\n  fix: choose among " + known);
+    }
+  }
+  update_graph(graph_);
+  start_ns_ = rt::now_ns();
+  open_file();
+}
+
+void Logger::update_graph(const msgs::GraphInfo& info) {
+  for (const auto& d : info.topics()) {
+    if (options_.topics.empty()) {
+      sub_.subscribe(d.name());
+    } else {
+      for (const std::string& t : options_.topics) {
+        if (t == d.name()) sub_.subscribe(t);
+      }
+    }
+  }
+}
+
+void Logger::open_file() {
+  const int index = static_cast<int>(files_.size());
+  const bool split = options_.split_size_mb > 0.0 || options_.split_duration_s > 0.0;
+  const std::string path = split ? numbered(options_.output, index) : options_.output;
+  writer_ = std::make_unique<record::Writer>(path, options_.writer);
+  files_.push_back(path);
+  file_start_ns_ = rt::now_ns();
+  schemas_.clear();
+  for (auto& [key, c] : channels_) c.id = kNoChannel;
+  // how the graph was started: metadata and the files its parameters name
+  writer_->add_metadata("enact.graph", {{"graph", graph_.graph()},
+                                        {"attach", endpoint_},
+                                        {"launch_file", graph_.launch_file()},
+                                        {"launch_text", graph_.launch_text()},
+                                        {"part", std::to_string(index)}});
+  record::StringMap params;
+  for (const auto& p : graph_.params()) params[p.name()] = p.value();
+  writer_->add_metadata("enact.params", params);
+  for (const auto& f : graph_.files()) writer_->add_attachment(f.name(), f.media_type(), f.data(), rt::now_ns());
+}
+
+std::uint16_t Logger::schema_for(const std::string& type) {
+  const auto it = schemas_.find(type);
+  if (it != schemas_.end()) return it->second;
+  // the type's file and its imports, from the graph's own descriptor set
+  google::protobuf::FileDescriptorSet set;
+  google::protobuf::DescriptorPool pool;
+  std::string data;
+  if (set.ParseFromString(graph_.descriptor_set())) {
+    for (const auto& f : set.file()) pool.BuildFile(f);
+    if (const auto* d = pool.FindMessageTypeByName(type)) data = bus::descriptor_set_of(*d);
+  }
+  const std::uint16_t id = writer_->add_schema(type, data.empty() ? "" : "protobuf", data);
+  schemas_.emplace(type, id);
+  return id;
+}
+
+void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
+  if (m.topic() == bus::kGraphTopic) {
+    msgs::GraphInfo info;
+    if (info.ParseFromArray(m.payload(), static_cast<int>(m.payload_size()))) update_graph(info);
+    return;
+  }
+  header_.Clear();
+  const bool has_header = parse_header(m, header_);
+  key_.assign(m.topic());
+  key_ += '\0';
+  key_ += header_.source();
+  auto it = channels_.find(key_);
+  if (it == channels_.end()) {
+    Channel c;
+    c.id = kNoChannel;
+    c.report = {std::string(m.topic()), header_.source(), std::string(m.type())};
+    it = channels_.emplace(key_, std::move(c)).first;
+  }
+  Channel& c = it->second;
+  if (c.id == kNoChannel) {
+    c.id = writer_->add_channel(schema_for(c.report.type), c.report.topic, "protobuf", {{"publisher", c.report.publisher}});
+  }
+  // sequence: +1 per message per publisher and topic; a jump is a loss
+  const std::uint64_t seq = has_header ? header_.seq() : c.seq.last + 1;
+  c.seq.add(seq);
+  c.report.messages = c.seq.messages;
+  c.report.gaps = c.seq.gaps;
+  c.report.restarts = c.seq.restarts;
+  ++messages_;
+  const std::int64_t publish_ns = has_header && header_.stamp_ns() > 0 ? header_.stamp_ns() : now_ns;
+  writer_->write(c.id, static_cast<std::uint32_t>(seq), now_ns, publish_ns,
+                 std::string_view(static_cast<const char*>(m.payload()), m.payload_size()));
+}
+
+void Logger::run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress) {
+  bus::RawMessage m;
+  std::int64_t next_progress = rt::now_ns() + 1'000'000'000;
+  while (!stop()) {
+    // drain what is queued, then wait a little
+    for (int i = 0; i < 10000 && sub_.receive(m, i == 0 ? 50 : 0); ++i) take(m, rt::now_ns());
+    const std::int64_t now = rt::now_ns();
+    writer_->flush_if_due(now);
+    const bool too_big = options_.split_size_mb > 0.0 && static_cast<double>(writer_->bytes_written()) >= options_.split_size_mb * 1e6;
+    const bool too_long = options_.split_duration_s > 0.0 && static_cast<double>(now - file_start_ns_) >= options_.split_duration_s * 1e9;
+    if (too_big || too_long) {
+      close_file();
+      open_file();
+    }
+    if (progress && now >= next_progress) {
+      next_progress = now + 1'000'000'000;
+      LoggerProgress p;
+      p.elapsed_s = static_cast<double>(now - start_ns_) * 1e-9;
+      p.messages = messages_;
+      for (const auto& [k, c] : channels_) p.gaps += c.report.gaps;
+      std::uint64_t bytes = 0;
+      for (std::size_t i = 0; i + 1 < files_.size(); ++i) bytes += std::filesystem::file_size(files_[i]);
+      p.bytes = bytes + writer_->bytes_written();
+      p.file = files_.back();
+      progress(p);
+    }
+  }
+  // what is already queued still goes in
+  while (sub_.receive(m, 0)) take(m, rt::now_ns());
+}
+
+void Logger::close_file() {
+  if (!writer_) return;
+  record::StringMap stats;
+  std::uint64_t gaps = 0;
+  for (const auto& [k, c] : channels_) {
+    stats[c.report.topic + " (" + c.report.publisher + ")"] =
+        "messages " + std::to_string(c.report.messages) + ", gaps " + std::to_string(c.report.gaps);
+    gaps += c.report.gaps;
+  }
+  stats["messages"] = std::to_string(messages_);
+  stats["gaps"] = std::to_string(gaps);
+  writer_->add_metadata("enact.recording", stats);
+  writer_->close();
+  writer_.reset();
+}
+
+void Logger::close() { close_file(); }
+
+std::vector<ChannelReport> Logger::report() const {
+  std::vector<ChannelReport> out;
+  for (const auto& [k, c] : channels_) out.push_back(c.report);
+  return out;
+}
+
+std::string format(const LoggerProgress& p) {
+  char line[256];
+  std::snprintf(line, sizeof line, "%7.1f s  %10llu messages  %8.2f MB  %llu gaps  -> %s", p.elapsed_s,
+                static_cast<unsigned long long>(p.messages), static_cast<double>(p.bytes) * 1e-6,
+                static_cast<unsigned long long>(p.gaps), p.file.c_str());
+  return line;
+}
+
+std::string format(const std::vector<ChannelReport>& channels) {
+  std::string out;
+  char line[256];
+  std::uint64_t messages = 0, gaps = 0;
+  for (const ChannelReport& c : channels) {
+    std::snprintf(line, sizeof line, "  %-16s %-10s %10llu messages  %llu gaps%s\n", c.topic.c_str(), c.publisher.c_str(),
+                  static_cast<unsigned long long>(c.messages), static_cast<unsigned long long>(c.gaps),
+                  c.restarts ? "  (publisher restarted)" : "");
+    out += line;
+    messages += c.messages;
+    gaps += c.gaps;
+  }
+  std::snprintf(line, sizeof line, "  total: %llu messages, %llu gaps\n", static_cast<unsigned long long>(messages),
+                static_cast<unsigned long long>(gaps));
+  return out + line;
+}
+
+msgs::GraphInfo launch_info(const std::string& launch_path, const launch::LaunchDescription& graph) {
+  msgs::GraphInfo info;
+  info.set_launch_file(std::filesystem::absolute(launch_path).string());
+  std::ifstream in(launch_path);
+  std::stringstream text;
+  text << in.rdbuf();
+  info.set_launch_text(text.str());
+  auto add = [&](const std::string& name, const std::string& value) {
+    auto& p = *info.add_params();
+    p.set_name(name);
+    p.set_value(value);
+    // a parameter naming a file: keep the file (small ones only)
+    std::error_code ec;
+    if (value.empty() || !std::filesystem::is_regular_file(value, ec) || std::filesystem::file_size(value, ec) > (1u << 20)) return;
+    std::ifstream f(value, std::ios::binary);
+    std::stringstream data;
+    data << f.rdbuf();
+    auto& file = *info.add_files();
+    file.set_name(name);
+    file.set_path(std::filesystem::absolute(value).string());
+    file.set_media_type(media_type(value));
+    file.set_data(data.str());
+  };
+  for (const auto& n : graph.nodes) {
+    for (const auto& p : n.params) add(n.name + "." + p.name, p.value);
+    for (const auto& c : n.components) {
+      for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
+    }
+  }
+  return info;
+}
+
+}  // namespace enact::graph

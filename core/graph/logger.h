@@ -1,0 +1,114 @@
+#pragma once
+// The logger: an observer that attaches to a graph's attach point (locally or from another
+// machine, at any time) and keeps every message of the topics asked for in an MCAP file
+// (core/record). One MCAP channel per topic and publishing node, one schema per message
+// type (the graph's own FileDescriptorSet, from GraphInfo); the launch file, the parameters
+// in force and the files they name (scene, computer model, hand path) go in as metadata
+// and attachments. Sequence gaps (header.seq) are counted per channel. It never slows the
+// graph: the attach point queues deeply for it and drops (counted as gaps) if it stalls.
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/bus/bytes.h"
+#include "core/record/writer.h"
+#include "core/launch/launch_file.h"
+#include "msgs/common.pb.h"
+#include "msgs/graph.pb.h"
+
+namespace enact::graph {
+
+struct LoggerOptions {
+  std::string attach;                    // attach endpoint; "" = $ENACT_ATTACH, else the last local graph's
+  std::string output = "recording.mcap";  // file; with splitting, NAME_000.mcap, NAME_001.mcap, ...
+  std::vector<std::string> topics;       // topics to keep; empty = every topic of the graph
+  record::WriterOptions writer;          // compression, chunk size and duration (the kill -9 loss bound)
+  double split_size_mb = 0.0;            // start a new file past this size (0: never)
+  double split_duration_s = 0.0;         // start a new file after this long (0: never)
+  double wait_s = 10.0;                  // how long to wait for the graph to appear
+};
+
+// sequence numbers of one publisher's topic (header.seq: +1 per message): a jump is a
+// loss, a step back a restart of the publisher
+struct SequenceCheck {
+  std::uint64_t last = 0, messages = 0, gaps = 0, restarts = 0;
+  void add(std::uint64_t seq) {
+    if (messages > 0 && seq > last + 1) gaps += seq - last - 1;
+    if (messages > 0 && seq <= last) ++restarts;
+    last = seq;
+    ++messages;
+  }
+};
+
+// traffic of one channel (topic and publishing node)
+struct ChannelReport {
+  std::string topic, publisher, type;
+  std::uint64_t messages = 0;
+  std::uint64_t gaps = 0;        // messages missing by sequence number
+  std::uint64_t restarts = 0;    // sequence numbers that went back (a publisher restarted)
+};
+
+struct LoggerProgress {
+  double elapsed_s = 0.0;
+  std::uint64_t messages = 0, bytes = 0, gaps = 0;
+  std::string file;
+};
+
+class Logger {
+ public:
+  explicit Logger(LoggerOptions options);
+  ~Logger();
+
+  // finds the graph (waits up to wait_s for its GraphInfo), subscribes, opens the first
+  // file. Throws config::Error when no graph answers or a topic asked for is not in it.
+  void attach();
+  // receives and writes until `stop` returns true; calls `progress` about once a second
+  void run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress = {});
+  // writes the statistics metadata and closes the file (complete and indexed)
+  void close();
+
+  const std::string& endpoint() const { return endpoint_; }
+  std::vector<ChannelReport> report() const;
+  std::vector<std::string> files() const { return files_; }
+  std::uint64_t messages() const { return messages_; }
+
+ private:
+  struct Channel {
+    std::uint16_t id = 0;
+    SequenceCheck seq;
+    ChannelReport report;
+  };
+  void open_file();
+  void close_file();
+  void take(const bus::RawMessage& m, std::int64_t now_ns);
+  void update_graph(const msgs::GraphInfo& info);
+  std::uint16_t schema_for(const std::string& type);
+
+  LoggerOptions options_;
+  std::string endpoint_;
+  bus::ByteSubscriber sub_;
+  msgs::GraphInfo graph_;
+  std::unique_ptr<record::Writer> writer_;
+  std::map<std::string, std::uint16_t> schemas_;   // per file
+  std::map<std::string, Channel> channels_;        // key: topic '\0' publisher
+  std::map<std::string, ChannelReport> totals_;    // across files, same key
+  std::vector<std::string> files_;
+  std::string key_;
+  msgs::Header header_;
+  std::uint64_t messages_ = 0;
+  std::int64_t file_start_ns_ = 0, start_ns_ = 0;
+};
+
+// one line of progress: "12.0 s  61234 messages  1.2 MB  0 gaps  -> FILE"
+std::string format(const LoggerProgress& p);
+// the end-of-recording table: per channel, messages and gaps, then the totals
+std::string format(const std::vector<ChannelReport>& channels);
+
+// how a graph was started, for GraphInfo (and so for recordings): the launch file, its
+// text, every node's parameters, and the files they name (read now; at most 1 MiB each)
+msgs::GraphInfo launch_info(const std::string& launch_path, const launch::LaunchDescription& graph);
+
+}  // namespace enact::graph

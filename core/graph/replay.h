@@ -1,0 +1,45 @@
+#pragma once
+// Offline replay of a recording through the simulator component, with no bus: the recorded
+// device states (ffd/state) step a fresh simulator configured as the recorded one was (its
+// parameters from the recording's metadata, its scene and computer-model files from the
+// attachments), and its forces and tactile frames are compared with the recorded ffd/force
+// and tactile/frame, bit for bit. A regression check for the physics, and the way to
+// recompute a trial's metrics from its recording alone.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/record/reader.h"
+#include "core/task/bridge_task.h"
+
+namespace enact::graph {
+
+struct ResimOptions {
+  std::string scene;  // scene file; "" = the recorded one
+  std::string model;  // computer model (preset or file); "" = the recorded one
+};
+
+// the first place the replay differs from the recording
+struct Divergence {
+  std::uint64_t step = 0;        // 0-based step of the replay
+  std::uint64_t state_seq = 0;   // header.seq of the device state of that step
+  std::string topic, field;      // e.g. "ffd/force", "force.x"
+  std::string recorded, replayed;
+};
+
+struct ResimResult {
+  std::string scene, model;            // what the simulator ran (scene path as recorded)
+  double rate_hz = 0.0;
+  std::uint64_t steps = 0;             // device states replayed
+  std::uint64_t first_state_seq = 0;   // 1 when the recording holds the graph's first tick
+  std::uint64_t forces_compared = 0, frames_compared = 0;
+  std::uint64_t forces_missing = 0;    // states the recording holds no answer to
+  std::optional<Divergence> divergence;
+  task::Metrics metrics;               // the bridge task's metrics of the replay
+};
+
+// replays `r`; throws config::Error (naming the file and the fix) when the recording has no
+// device states, or no scene is recorded and none is given
+ResimResult resim(record::Reader& r, const ResimOptions& options);
+
+}  // namespace enact::graph

@@ -1,0 +1,112 @@
+#include "core/record/compression.h"
+
+#include <stdexcept>
+
+#include <lz4frame.h>
+#include <zlib.h>
+#include <zstd.h>
+
+#include "core/record/mcap.h"
+
+namespace enact::record {
+
+std::uint32_t crc32(std::uint32_t crc, const void* data, std::size_t size) {
+  const auto* p = static_cast<const Bytef*>(data);
+  // zlib takes uInt lengths: feed large buffers in pieces
+  while (size > 0) {
+    const uInt n = size > (1u << 30) ? (1u << 30) : static_cast<uInt>(size);
+    crc = static_cast<std::uint32_t>(::crc32(crc, p, n));
+    p += n;
+    size -= n;
+  }
+  return crc;
+}
+
+std::string_view mcap_name(Compression c) {
+  switch (c) {
+    case Compression::lz4: return "lz4";
+    case Compression::zstd: return "zstd";
+    case Compression::none: break;
+  }
+  return "";
+}
+
+const char* to_string(Compression c) { return c == Compression::none ? "none" : mcap_name(c).data(); }
+
+Compression parse_compression(std::string_view name) {
+  if (name == "zstd") return Compression::zstd;
+  if (name == "lz4") return Compression::lz4;
+  if (name == "none") return Compression::none;
+  throw std::invalid_argument("unknown compression '" + std::string(name) + "' (choose zstd, lz4 or none)");
+}
+
+void compress(Compression c, std::string_view in, std::string& out) {
+  switch (c) {
+    case Compression::none:
+      out.assign(in);
+      return;
+    case Compression::zstd: {
+      out.resize(ZSTD_compressBound(in.size()));
+      // level 1: the fastest standard level; recordings favour throughput
+      const std::size_t n = ZSTD_compress(out.data(), out.size(), in.data(), in.size(), 1);
+      if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
+      out.resize(n);
+      return;
+    }
+    case Compression::lz4: {
+      LZ4F_preferences_t prefs{};
+      prefs.frameInfo.contentSize = in.size();
+      out.resize(LZ4F_compressFrameBound(in.size(), &prefs));
+      const std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
+      if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
+      out.resize(n);
+      return;
+    }
+  }
+}
+
+namespace {
+
+bool lz4_decompress(std::string_view in, std::string& out) {
+  LZ4F_dctx* ctx = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) return false;
+  std::size_t in_at = 0, out_at = 0;
+  bool ok = true;
+  for (;;) {
+    std::size_t in_n = in.size() - in_at, out_n = out.size() - out_at;
+    const std::size_t hint = LZ4F_decompress(ctx, out.data() + out_at, &out_n, in.data() + in_at, &in_n, nullptr);
+    if (LZ4F_isError(hint)) {
+      ok = false;
+      break;
+    }
+    in_at += in_n;
+    out_at += out_n;
+    if (hint == 0) break;  // frame complete
+    if (in_n == 0 && out_n == 0) {
+      ok = false;  // no progress: truncated input or output too small
+      break;
+    }
+  }
+  LZ4F_freeDecompressionContext(ctx);
+  return ok && out_at == out.size() && in_at == in.size();
+}
+
+}  // namespace
+
+bool decompress(std::string_view name, std::string_view in, std::uint64_t size, std::string& out) {
+  if (name.empty()) {
+    if (in.size() != size) return false;
+    out.assign(in);
+    return true;
+  }
+  if (size > (std::uint64_t{1} << 34)) return false;  // 16 GiB: not a chunk we wrote or can hold
+  out.resize(static_cast<std::size_t>(size));
+  if (name == "zstd") {
+    const std::size_t n = ZSTD_decompress(out.data(), out.size(), in.data(), in.size());
+    return !ZSTD_isError(n) && n == size;
+  }
+  if (name == "lz4") return lz4_decompress(in, out);
+  return false;
+}
+
+}  // namespace enact::record

@@ -1,0 +1,381 @@
+// enact record | info | export | recover: make, inspect, flatten and repair MCAP recordings.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cinttypes>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <memory>
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/descriptor.pb.h>
+#include <google/protobuf/dynamic_message.h>
+
+#include "core/config/yaml.h"
+#include "core/graph/logger.h"
+#include "core/record/reader.h"
+#include "core/rt/clock.h"
+#include "core/record/writer.h"
+#include "nodes/enact/commands.h"
+
+namespace enact::cli {
+namespace {
+
+constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--split-size MB | --split-duration S]
+                    [--compression zstd|lz4|none] [--chunk-duration S] [--attach ENDPOINT]
+                    [--duration S] [--wait S]
+
+Attach to a running graph (the last one started here, or --attach ENDPOINT, also on another
+machine) and keep every message of its topics in an MCAP file, until Ctrl-C / SIGTERM (or
+--duration): the file is then complete and indexed. A kill -9 loses at most the last chunk
+(--chunk-duration, 1 s by default); `enact recover` rebuilds the rest. Sequence gaps are
+counted per topic and reported at the end.
+
+options:
+  -o, --output FILE      default enact_YYYYmmdd_HHMMSS.mcap
+  --all                  every topic (the default)
+  --topics T...          only these topics
+  --split-size MB        start a new file (FILE_000.mcap, FILE_001.mcap, ...) past this size
+  --split-duration S     ... or after this long
+  --compression C        zstd (default), lz4 or none
+  --chunk-duration S     a chunk reaches the file at least this often (default 1)
+  --attach ENDPOINT      the graph's attach endpoint (printed by `enact launch`)
+  --duration S           stop after S seconds
+  --wait S               how long to wait for the graph to appear (default 10)
+)";
+
+constexpr const char* kInfoHelp = R"(usage: enact info FILE
+
+Duration, topics (publisher, type, messages, rate, sequence gaps), metadata and attachments
+of an MCAP recording, and any damage (everything readable before it is still counted).
+Exit status 1 when the file is damaged or was not closed.
+)";
+
+constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv [--publisher NODE]
+
+One topic of a recording as a flat CSV table for analysis: log_time_ns, then every field of
+the message (nested fields as a.b, repeated ones as a.0, a.1, ...), decoded with the schema
+stored in the recording.
+)";
+
+constexpr const char* kRecoverHelp = R"(usage: enact recover BROKEN.mcap -o FIXED.mcap [--compression zstd|lz4|none]
+
+Rebuild a complete, indexed recording from everything readable in a damaged or unclosed one
+(a logger killed with kill -9, a truncated copy, a corrupted chunk). Reports what was lost.
+)";
+
+std::atomic<bool> g_stop{false};
+void on_stop(int) { g_stop.store(true); }
+
+// "--topics a b c" up to the next option: the list, and argv without it
+std::vector<std::string> take_list(int& argc, char** argv, const std::string& name) {
+  std::vector<std::string> out;
+  int w = 0;
+  for (int i = 0; i < argc; ++i) {
+    if (argv[i] == name) {
+      while (i + 1 < argc && argv[i + 1][0] != '-') out.emplace_back(argv[++i]);
+      if (out.empty()) throw UsageError(name + " needs at least one value");
+      continue;
+    }
+    argv[w++] = argv[i];
+  }
+  argc = w;
+  return out;
+}
+
+std::string default_output() {
+  char name[64];
+  const std::time_t t = std::time(nullptr);
+  std::strftime(name, sizeof name, "enact_%Y%m%d_%H%M%S.mcap", std::localtime(&t));
+  return name;
+}
+
+// per channel: counts, time span and sequence gaps of a recording
+struct ChannelStats {
+  graph::SequenceCheck seq;
+  std::int64_t first = 0, last = 0;
+};
+
+std::string human_bytes(std::uint64_t n) {
+  char s[32];
+  if (n >= 1'000'000) std::snprintf(s, sizeof s, "%.1f MB", static_cast<double>(n) * 1e-6);
+  else if (n >= 1000) std::snprintf(s, sizeof s, "%.1f kB", static_cast<double>(n) * 1e-3);
+  else std::snprintf(s, sizeof s, "%llu B", static_cast<unsigned long long>(n));
+  return s;
+}
+
+// decoding with the schema stored in a recording
+class Decoder {
+ public:
+  const google::protobuf::Message* prototype(const record::Schema& schema) {
+    auto it = prototypes_.find(schema.id);
+    if (it != prototypes_.end()) return it->second;
+    const google::protobuf::Message* proto = nullptr;
+    google::protobuf::FileDescriptorSet set;
+    if (schema.encoding == "protobuf" && set.ParseFromString(schema.data)) {
+      for (const auto& f : set.file()) pool_.BuildFile(f);
+      if (const auto* d = pool_.FindMessageTypeByName(schema.name)) proto = factory_.GetPrototype(d);
+    }
+    prototypes_.emplace(schema.id, proto);
+    return proto;
+  }
+
+ private:
+  google::protobuf::DescriptorPool pool_;
+  google::protobuf::DynamicMessageFactory factory_{&pool_};
+  std::map<std::uint16_t, const google::protobuf::Message*> prototypes_;
+};
+
+// the leaves of a message as (column, value) in field order; repeated fields by index
+void flatten(const google::protobuf::Message& m, const std::string& prefix, std::vector<std::pair<std::string, std::string>>& out) {
+  using FD = google::protobuf::FieldDescriptor;
+  const auto* r = m.GetReflection();
+  const auto* d = m.GetDescriptor();
+  for (int i = 0; i < d->field_count(); ++i) {
+    const FD* f = d->field(i);
+    const std::string name = prefix + f->name();
+    const int n = f->is_repeated() ? r->FieldSize(m, f) : 1;
+    for (int k = 0; k < n; ++k) {
+      const std::string col = f->is_repeated() ? name + "." + std::to_string(k) : name;
+      const bool rep = f->is_repeated();
+      char v[64];
+      switch (f->cpp_type()) {
+        case FD::CPPTYPE_MESSAGE: flatten(rep ? r->GetRepeatedMessage(m, f, k) : r->GetMessage(m, f), col + ".", out); continue;
+        case FD::CPPTYPE_DOUBLE: std::snprintf(v, sizeof v, "%.17g", rep ? r->GetRepeatedDouble(m, f, k) : r->GetDouble(m, f)); break;
+        case FD::CPPTYPE_FLOAT: std::snprintf(v, sizeof v, "%.9g", static_cast<double>(rep ? r->GetRepeatedFloat(m, f, k) : r->GetFloat(m, f))); break;
+        case FD::CPPTYPE_INT32: std::snprintf(v, sizeof v, "%d", rep ? r->GetRepeatedInt32(m, f, k) : r->GetInt32(m, f)); break;
+        case FD::CPPTYPE_INT64: std::snprintf(v, sizeof v, "%" PRId64, rep ? r->GetRepeatedInt64(m, f, k) : r->GetInt64(m, f)); break;
+        case FD::CPPTYPE_UINT32: std::snprintf(v, sizeof v, "%u", rep ? r->GetRepeatedUInt32(m, f, k) : r->GetUInt32(m, f)); break;
+        case FD::CPPTYPE_UINT64: std::snprintf(v, sizeof v, "%" PRIu64, rep ? r->GetRepeatedUInt64(m, f, k) : r->GetUInt64(m, f)); break;
+        case FD::CPPTYPE_BOOL: std::snprintf(v, sizeof v, "%d", (rep ? r->GetRepeatedBool(m, f, k) : r->GetBool(m, f)) ? 1 : 0); break;
+        case FD::CPPTYPE_ENUM: std::snprintf(v, sizeof v, "%s", (rep ? r->GetRepeatedEnum(m, f, k) : r->GetEnum(m, f))->name().c_str()); break;
+        case FD::CPPTYPE_STRING: {
+          std::string s = rep ? r->GetRepeatedString(m, f, k) : r->GetString(m, f);
+          if (f->type() == FD::TYPE_BYTES) s = std::to_string(s.size()) + " bytes";
+          out.emplace_back(col, "\"" + s + "\"");
+          continue;
+        }
+      }
+      out.emplace_back(col, v);
+    }
+  }
+}
+
+}  // namespace
+
+int record(int argc, char** argv) {
+  const std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  for (int i = 0; i < argc; ++i) {
+    if (std::string(argv[i]) == "-o") argv[i] = const_cast<char*>("--output");
+  }
+  const Args a = parse(argc, argv, 2, {"output", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
+  if (a.flag("help")) {
+    std::fputs(kRecordHelp, stdout);
+    return 0;
+  }
+  if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "' (the file goes after -o)");
+  if (a.flag("all") && !topics.empty()) throw UsageError("give --all or --topics, not both");
+  if (a.has("split-size") && a.has("split-duration")) throw UsageError("give --split-size or --split-duration, not both");
+  graph::LoggerOptions o;
+  o.output = a.get("output", default_output());
+  o.topics = topics;
+  try {
+    o.writer.compression = record::parse_compression(a.get("compression", "zstd"));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  o.writer.chunk_duration_ns = static_cast<std::int64_t>(a.number("chunk-duration", 1.0) * 1e9);
+  o.split_size_mb = a.number("split-size", 0.0);
+  o.split_duration_s = a.number("split-duration", 0.0);
+  o.attach = a.get("attach", "");
+  o.wait_s = a.number("wait", 10.0);
+  const double duration_s = a.number("duration", 0.0);
+  if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0 || o.split_duration_s < 0 || duration_s < 0 || o.wait_s < 0) {
+    throw UsageError("--chunk-duration must be > 0; sizes, durations and --wait >= 0");
+  }
+  signal(SIGINT, on_stop);
+  signal(SIGTERM, on_stop);
+  graph::Logger logger(o);
+  logger.attach();
+  std::fprintf(stderr, "enact record: attached at %s, recording %s to %s (Ctrl-C stops)\n", logger.endpoint().c_str(),
+               topics.empty() ? "every topic" : "the topics given", logger.files().back().c_str());
+  const std::int64_t end_ns = duration_s > 0 ? rt::now_ns() + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
+  const bool tty = isatty(2);
+  logger.run([&] { return g_stop.load() || rt::now_ns() >= end_ns; },
+             [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
+  logger.close();
+  if (tty) std::fputs("\n", stderr);
+  std::string files;
+  for (const auto& f : logger.files()) files += " " + f;
+  std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());
+  return 0;
+}
+
+int info(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {}, {});
+  if (a.flag("help")) {
+    std::fputs(kInfoHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1) throw UsageError("give exactly one recording");
+  record::Reader r(a.positional[0]);
+  std::map<std::uint16_t, ChannelStats> stats;
+  std::uint64_t total = 0;
+  std::int64_t first = INT64_MAX, last = 0;
+  r.for_each([&](const record::Message& m) {
+    ChannelStats& s = stats[m.channel->id];
+    if (s.seq.messages == 0) s.first = m.log_time_ns;
+    s.last = m.log_time_ns;
+    s.seq.add(m.sequence);
+    first = std::min(first, m.log_time_ns);
+    last = std::max(last, m.log_time_ns);
+    ++total;
+    return true;
+  });
+  const double duration_s = total ? static_cast<double>(last - first) * 1e-9 : 0.0;
+  std::printf("file        %s (%s, %s)\n", r.path().c_str(), human_bytes(r.size_bytes()).c_str(),
+              r.complete() ? "complete" : "NOT closed: no summary");
+  std::printf("written by  %s%s%s\n", r.library().c_str(), r.profile().empty() ? "" : ", profile ", r.profile().c_str());
+  std::printf("duration    %.3f s\nmessages    %llu\n", duration_s, static_cast<unsigned long long>(total));
+  std::printf("topics:\n  %-16s %-10s %-28s %10s %10s %8s\n", "topic", "publisher", "type", "messages", "rate Hz", "gaps");
+  for (const auto& [id, s] : stats) {
+    const record::Channel& c = r.channels().at(id);
+    const auto schema = r.schemas().find(c.schema_id);
+    const double span = static_cast<double>(s.last - s.first) * 1e-9;
+    const auto pub = c.metadata.find("publisher");
+    std::printf("  %-16s %-10s %-28s %10llu %10.1f %8llu%s\n", c.topic.c_str(), pub == c.metadata.end() ? "" : pub->second.c_str(),
+                schema == r.schemas().end() ? "(no schema)" : schema->second.name.c_str(), static_cast<unsigned long long>(s.seq.messages),
+                span > 0 ? static_cast<double>(s.seq.messages - 1) / span : 0.0, static_cast<unsigned long long>(s.seq.gaps),
+                s.seq.restarts ? "  (publisher restarted)" : "");
+  }
+  if (!r.metadata_records().empty()) std::printf("metadata:\n");
+  for (const auto& m : r.metadata_records()) {
+    std::printf("  %s\n", m.name.c_str());
+    for (const auto& [k, v] : m.values) {
+      const std::string shown = v.find('\n') == std::string::npos ? v : "(" + std::to_string(v.size()) + " characters of text)";
+      std::printf("    %s = %s\n", k.c_str(), shown.c_str());
+    }
+  }
+  if (!r.attachments().empty()) std::printf("attachments:\n");
+  for (const auto& at : r.attachments()) std::printf("  %s (%s, %s)\n", at.name.c_str(), at.media_type.c_str(), human_bytes(at.data.size()).c_str());
+  if (!r.damage().empty()) {
+    std::printf("damage (everything readable before and around it is counted above):\n");
+    for (const auto& d : r.damage()) std::printf("  %s\n", d.c_str());
+    std::printf("  fix: enact recover %s -o FIXED.mcap\n", r.path().c_str());
+    return 1;
+  }
+  return 0;
+}
+
+int export_csv(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher"}, {});
+  if (a.flag("help")) {
+    std::fputs(kExportHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1 || !a.has("topic") || !a.has("csv")) throw UsageError("give FILE, --topic T and --csv OUT.csv");
+  const std::string topic = a.get("topic"), publisher = a.get("publisher", "");
+  record::Reader r(a.positional[0]);
+  Decoder decoder;
+  std::vector<std::string> columns;
+  std::map<std::string, std::size_t> column_of;
+  std::vector<std::vector<std::pair<std::string, std::string>>> rows;
+  std::vector<std::int64_t> times;
+  std::unique_ptr<google::protobuf::Message> msg;
+  std::uint64_t undecodable = 0;
+  // one pass: rows of (column, value); the columns are the union in first-seen order
+  r.for_each([&](const record::Message& m) {
+    if (m.topic != topic) return true;
+    if (!publisher.empty() && m.channel->metadata.count("publisher") && m.channel->metadata.at("publisher") != publisher) return true;
+    const google::protobuf::Message* proto = m.schema ? decoder.prototype(*m.schema) : nullptr;
+    if (!proto) {
+      ++undecodable;
+      return true;
+    }
+    msg.reset(proto->New());
+    if (!msg->ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      ++undecodable;
+      return true;
+    }
+    rows.emplace_back();
+    flatten(*msg, "", rows.back());
+    times.push_back(m.log_time_ns);
+    for (const auto& [col, v] : rows.back()) {
+      if (column_of.emplace(col, columns.size()).second) columns.push_back(col);
+    }
+    return true;
+  });
+  if (rows.empty()) {
+    std::string known;
+    for (const auto& [id, c] : r.channels()) known += (known.empty() ? "" : ", ") + c.topic;
+    throw config::Error(r.path() + ": no decodable message on topic '" + topic + "'\n  fix: choose among " + known);
+  }
+  std::ofstream out(a.get("csv"));
+  if (!out) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
+  out << "log_time_ns";
+  for (const auto& c : columns) out << "," << c;
+  out << "\n";
+  std::vector<const std::string*> line(columns.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::fill(line.begin(), line.end(), nullptr);
+    for (const auto& [col, v] : rows[i]) line[column_of[col]] = &v;
+    out << times[i];
+    for (const std::string* v : line) out << "," << (v ? *v : "");
+    out << "\n";
+  }
+  std::printf("%zu rows x %zu columns of %s -> %s%s\n", rows.size(), columns.size() + 1, topic.c_str(), a.get("csv").c_str(),
+              undecodable ? (" (" + std::to_string(undecodable) + " messages could not be decoded)").c_str() : "");
+  for (const auto& d : r.damage()) std::fprintf(stderr, "enact export: %s: %s\n", r.path().c_str(), d.c_str());
+  return 0;
+}
+
+int recover(int argc, char** argv) {
+  for (int i = 0; i < argc; ++i) {
+    if (std::string(argv[i]) == "-o") argv[i] = const_cast<char*>("--output");
+  }
+  const Args a = parse(argc, argv, 2, {"output", "compression"}, {});
+  if (a.flag("help")) {
+    std::fputs(kRecoverHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1 || !a.has("output")) throw UsageError("give BROKEN.mcap and -o FIXED.mcap");
+  if (a.get("output") == a.positional[0]) throw UsageError("write the recovered file next to the broken one, not over it");
+  record::WriterOptions wo;
+  try {
+    wo.compression = record::parse_compression(a.get("compression", "zstd"));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  record::Reader r(a.positional[0]);
+  record::Writer w(a.get("output"), wo);
+  std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;
+  std::uint64_t n = 0;
+  r.for_each([&](const record::Message& m) {
+    auto c = channel_ids.find(m.channel->id);
+    if (c == channel_ids.end()) {
+      std::uint16_t schema = 0;
+      if (m.schema) {
+        auto s = schema_ids.find(m.schema->id);
+        if (s == schema_ids.end()) s = schema_ids.emplace(m.schema->id, w.add_schema(m.schema->name, m.schema->encoding, m.schema->data)).first;
+        schema = s->second;
+      }
+      c = channel_ids.emplace(m.channel->id, w.add_channel(schema, m.channel->topic, m.channel->message_encoding, m.channel->metadata)).first;
+    }
+    w.write(c->second, m.sequence, m.log_time_ns, m.publish_time_ns, m.data);
+    ++n;
+    return true;
+  });
+  for (const auto& m : r.metadata_records()) w.add_metadata(m.name, m.values);
+  for (const auto& at : r.attachments()) w.add_attachment(at.name, at.media_type, at.data, at.log_time_ns, at.create_time_ns);
+  w.close();
+  std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n),
+              channel_ids.size(), r.metadata_records().size(), r.attachments().size(), a.get("output").c_str());
+  if (r.damage().empty()) std::printf("the source had no damage\n");
+  for (const auto& d : r.damage()) std::printf("  lost or skipped at %s\n", d.c_str());
+  return 0;
+}
+
+}  // namespace enact::cli
