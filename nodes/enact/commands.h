@@ -17,5 +17,7 @@ int export_csv(int argc, char** argv);
 int recover(int argc, char** argv);
 int play(int argc, char** argv);
 int resim(int argc, char** argv);
+int experiment_run(int argc, char** argv);
+int metrics(int argc, char** argv);
 
 }  // namespace enact::cli

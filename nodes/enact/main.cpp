@@ -27,6 +27,8 @@ commands:
   export FILE       one topic of a recording as CSV
   recover FILE      rebuild a complete recording from a damaged or unclosed one
   resim FILE        rerun a recording's device states through the simulator, compare
+  experiment FILE   run an experiment's trials (virtual subjects or people), resumable
+  metrics FILE      a trial's metrics recomputed from its recording
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -56,6 +58,8 @@ int main(int argc, char** argv) {
     if (command == "export") return enact::cli::export_csv(argc, argv);
     if (command == "recover") return enact::cli::recover(argc, argv);
     if (command == "resim") return enact::cli::resim(argc, argv);
+    if (command == "experiment") return enact::cli::experiment_run(argc, argv);
+    if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {
