@@ -16,8 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// the largest seed a node parameter carries (a 32-bit int)
-constexpr std::uint32_t kSeedMask = 0x7fffffffu;
+// seeds are below this: a node parameter carries whole numbers up to 1e9
+constexpr std::uint64_t kSeedRange = 1'000'000'000;
 
 // a path written in the experiment file, relative to it
 std::string beside(const std::string& file, const std::string& path) {
@@ -120,7 +120,8 @@ ExperimentSpec load_experiment(const std::string& path) {
     }
   }
   try {
-    const launch::LaunchDescription declared = launch::load_launch(s.launch, {});
+    // the arguments only: the executables are found when a trial starts
+    const launch::LaunchDescription declared = launch::load_launch(s.launch, {}, [](const std::string& exec) { return exec; });
     std::vector<std::string> needed{"model", "recording", "limit_s"};
     if (s.virtual_subjects()) needed.insert(needed.end(), {"subject", "subject_seed", "noise_seed"});
     for (const auto& [name, value] : s.launch_args) needed.push_back(name);
@@ -199,8 +200,8 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
       t.order = position;
       t.kind = kind;
       t.limit_s = limit_s;
-      t.subject_seed = static_cast<std::uint32_t>(subject_stream) & kSeedMask;
-      t.noise_seed = static_cast<std::uint32_t>(devices::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind))) & kSeedMask;
+      t.subject_seed = static_cast<std::uint32_t>(subject_stream % kSeedRange);
+      t.noise_seed = static_cast<std::uint32_t>(devices::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind)) % kSeedRange);
       t.file_stem = subject_stem + "_" + safe(t.condition.label) + "_" + to_string(kind);
       plan.push_back(t);
     };

@@ -68,7 +68,7 @@ RecordedTrial read_trial(const std::string& mcap_path) {
     }
     return true;
   });
-  if (out.states == 0) throw config::Error(mcap_path + ": no device states (ffd/state) recorded\n  fix: record the trial's graph with its logger");
+  if (out.states == 0) throw config::Error(mcap_path + ": holds no device state (ffd/state)\n  fix: record the trial's graph with its logger");
   // the simulator's events, in the order it reported them; the runner's own (trial start,
   // reset, condition) carry no metric. A fall that begins or ends on the very step that
   // completes the bridge is not reported (BridgeTask keeps it): then falls can be one short.

@@ -3,7 +3,9 @@
 // experiment's trial launch file (the same nodes and supervisor as `enact launch`), with a
 // logger node recording the trial to its own MCAP file from the first tick. A trial ends
 // when the simulator reports the bridge completed (the runner then stops the graph) or at
-// the time limit (the clock master stops itself: the launch file gives it limit_s). Its
+// the time limit: the clock master stops itself (the launch file gives it limit_s and
+// does not require it), and the runner stops the rest a second later, when the logger has
+// the last messages. Its
 // metrics come from the recording (read_trial) and go to results.csv (measured trials) or
 // practice.csv as soon as it ends, so an interrupted run resumes where it stopped and never
 // runs a completed trial again.
