@@ -2,7 +2,21 @@
 # Install every system dependency of enact from Debian packages, when missing.
 # Idempotent: prints nothing and touches nothing when all are present;
 # runs `apt-get update` once first when something must be installed.
+# Also installs the npm packages of the MCAP interop test (tests/interop/package.json) into
+# .deps/npm when Node.js is present (the build ignores that folder).
 set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+
+# the independent MCAP reader of the interop test, from the npm registry
+npm_deps() {
+  command -v npm >/dev/null || return 0
+  local dir="$root/.deps/npm"
+  if [[ -d "$dir/node_modules/@mcap/core" ]] && cmp -s "$root/tests/interop/package.json" "$dir/package.json"; then return 0; fi
+  echo "setup.sh: installing the MCAP interop test's npm packages into .deps/npm"
+  mkdir -p "$dir"
+  cp "$root/tests/interop/package.json" "$dir/package.json"
+  npm install --prefix "$dir" --no-audit --no-fund --loglevel=error >/dev/null || echo "setup.sh: npm install failed: the MCAP interop test will say so" >&2
+}
 
 packages=(
   # build
@@ -11,6 +25,8 @@ packages=(
   libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # devices, config
   libusb-1.0-0-dev libyaml-cpp-dev
+  # recordings: MCAP chunk compression and CRC-32
+  libzstd-dev liblz4-dev zlib1g-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # analysis and plotting scripts (run under /usr/bin/python3)
@@ -23,7 +39,10 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-[[ ${#missing[@]} -eq 0 ]] && exit 0
+if [[ ${#missing[@]} -eq 0 ]]; then
+  npm_deps
+  exit 0
+fi
 
 sudo=""
 if [[ $(id -u) -ne 0 ]]; then
@@ -35,3 +54,4 @@ export DEBIAN_FRONTEND=noninteractive
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 echo "setup.sh: done"
+npm_deps

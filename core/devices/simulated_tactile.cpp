@@ -15,6 +15,21 @@ constexpr int kMaxPins = 32;
 
 }  // namespace
 
+double PinMotion::level(int pin, std::int64_t now_ns) const noexcept {
+  const Stroke& s = strokes[static_cast<std::size_t>(pin)];
+  const double moved = static_cast<double>(std::max<std::int64_t>(0, now_ns - s.from_ns)) / rise_ns;
+  return (targets >> pin) & 1u ? std::min(1.0, s.from_level + moved) : std::max(0.0, s.from_level - moved);
+}
+
+void PinMotion::set_targets(std::int64_t now_ns, std::uint32_t pins, int count) noexcept {
+  const std::uint32_t changed = pins ^ targets;
+  for (int i = 0; i < count; ++i) {
+    if (((changed >> i) & 1u) == 0) continue;
+    strokes[static_cast<std::size_t>(i)] = {level(i, now_ns), now_ns};
+  }
+  targets = pins;
+}
+
 SimulatedTactileDevice::SimulatedTactileDevice(SimulatedTactileParams params) : params_(params) {}
 
 void SimulatedTactileDevice::configure() {
@@ -30,10 +45,9 @@ void SimulatedTactileDevice::configure() {
   }
   const int count = p.rows * p.cols;
   mask_ = count == kMaxPins ? ~0u : (1u << count) - 1u;
-  rise_ns_ = p.rise_time_s * 1e9;
   // every pin down, at rest
-  strokes_.fill({});
-  targets_ = 0;
+  motion_ = {};
+  motion_.rise_ns = p.rise_time_s * 1e9;
   seen_ = false;
   configured_ = true;
 }
@@ -46,7 +60,7 @@ void SimulatedTactileDevice::activate() {
 void SimulatedTactileDevice::write(std::int64_t now_ns, std::uint32_t pins) noexcept {
   if (!active_) return;
   see(now_ns);
-  set_targets(now_ns, pins & mask_);
+  motion_.set_targets(now_ns, pins & mask_, params_.rows * params_.cols);
 }
 
 void SimulatedTactileDevice::shown(std::int64_t now_ns, float* levels, int count) noexcept {
@@ -56,24 +70,8 @@ void SimulatedTactileDevice::shown(std::int64_t now_ns, float* levels, int count
 }
 
 void SimulatedTactileDevice::deactivate() noexcept {
-  if (configured_) set_targets(latest_ns_, 0);
+  if (configured_) motion_.set_targets(latest_ns_, 0, params_.rows * params_.cols);
   active_ = false;
-}
-
-double SimulatedTactileDevice::level(int pin, std::int64_t now_ns) const noexcept {
-  const Stroke& s = strokes_[static_cast<std::size_t>(pin)];
-  const double moved = static_cast<double>(std::max<std::int64_t>(0, now_ns - s.from_ns)) / rise_ns_;
-  return (targets_ >> pin) & 1u ? std::min(1.0, s.from_level + moved) : std::max(0.0, s.from_level - moved);
-}
-
-// a pin whose target changes starts a new stroke from the level it has reached
-void SimulatedTactileDevice::set_targets(std::int64_t now_ns, std::uint32_t pins) noexcept {
-  const std::uint32_t changed = pins ^ targets_;
-  for (int i = 0; i < params_.rows * params_.cols; ++i) {
-    if (((changed >> i) & 1u) == 0) continue;
-    strokes_[static_cast<std::size_t>(i)] = {level(i, now_ns), now_ns};
-  }
-  targets_ = pins;
 }
 
 void SimulatedTactileDevice::see(std::int64_t now_ns) noexcept {

@@ -1,8 +1,7 @@
 #pragma once
-// A simulated tactile pin array: each pin moves linearly towards its target (up = 1,
-// down = 0) at 1 / rise_time_s per second, so a full stroke takes rise_time_s (Metec
-// cells: 24 ms), starting at the time of the write that changed the target. A target
-// changed mid-stroke reverses from the level reached. Allocates nothing after construction.
+// A simulated tactile pin array: each pin moves as PinMotion says with a full stroke of
+// rise_time_s (Metec cells: 24 ms), starting at the time of the write that changed its
+// target. Allocates nothing after construction.
 //
 // Being a simulation, the pins keep moving while the device is inactive: deactivate() sets
 // every target down at the latest time the device has seen (its last write or shown), and
@@ -13,6 +12,27 @@
 #include "core/devices/device.h"
 
 namespace enact::devices {
+
+// The motion of up to 32 pins: each moves linearly towards its target (up = 1, down = 0) at
+// 1 / rise_ns per ns, from the level it had when its target last changed, so a full stroke
+// takes rise_ns and a target changed mid-stroke reverses from the level reached. Trivially
+// copyable (it crosses threads by copy); allocates nothing.
+struct PinMotion {
+  // a pin's stroke: from a level at a time, towards its target
+  struct Stroke {
+    double from_level = 0.0;
+    std::int64_t from_ns = 0;
+  };
+  std::array<Stroke, 32> strokes{};
+  std::uint32_t targets = 0;  // bit i = pin i up
+  double rise_ns = 24e6;      // > 0, the time of a full stroke
+
+  // pin i's level at now_ns, 0 .. 1 (not before the pin's last target change)
+  double level(int pin, std::int64_t now_ns) const noexcept;
+  // new targets from now_ns on for pins 0 .. count: a pin whose target changes starts a new
+  // stroke from the level it has reached
+  void set_targets(std::int64_t now_ns, std::uint32_t pins, int count) noexcept;
+};
 
 struct SimulatedTactileParams {
   int rows = 4;               // >= 1, rows * cols <= 32
@@ -38,24 +58,16 @@ class SimulatedTactileDevice final : public TactileDevice {
   void deactivate() noexcept override;
 
   // the current targets (bit i = pin i up)
-  std::uint32_t targets() const { return targets_; }
+  std::uint32_t targets() const { return motion_.targets; }
   // one pin's level at now_ns, 0 .. 1 (not before the pin's last target change)
-  double level(int pin, std::int64_t now_ns) const noexcept;
+  double level(int pin, std::int64_t now_ns) const noexcept { return motion_.level(pin, now_ns); }
 
  private:
-  // a pin's stroke: from a level at a time, towards its target
-  struct Stroke {
-    double from_level = 0.0;
-    std::int64_t from_ns = 0;
-  };
-  void set_targets(std::int64_t now_ns, std::uint32_t pins) noexcept;
   void see(std::int64_t now_ns) noexcept;
 
   SimulatedTactileParams params_;
-  std::array<Stroke, 32> strokes_{};
-  std::uint32_t targets_ = 0;
+  PinMotion motion_;
   std::uint32_t mask_ = 0;     // the bits of existing pins
-  double rise_ns_ = 0.0;
   std::int64_t latest_ns_ = 0; // the latest time seen
   bool seen_ = false;
   bool configured_ = false;

@@ -275,7 +275,9 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
     std::vector<Child*> exited;
     g.reap(exited);
     for (Child* c : exited) {
-      if (!g.handle_exit(*c)) return finish(1);
+      // a required process that finished its job (exit 0, e.g. a replay at its end) ends
+      // the graph successfully; a crash or an error fails it
+      if (!g.handle_exit(*c)) return finish(WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
     }
   }
 }

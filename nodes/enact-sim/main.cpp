@@ -26,6 +26,7 @@ parameters:
   scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
   tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
   ffd_node=ffd  scene_rate_hz=60
+  observers=0 (wait up to 10 s for this many observers of ffd/force before answering)
 )";
 
 int run(int argc, char** argv) {
@@ -39,8 +40,9 @@ int run(int argc, char** argv) {
   simulator.configure(graph::sim_params(p));
   const std::string ffd_node = p.text("ffd_node", "ffd");
   const double scene_rate_hz = p.number("scene_rate_hz", 60.0);
+  const int observers = p.integer("observers", 0);
   std::vector<std::string> known = graph::kSimParams;
-  known.insert(known.end(), {"ffd_node", "scene_rate_hz"});
+  known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers"});
   p.refuse_unread(known);
 
   graph::install_stop_handlers();
@@ -66,6 +68,8 @@ int run(int argc, char** argv) {
   const std::int64_t scene_period_ns = scene_rate_hz > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz) : INT64_MAX;
   std::int64_t first_ns = -1, next_scene = 0, next_status = 0;
   std::uint64_t steps = 0;
+  // observers asked for (a logger recording a replay from its first step) listen first
+  graph::wait_for_subscribers(out, graph::kForceCommand, observers, args.name, "observer (logger)");
   simulator.activate(0);
   graph::report_ready();
   while (!graph::stop_requested()) {

@@ -427,13 +427,14 @@ Results run_physics(const Settings& settings, const std::string& scene) {
 
 int bench(int argc, char** argv) {
   if (argc > 2 && std::string(argv[2]) == "loop") return bench_loop(argc, argv);
+  if (argc > 2 && std::string(argv[2]) == "record") return bench_record(argc, argv);
   const Args a = parse(argc, argv, 2, {"json", "scene"}, {"quick"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1 || a.positional[0] != "physics") {
-    throw UsageError(a.positional.empty() ? "give a benchmark: physics or loop" : "unknown benchmark '" + a.positional[0] + "' (physics, loop)");
+    throw UsageError(a.positional.empty() ? "give a benchmark: physics, loop or record" : "unknown benchmark '" + a.positional[0] + "' (physics, loop, record)");
   }
   const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000} : Settings{};
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));

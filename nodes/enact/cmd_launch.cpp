@@ -26,8 +26,9 @@ and containers in order, each ready before the next, supervise them, and stop th
 reverse order on Ctrl-C / SIGTERM, after --duration, or when a required process exits.
 The whole file is checked first (unknown keys, wrong types, missing executables: file:line
 and the fix); nothing starts when it is wrong.
-Exit status: 0 after a requested stop, 1 when a required process exited or a process did
-not become ready, 2 for bad arguments.
+Exit status: 0 after a requested stop or when a required process finished with status 0
+(e.g. `enact play` at the end of a recording); 1 when a required process failed or was
+killed, or a process did not become ready; 2 for bad arguments.
 
 options:
   --arg NAME=VALUE   set a launch argument (repeatable)

@@ -255,8 +255,8 @@ int info(int argc, char** argv) {
   for (const auto& m : r.metadata_records()) {
     std::printf("  %s\n", m.name.c_str());
     for (const auto& [k, v] : m.values) {
-      const std::string shown = v.find('\n') == std::string::npos ? v : "(" + std::to_string(v.size()) + " characters of text)";
-      std::printf("    %s = %s\n", k.c_str(), shown.c_str());
+      if (v.find('\n') == std::string::npos) std::printf("    %s = %s\n", k.c_str(), v.c_str());
+      else std::printf("    %s = (%zu characters of text)\n", k.c_str(), v.size());
     }
   }
   if (!r.attachments().empty()) std::printf("attachments:\n");

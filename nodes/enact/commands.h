@@ -9,6 +9,7 @@ int simulate(int argc, char** argv);
 int path(int argc, char** argv);
 int bench(int argc, char** argv);
 int bench_loop(int argc, char** argv);
+int bench_record(int argc, char** argv);
 int launch(int argc, char** argv);
 int topic(int argc, char** argv);
 int record(int argc, char** argv);
@@ -17,6 +18,7 @@ int export_csv(int argc, char** argv);
 int recover(int argc, char** argv);
 int play(int argc, char** argv);
 int resim(int argc, char** argv);
+int devices(int argc, char** argv);
 int experiment_run(int argc, char** argv);
 int metrics(int argc, char** argv);
 

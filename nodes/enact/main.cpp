@@ -19,6 +19,7 @@ commands:
   path SCENE        write the built-in scripted hand path of a scene as CSV
   bench physics     integrator speed against error, bridge step cost
   bench loop        the real-time loop and the bus against the machine's floor
+  bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
   topic list|echo|hz  look at a running graph through its attach point
   record            keep a running graph's messages in an MCAP file
@@ -27,6 +28,7 @@ commands:
   export FILE       one topic of a recording as CSV
   recover FILE      rebuild a complete recording from a damaged or unclosed one
   resim FILE        rerun a recording's device states through the simulator, compare
+  devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
   experiment FILE   run an experiment's trials (virtual subjects or people), resumable
   metrics FILE      a trial's metrics recomputed from its recording
 
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
     if (command == "export") return enact::cli::export_csv(argc, argv);
     if (command == "recover") return enact::cli::recover(argc, argv);
     if (command == "resim") return enact::cli::resim(argc, argv);
+    if (command == "devices") return enact::cli::devices(argc, argv);
     if (command == "experiment") return enact::cli::experiment_run(argc, argv);
     if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);

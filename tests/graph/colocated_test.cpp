@@ -42,7 +42,7 @@ struct Rig {
     force->configure();
     tactile.configure();
     loop = std::make_unique<ColocatedLoop>(simulator, *force, tactile, &fake_clock);
-    loop->activate(0);
+    loop->activate();
   }
 
   const Observation& tick(std::int64_t n) {

@@ -1,0 +1,194 @@
+// Recording and replay end to end: the shipped graphs recorded by `enact record` from their
+// first tick, then inspected, replayed offline (resim) and through the simulator alone
+// (launch/replay_sim.yaml), exported, recovered after kill -9, and bad files refused.
+#include <cstdio>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "core/record/reader.h"
+#include "msgs/device_state.pb.h"
+#include "msgs/force_command.pb.h"
+#include "tests/integration/integration_util.h"
+
+namespace enact::test {
+namespace {
+
+const std::string kCli = ENACT_CLI;
+
+struct Summary {
+  std::uint64_t states = 0, forces = 0, first_state_seq = 0, state_gaps = 0;
+  std::map<std::uint64_t, msgs::Vec3> force_by_answer;  // answered_seq -> force
+  bool complete = false;
+  std::vector<std::string> damage;
+};
+
+Summary summarize(const std::string& path) {
+  record::Reader r(path);
+  Summary s;
+  std::uint64_t last = 0;
+  msgs::DeviceState state;
+  msgs::ForceCommand force;
+  r.for_each([&](const record::Message& m) {
+    if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      if (s.states == 0) s.first_state_seq = state.header().seq();
+      else if (state.header().seq() > last + 1) s.state_gaps += state.header().seq() - last - 1;
+      last = state.header().seq();
+      ++s.states;
+    }
+    if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      s.force_by_answer[force.answered_seq()] = force.force();
+      ++s.forces;
+    }
+    return true;
+  });
+  s.complete = r.complete();
+  s.damage = r.damage();
+  return s;
+}
+
+// `enact record` on the graph at `endpoint`, for `seconds`
+RunResult record(const std::string& endpoint, const std::string& out, double seconds, const std::string& extra = "") {
+  return run(kCli + " record -o " + out + " --attach " + endpoint + " --duration " + std::to_string(seconds) + " " + extra);
+}
+
+bool bits_equal(const msgs::Vec3& a, const msgs::Vec3& b) { return a.SerializeAsString() == b.SerializeAsString(); }
+
+TEST(Recording, ColocatedGraphRecordedFromItsFirstTickReplaysExactly) {
+  TempDir dir;
+  const std::string file = dir.file("run.mcap");
+  {
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 60.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log("started rt", 15.0)) << graph.log();
+    const RunResult rec = record(graph.endpoint(), file, 3.0);
+    ASSERT_EQ(rec.exit_code, 0) << rec.err << rec.out;
+    EXPECT_NE(rec.out.find("total:"), std::string::npos) << rec.out;
+  }
+  // every device state from seq 1, no gaps, every one answered
+  const Summary s = summarize(file);
+  EXPECT_TRUE(s.complete);
+  EXPECT_TRUE(s.damage.empty());
+  EXPECT_EQ(s.first_state_seq, 1u);
+  EXPECT_EQ(s.state_gaps, 0u);
+  EXPECT_GT(s.states, 10000u);  // 3 s at 5 kHz, less the start
+  EXPECT_GE(s.forces + 1, s.states);
+
+  // enact info: the topics, their types and gaps, the launch metadata and the scene
+  const RunResult info = run(kCli + " info " + file);
+  EXPECT_EQ(info.exit_code, 0) << info.out << info.err;
+  for (const char* needle : {"ffd/state", "enact.msgs.DeviceState", "tactile/frame", "rt.sim.scene", "launch_file", "complete"}) {
+    EXPECT_NE(info.out.find(needle), std::string::npos) << needle << "\n" << info.out;
+  }
+
+  // offline replay: bit for bit with the recorded model; a different model diverges, named
+  const RunResult same = run(kCli + " resim " + file);
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_NE(same.out.find("identical"), std::string::npos) << same.out;
+  const RunResult other = run(kCli + " resim " + file + " --model CM3");
+  EXPECT_EQ(other.exit_code, 1) << other.out << other.err;
+  EXPECT_NE(other.out.find("DIVERGED at step"), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find("tactile/frame level."), std::string::npos) << other.out;
+
+  // export: one row per device state, its fields as columns
+  const RunResult csv = run(kCli + " export " + file + " --topic ffd/state --csv " + dir.file("states.csv"));
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  const std::string table = read_file(dir.file("states.csv"));
+  EXPECT_EQ(table.rfind("log_time_ns,header.seq,header.stamp_ns,header.source,position.x,position.y,position.z", 0), 0u) << table.substr(0, 200);
+  EXPECT_EQ(static_cast<std::uint64_t>(std::count(table.begin(), table.end(), '\n')), s.states + 1);
+
+  // the simulator alone, fed by `enact play` of the recorded states with their timing,
+  // answers every state with the recorded force, bit for bit
+  const std::string replayed = dir.file("replayed.mcap");
+  {
+    Launcher replay(dir, source_path("launch/replay_sim.yaml"), 120.0, {"recording=" + file, "observers=1", "rate=1"});
+    const RunResult started = run(kCli + " record -o " + replayed + " --attach " + replay.endpoint() + " --topics ffd/force >" +
+                                  dir.file("rec.out") + " 2>&1 & echo $!");
+    const pid_t recorder = static_cast<pid_t>(std::stol(started.out));
+    // the replay ends by itself at the end of the recording (exit 0), then the logger stops
+    EXPECT_EQ(replay.wait_exit(60.0).value_or(-1), 0) << replay.log();
+    kill(recorder, SIGINT);
+    const auto end = after(10.0);
+    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+  }
+  const Summary r = summarize(replayed);
+  EXPECT_EQ(r.forces, s.states);
+  std::uint64_t equal = 0;
+  for (const auto& [seq, f] : r.force_by_answer) {
+    const auto it = s.force_by_answer.find(seq);
+    if (it != s.force_by_answer.end() && bits_equal(it->second, f)) ++equal;
+  }
+  EXPECT_EQ(equal, s.forces) << "recorded forces reproduced by the simulator alone";
+}
+
+TEST(Recording, KillNineLosesAtMostTheLastChunkAndRecoverRebuildsTheRest) {
+  TempDir dir;
+  const std::string broken = dir.file("broken.mcap"), fixed = dir.file("fixed.mcap");
+  {
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 60.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log("started rt", 15.0)) << graph.log();
+    const RunResult rec = run(kCli + " record -o " + broken + " --attach " + graph.endpoint() +
+                              " --chunk-duration 0.5 2>/dev/null & R=$!; sleep 3; kill -9 $R; wait $R; true");
+    ASSERT_EQ(rec.exit_code, 0);
+  }
+  // the broken file: everything up to the last completed chunk, said to be unclosed
+  const Summary b = summarize(broken);
+  EXPECT_FALSE(b.complete);
+  ASSERT_FALSE(b.damage.empty());
+  EXPECT_GT(b.states, 2500u);  // at least 1 s of 5 kHz states reached the file in 3 s
+  EXPECT_EQ(b.first_state_seq, 1u);
+  EXPECT_EQ(b.state_gaps, 0u);
+  const RunResult info = run(kCli + " info " + broken);
+  EXPECT_EQ(info.exit_code, 1);
+  EXPECT_NE(info.out.find("NOT closed"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("enact recover"), std::string::npos) << info.out;
+  // recover: a complete, indexed file with all of it
+  const RunResult rec = run(kCli + " recover " + broken + " -o " + fixed);
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  const Summary f = summarize(fixed);
+  EXPECT_TRUE(f.complete);
+  EXPECT_TRUE(f.damage.empty());
+  EXPECT_EQ(f.states, b.states);
+  EXPECT_EQ(f.forces, b.forces);
+  EXPECT_EQ(run(kCli + " info " + fixed).exit_code, 0);
+  EXPECT_EQ(run(kCli + " resim " + fixed).exit_code, 0);
+}
+
+TEST(Recording, ThirtySecondsOfADistributedFiveKilohertzGraphHaveNoGaps) {
+  TempDir dir;
+  const std::string file = dir.file("long.mcap");
+  {
+    Launcher graph(dir, source_path("launch/bridge.yaml"), 120.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log("started ffd", 15.0)) << graph.log();
+    const RunResult rec = record(graph.endpoint(), file, 30.0);
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  }
+  const Summary s = summarize(file);
+  EXPECT_EQ(s.first_state_seq, 1u);
+  EXPECT_EQ(s.state_gaps, 0u);
+  EXPECT_GT(s.states, 140000u);  // 30 s at 5 kHz, less the start
+  const RunResult info = run(kCli + " info " + file);
+  EXPECT_EQ(info.exit_code, 0) << info.out;
+  EXPECT_EQ(info.out.find("publisher restarted"), std::string::npos) << info.out;
+}
+
+TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
+  TempDir dir;
+  write_file(dir.file("path.csv"), "t_s,x_m,y_m,z_m\n0,0,0,0\n");
+  const RunResult csv = run(kCli + " info " + dir.file("path.csv"));
+  EXPECT_EQ(csv.exit_code, 1);
+  EXPECT_NE(csv.err.find("path.csv: not an MCAP file"), std::string::npos) << csv.err;
+  const RunResult missing = run(kCli + " play " + dir.file("nothing.mcap"));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("nothing.mcap: cannot open"), std::string::npos) << missing.err;
+  const RunResult no_graph = run(kCli + " record -o " + dir.file("x.mcap") + " --attach tcp://127.0.0.1:" + std::to_string(free_port()) + " --wait 0.5");
+  EXPECT_EQ(no_graph.exit_code, 1);
+  EXPECT_NE(no_graph.err.find("no graph answers"), std::string::npos) << no_graph.err;
+  EXPECT_NE(no_graph.err.find("fix:"), std::string::npos) << no_graph.err;
+  const RunResult bad_option = run(kCli + " record --compression brotli");
+  EXPECT_EQ(bad_option.exit_code, 2);
+  EXPECT_NE(bad_option.err.find("zstd, lz4 or none"), std::string::npos) << bad_option.err;
+}
+
+}  // namespace
+}  // namespace enact::test
