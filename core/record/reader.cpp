@@ -100,6 +100,7 @@ void Reader::index() {
   bool header = true, data_end = false;
   while (at < file_.size()) {
     if (file_.size() - at < kRecordPrefix) {
+      if (header) break;
       report(at, "truncated: " + std::to_string(file_.size() - at) + " bytes left, not a whole record (the recording was cut off)");
       break;
     }
@@ -107,6 +108,7 @@ void Reader::index() {
     const auto op = static_cast<Op>(prefix.u8());
     const std::uint64_t length = prefix.u64();
     if (length > file_.size() - at - kRecordPrefix) {
+      if (header) break;
       report(at, std::string("truncated: a ") + op_name(op) + " record of " + std::to_string(length) + " bytes runs past the end of the file (the recording was cut off)");
       break;
     }
@@ -115,10 +117,7 @@ void Reader::index() {
       In in{content};
       profile_ = in.str();
       library_ = in.str();
-      if (op != Op::header || in.bad) {
-        unmap();
-        throw Error(path_ + ": not an MCAP file (no header record after the magic)\n  fix: give a recording made by `enact record`");
-      }
+      if (op != Op::header || in.bad) break;
       header = false;
       at += kRecordPrefix + content.size();
       continue;

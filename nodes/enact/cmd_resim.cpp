@@ -2,9 +2,9 @@
 // with the recorded forces and pins.
 #include <cstdio>
 
-#include "core/config/format.h"
 #include "core/graph/replay.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/json.h"
 
 namespace enact::cli {
 namespace {
@@ -39,20 +39,22 @@ int resim(int argc, char** argv) {
   const graph::ResimResult res = graph::resim(r, {a.has("scene") ? find_file(a.get("scene")) : "", a.get("model", "")});
   const task::Metrics& m = res.metrics;
   if (a.flag("json")) {
-    std::printf("{\"steps\": %llu, \"first_state_seq\": %llu, \"forces_compared\": %llu, \"frames_compared\": %llu, \"forces_missing\": %llu, "
-                "\"identical\": %s, \"falls\": %d, \"time_total_s\": %s, \"time_out_s\": %s, \"ratio\": %s, \"completed\": %s",
-                static_cast<unsigned long long>(res.steps), static_cast<unsigned long long>(res.first_state_seq),
-                static_cast<unsigned long long>(res.forces_compared), static_cast<unsigned long long>(res.frames_compared),
-                static_cast<unsigned long long>(res.forces_missing), res.divergence ? "false" : "true", m.falls,
-                config::number(m.time_total_s).c_str(), config::number(m.time_out_s).c_str(), config::number(m.ratio).c_str(),
-                m.completed ? "true" : "false");
+    Json j;
+    j.begin_object();
+    j.field("steps", static_cast<long long>(res.steps)).field("first_state_seq", static_cast<long long>(res.first_state_seq));
+    j.field("forces_compared", static_cast<long long>(res.forces_compared)).field("frames_compared", static_cast<long long>(res.frames_compared));
+    j.field("forces_missing", static_cast<long long>(res.forces_missing)).field("identical", !res.divergence);
+    j.field("falls", m.falls).field("time_total_s", m.time_total_s).field("time_out_s", m.time_out_s).field("ratio", m.ratio);
+    j.field("completed", m.completed);
     if (res.divergence) {
       const graph::Divergence& d = *res.divergence;
-      std::printf(", \"divergence\": {\"step\": %llu, \"state_seq\": %llu, \"topic\": \"%s\", \"field\": \"%s\", \"recorded\": \"%s\", \"replayed\": \"%s\"}",
-                  static_cast<unsigned long long>(d.step), static_cast<unsigned long long>(d.state_seq), d.topic.c_str(), d.field.c_str(),
-                  d.recorded.c_str(), d.replayed.c_str());
+      j.key("divergence").begin_object();
+      j.field("step", static_cast<long long>(d.step)).field("state_seq", static_cast<long long>(d.state_seq));
+      j.field("topic", d.topic).field("field", d.field).field("recorded", d.recorded).field("replayed", d.replayed);
+      j.end_object();
     }
-    std::printf("}\n");
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
     return res.divergence ? 1 : 0;
   }
   std::printf("resim %s: scene %s, model %s, %.0f Hz\n", r.path().c_str(), res.scene.c_str(), res.model.c_str(), res.rate_hz);

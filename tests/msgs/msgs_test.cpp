@@ -161,6 +161,16 @@ msgs::GraphInfo graph_info() {
   topic->set_type("enact.msgs.DeviceState");
   topic->set_publisher("ffd");
   m.set_descriptor_set(std::string("\x0a\x00", 2));
+  m.set_launch_file("launch/bridge.yaml");
+  m.set_launch_text("launch: []\n");
+  auto* param = m.add_params();
+  param->set_name("sim.scene");
+  param->set_value("scenes/bridge.yaml");
+  auto* file = m.add_files();
+  file->set_name("sim.scene");
+  file->set_path("/x/scenes/bridge.yaml");
+  file->set_media_type("application/yaml");
+  file->set_data("rate_hz: 5000\n");
   return m;
 }
 
