@@ -217,11 +217,14 @@ def analyze(data, conditions):
 # writing
 
 def fmt(value, digits=3):
+    """fixed digits; a p-value (digits 4) below 1e-4 in scientific notation"""
     if value is None:
         return "-"
     if isinstance(value, int):
         return str(value)
-    return f"{value:.{digits}f}" if abs(value) >= 0.001 or value == 0 else f"{value:.2e}"
+    if digits >= 4 and 0 < value < 1e-4:
+        return f"{value:.1e}"
+    return f"{value:.{digits}f}"
 
 
 def summary_table(result):
@@ -278,8 +281,7 @@ def figure(result, path):
         ax.set_title(labels.get(measure, measure))
         ax.set_ylim(bottom=0)
         p = entry["friedman"]["p"]
-        if p is not None:
-            ax.text(0.98, 0.98, f"Friedman p = {p:.3g}", transform=ax.transAxes, ha="right", va="top", fontsize=8)
+        ax.set_xlabel(f"Friedman p = {p:.3g}" if p is not None else "Friedman: -", fontsize=9)
     fig.suptitle(f"mean +- SD per condition ({len(result['measures'][measures[0]]['subjects'])} subjects)" if measures else "no data")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
