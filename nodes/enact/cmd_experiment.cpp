@@ -46,16 +46,6 @@ Exit status: 0 every trial done, 1 trials failed (they run again on resume) or a
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
 )";
 
-std::vector<std::string> split_commas(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 std::string clock_text(double s) {
   const long total = static_cast<long>(s + 0.5);
   char buf[32];
