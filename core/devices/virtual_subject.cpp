@@ -24,6 +24,8 @@ constexpr double kFloorBelowTop_m = 0.006;
 constexpr double kWallGone_s = 0.05;
 // the pins' rise time and more: how long after a reset the pins in the air are known
 constexpr double kPinsSettle_s = 0.05;
+// the arm stiffness a subject assumes when the device has no hand spring (the device default)
+constexpr double kFreeHandStiffness_n_per_m = 300.0;
 // how far above the remembered top a subject climbs a wall and crosses over
 constexpr double kAboveTop_m = 0.001;
 // how fast the subject stops pressing when it has fallen, and the experimenter's hand speed
@@ -158,7 +160,7 @@ VirtualSubject::VirtualSubject(SubjectParams params, std::uint64_t subject_seed,
 void VirtualSubject::reset(const HandStart& start) noexcept {
   noise_ = Random(noise_seed_);
   start_m_ = start.start_m;
-  stiffness_n_per_m_ = start.hand_stiffness_n_per_m > 0.0 ? start.hand_stiffness_n_per_m : 300.0;
+  stiffness_n_per_m_ = start.hand_stiffness_n_per_m > 0.0 ? start.hand_stiffness_n_per_m : kFreeHandStiffness_n_per_m;
   // the route as remembered this trial
   const double fuzz = 1.0 - params_.route_memory;
   for (std::size_t i = 0; i < length_m_.size(); ++i) {
@@ -174,7 +176,6 @@ void VirtualSubject::reset(const HandStart& start) noexcept {
   air_pins_ = 0;
   air_known_ = false;
   tactile_use_ = params_.tactile_use;
-  feel_ = {start_m_, {}, {}};
   segment_ = 0;
   segment_travel_m_ = turn_rad_ = 0.0;
   next_control_ns_ = from_ns_ = 0;
@@ -205,11 +206,10 @@ void VirtualSubject::feel_pins(const float* levels, int rows, int cols) noexcept
 }
 
 Vec3 VirtualSubject::target(std::int64_t time_ns, const HandFeel& feel) noexcept {
-  feel_ = feel;
   // one intention per control period, from what was felt a reaction delay ago
   while (time_ns >= next_control_ns_) {
     now_ns_ = next_control_ns_;
-    control({feel_.handle_m, feel_.force_on_hand_n, pins_up_now_});
+    control({feel.handle_m, feel.force_on_hand_n, pins_up_now_});
     next_control_ns_ += period_ns_;
   }
   // the hand moves smoothly from one intention to the next
@@ -277,7 +277,7 @@ void VirtualSubject::on_top(const Percept& p, const Contact& c) noexcept {
   if (c.pins == pins) side_cue_ = 0.0;
 }
 
-void VirtualSubject::start_search(const Percept& p, const Contact&) noexcept {
+void VirtualSubject::start_search(const Percept& p) noexcept {
   ++losses_;
   lost_ = true;
   lost_at_ns_ = now_ns_;
@@ -332,7 +332,7 @@ void VirtualSubject::control(const Percept& now) noexcept {
         enter(Phase::follow);
         return;
       }
-      if (top_known_ && p.handle_m.z < top_z_m_ - 2.0 * params_.drop_m) return start_search(p, c);  // missed the top
+      if (top_known_ && p.handle_m.z < top_z_m_ - 2.0 * params_.drop_m) return start_search(p);  // missed the top
       move(0.0, 0.0, -params_.descend_m_per_s);
       return;
 
@@ -340,7 +340,7 @@ void VirtualSubject::control(const Percept& now) noexcept {
       if (c.touching()) on_top(p, c);
       const bool dropped = !c.touching() && p.handle_m.z < support_z_m_ - params_.drop_m;
       const bool on_floor = c.touching() && p.handle_m.z < top_z_m_ - kFloorBelowTop_m;
-      if (dropped || on_floor) return start_search(p, c);
+      if (dropped || on_floor) return start_search(p);
       // along the remembered heading, slower when the pins say the top is slipping away;
       // where the pins in contact lie across the heading, the subject steers and turns
       const double hx = heading_x(), hy = heading_y();

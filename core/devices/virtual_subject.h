@@ -117,15 +117,19 @@ class VirtualSubject final : public HandSource {
     bool touching() const { return force_up || pins > 0; }
   };
 
+  // one control step: remember `now`, act on the percept a reaction delay old
   void control(const Percept& now) noexcept;
+  // the evidence of contact in a percept
   Contact contact(const Percept& p) const noexcept;
   void enter(Phase phase) noexcept;
   // the heading now: the remembered one of the segment, turned by what the pins said
   double heading_x() const noexcept;
   double heading_y() const noexcept;
-  void start_search(const Percept& p, const Contact& c) noexcept;
-  // horizontal command into the next target, with motor noise
+  // fallen: look for a wall on the side the bridge most likely is
+  void start_search(const Percept& p) noexcept;
+  // a velocity command into the next target, with motor noise on the horizontal
   void move(double vx, double vy, double vz) noexcept;
+  // on the top: remember where, how high, and where the pins say the bridge is
   void on_top(const Percept& p, const Contact& c) noexcept;
 
   SubjectParams params_;
@@ -149,7 +153,6 @@ class VirtualSubject final : public HandSource {
   std::uint32_t air_pins_ = 0;   // what the pins show in the air
   bool air_known_ = false;
   double tactile_use_ = 0.0;     // tactile_use, less for inverted pins
-  HandFeel feel_;
   // the route as remembered this trial
   std::vector<double> heading_x_, heading_y_, length_m_;
   std::size_t segment_ = 0;
