@@ -12,10 +12,12 @@ subjects who did every condition:
   friedman.test), and Kendall's W = chi2 / (n (k - 1));
 - Wilcoxon's signed-rank test for every pair of conditions, two-tailed. Zero differences
   are dropped and n reduced (Wilcoxon's own method; Siegel & Castellan 1988). Tied |d| get
-  their average rank. The p is exact (the null distribution of W+ enumerated) when no |d|
-  are tied and at most 25 remain; otherwise the normal approximation with the tie
-  correction of the variance and a continuity correction of 0.5. W+ and W- are both given;
-  p before and after the Bonferroni correction (times the number of pairs, at most 1).
+  their average rank. Up to 50 nonzero differences the p is exact: the null distribution of
+  W+ over the 2^n sign assignments of the ranks actually observed (average ranks included,
+  so exact with ties too: the permutation distribution conditional on the ties), counted by
+  dynamic programming; beyond 50, the normal approximation with the tie correction of the
+  variance and a continuity correction of 0.5. W+ and W- are both given; p before and after
+  the Bonferroni correction (times the number of pairs, at most 1).
 Writes DIR/report.md (tables), DIR/stats.json (every statistic and p, keyed by measure and
 pair "A-B") and DIR/figure.png (one panel per measure, mean +- SD per condition, in the
 style of Fig. 4 of Khatchatourov et al. 2009). Prints the summary table.
@@ -46,7 +48,7 @@ MEASURES = (
     ("ratio", "ratio", "time out / total time"),
 )
 COLUMNS = ("subject", "condition", "order", "falls", "time_total_s", "time_out_s", "ratio", "completed")
-EXACT_MAX_N = 25
+EXACT_MAX_N = 50
 
 
 class InputError(Exception):
@@ -148,13 +150,17 @@ def friedman(columns):
     return result
 
 
-def exact_upper_tail(n, w):
-    """P(W+ >= w) for n untied nonzero differences under the null: each rank's sign a fair coin"""
-    counts = [1] + [0] * (n * (n + 1) // 2)
-    for rank in range(1, n + 1):
-        for total in range(len(counts) - 1, rank - 1, -1):
-            counts[total] += counts[total - rank]
-    return sum(counts[int(math.ceil(w - 1e-9)):]) / 2 ** n
+def exact_upper_tail(ranks, w):
+    """P(W+ >= w) under the null: each rank's sign a fair coin, over the ranks given (average
+    ranks of ties included: they are counted in halves)"""
+    doubled = [int(round(2 * r)) for r in ranks]
+    counts = [0] * (sum(doubled) + 1)
+    counts[0] = 1
+    for r in doubled:
+        for total in range(len(counts) - 1, r - 1, -1):
+            counts[total] += counts[total - r]
+    at_least = int(math.ceil(2 * w - 1e-9))
+    return sum(counts[at_least:]) / 2 ** len(doubled)
 
 
 def wilcoxon(a, b):
@@ -167,14 +173,12 @@ def wilcoxon(a, b):
     if n == 0:
         result["note"] = "every difference is zero"
         return result
-    ranks = stats.rankdata([abs(v) for v in nonzero])
-    w_plus = float(sum(r for r, v in zip(ranks, nonzero) if v > 0))
+    ranks = [float(r) for r in stats.rankdata([abs(v) for v in nonzero])]
+    w_plus = sum(r for r, v in zip(ranks, nonzero) if v > 0)
     w_minus = n * (n + 1) / 2 - w_plus
-    tied = len(set(abs(v) for v in nonzero)) < n
     result.update(w_plus=w_plus, w_minus=w_minus, statistic=min(w_plus, w_minus))
-    if not tied and n <= EXACT_MAX_N:
-        p = 2 * exact_upper_tail(n, max(w_plus, w_minus))
-        result.update(method="exact", p=min(1.0, p))
+    if n <= EXACT_MAX_N:
+        result.update(method="exact", p=min(1.0, 2 * exact_upper_tail(ranks, max(w_plus, w_minus))))
         return result
     # normal approximation: variance reduced for tied |d|, continuity correction 0.5
     mean = n * (n + 1) / 4
@@ -182,11 +186,7 @@ def wilcoxon(a, b):
     for r in ranks:
         ties[r] = ties.get(r, 0) + 1
     variance = n * (n + 1) * (2 * n + 1) / 24 - sum(t ** 3 - t for t in ties.values()) / 48
-    if variance <= 0:
-        result.update(method="normal", note="no variation in |d|")
-        return result
-    z = (abs(w_plus - mean) - 0.5) / math.sqrt(variance)
-    z = max(z, 0.0)
+    z = max(0.0, (abs(w_plus - mean) - 0.5) / math.sqrt(variance))
     result.update(method="normal", z=z, p=min(1.0, 2 * stats.norm.sf(z)))
     return result
 
@@ -244,8 +244,8 @@ def report(result, results_path, trials):
     md = ["# Bridge experiment: statistics", "",
           f"From `{results_path}`: {trials} measured trials, conditions {', '.join(conditions)}.", "",
           "Friedman's test (chi-square approximation, ties corrected) across conditions; Wilcoxon's signed-rank "
-          "test per pair, two-tailed, zero differences dropped, exact p without ties up to n = 25, else the normal "
-          "approximation with tie and continuity corrections; Bonferroni over the pairs of a measure.", ""]
+          "test per pair, two-tailed, zero differences dropped, exact p up to n = 50 (over the observed ranks, ties "
+          "included), else the normal approximation with tie and continuity corrections; Bonferroni over the pairs of a measure.", ""]
     for measure, entry in result["measures"].items():
         md += [f"## {measure}", ""]
         if not entry["conditions"]:

@@ -89,7 +89,7 @@ class Wilcoxon(unittest.TestCase):
         self.assertEqual(w["method"], "exact")
         self.assertAlmostEqual(w["p"], 0.0390625, places=7)
         # the published one-tailed value
-        self.assertAlmostEqual(analyze.exact_upper_tail(9, 40), 0.0195, places=4)
+        self.assertAlmostEqual(analyze.exact_upper_tail(list(range(1, 10)), 40), 0.0195, places=4)
 
     def test_zero_differences_are_dropped(self):
         w = analyze.wilcoxon(DEPRESSION_X + [1.0, 2.0, 3.0], DEPRESSION_Y + [1.0, 2.0, 3.0])
@@ -103,16 +103,28 @@ class Wilcoxon(unittest.TestCase):
         self.assertEqual(w["p"], 1.0)
         self.assertIsNone(w["w_plus"])
 
-    def test_ties_use_the_normal_approximation_with_corrections(self):
+    def test_ties_are_exact_over_the_observed_ranks(self):
         # d = 1, 1, 1, 2, -2, 3: |d| ranks 2, 2, 2, 4.5, 4.5, 6; W+ = 16.5, n = 6
         a = [2, 3, 4, 7, 5, 9]
         b = [1, 2, 3, 5, 7, 6]
         w = analyze.wilcoxon(a, b)
-        self.assertEqual(w["method"], "normal")
+        self.assertEqual(w["method"], "exact")
         self.assertEqual(w["w_plus"], 16.5)
-        mean = 6 * 7 / 4
-        variance = 6 * 7 * 13 / 24 - ((3 ** 3 - 3) + (2 ** 3 - 2)) / 48
-        z = (16.5 - mean - 0.5) / variance ** 0.5
+        # by brute force: every one of the 2^6 sign assignments of those ranks
+        ranks = [2, 2, 2, 4.5, 4.5, 6]
+        sums = [sum(r for r, bit in zip(ranks, range(6)) if mask >> bit & 1) for mask in range(64)]
+        self.assertAlmostEqual(w["p"], 2 * sum(s >= 16.5 for s in sums) / 64, places=12)
+
+    def test_more_than_50_use_the_normal_approximation_with_corrections(self):
+        # 60 pairs: d = 1 (x20), -1 (x10), 2 (x30): ties throughout
+        d = [1] * 20 + [-1] * 10 + [2] * 30
+        w = analyze.wilcoxon(d, [0] * len(d))
+        self.assertEqual(w["method"], "normal")
+        n = 60
+        # |d| = 1 takes ranks 1..30 (mean 15.5), |d| = 2 ranks 31..60 (mean 45.5)
+        self.assertEqual(w["w_plus"], 20 * 15.5 + 30 * 45.5)
+        variance = n * (n + 1) * (2 * n + 1) / 24 - ((30 ** 3 - 30) + (30 ** 3 - 30)) / 48
+        z = (w["w_plus"] - n * (n + 1) / 4 - 0.5) / variance ** 0.5
         self.assertAlmostEqual(w["z"], z, places=12)
         self.assertAlmostEqual(w["p"], 2 * analyze.stats.norm.sf(z), places=12)
 
