@@ -11,6 +11,8 @@
 
 namespace enact::devices {
 
+class HandSource;
+
 // fault bits of a ForceSample: each set while the condition holds at the sample's time
 enum class DeviceFault : std::uint32_t {
   watchdog = 1u << 0,           // no force command within the watchdog time: force ramps to zero
@@ -52,6 +54,9 @@ class ForceDevice {
   virtual void deactivate() noexcept = 0;
   // what the device can do (valid after configure)
   virtual const haptics::DeviceProfile& profile() const = 0;
+  // the simulated hand holding a simulated device (core/devices/hand.h); nullptr for a real
+  // device, which a person holds
+  virtual HandSource* simulated_hand() noexcept { return nullptr; }
 };
 
 // a tactile pin array: rows x cols pins, pin i = row * cols + col, at most 32 pins

@@ -38,6 +38,7 @@ class SafeForceDevice final : public ForceDevice {
   // zero force to the inner device, then deactivate it
   void deactivate() noexcept override;
   const haptics::DeviceProfile& profile() const override { return inner_->profile(); }
+  HandSource* simulated_hand() noexcept override { return inner_->simulated_hand(); }
 
   // commands scaled down to the peak force, since construction
   std::uint64_t clamps() const { return clamps_; }

@@ -8,6 +8,7 @@
 
 #include "core/config/format.h"
 #include "core/devices/params_error.h"
+#include "core/devices/virtual_subject.h"
 
 namespace enact::devices {
 namespace {
@@ -89,11 +90,12 @@ void SimulatedForceDevice::configure() {
            "set substep_s from 1e-9 to " + config::number(max_substep_s_) + " s, or soften the stop or the hand");
   }
   substep_ns_ = std::max<std::int64_t>(1, std::llround(p.substep_s * 1e9));
-  // the hand path (throws config::Error with file:line)
-  hand_path_ = p.hand_path.empty() ? Trajectory{} : load_trajectory(p.hand_path);
+  // the hand: a path or a virtual subject (throws config::Error with file:line)
+  if (!p.hand_path.empty() && !p.subject.empty()) refuse(kDevice, "both hand_path and subject are given", "give hand_path (a scripted hand) or subject (a virtual subject), not both");
+  if (p.subject.empty()) hand_ = std::make_unique<ScriptedHand>(p.hand_path.empty() ? Trajectory{} : load_trajectory(p.hand_path));
+  else hand_ = std::make_unique<VirtualSubject>(load_subject(p.subject), p.subject_seed, p.noise_seed);
   x_m_ = p.start_m;
-  hand_m_ = hand_at(0);
-  v_m_per_s_ = force_n_ = {};
+  reset_hand();
   speed_clamps_ = 0;
   configured_ = true;
 }
@@ -101,10 +103,9 @@ void SimulatedForceDevice::configure() {
 void SimulatedForceDevice::activate() {
   if (!configured_) refuse(kDevice, "activate before configure", "call configure() first");
   x_m_ = params_.start_m;
-  v_m_per_s_ = force_n_ = {};
   command_faults_ = 0;
   started_ = false;
-  hand_m_ = hand_at(0);
+  reset_hand();
   active_ = true;
 }
 
@@ -164,12 +165,13 @@ void SimulatedForceDevice::advance(std::int64_t now_ns) noexcept {
 void SimulatedForceDevice::substep(std::int64_t to_ns) noexcept {
   const double dt = static_cast<double>(to_ns - now_ns_) * 1e-9;
   const double m = profile_.moving_mass_kg;
-  // the hand: spring towards the target, damper on the velocity relative to the target's
-  const Vec3 hand_next = hand_at(to_ns - start_ns_);
+  // the hand: spring towards the target, damper on the velocity relative to the target's;
+  // the target comes from the hand source, given what the hand feels now
+  const Vec3 hand_next = hand_->target(to_ns - start_ns_, {x_m_, v_m_per_s_, -hand_force_n_});
   const Vec3 hand_velocity = (hand_next - hand_m_) * (1.0 / dt);
-  const Vec3 hand_force = (hand_m_ - x_m_) * params_.hand_stiffness_n_per_m + (hand_velocity - v_m_per_s_) * params_.hand_damping_n_s_per_m;
+  hand_force_n_ = (hand_m_ - x_m_) * params_.hand_stiffness_n_per_m + (hand_velocity - v_m_per_s_) * params_.hand_damping_n_s_per_m;
   // all forces at the start of the substep; velocity first, then position (semi-implicit)
-  const Vec3 force = force_n_ + hand_force - v_m_per_s_ * profile_.damping_n_s_per_m + stop_force_n();
+  const Vec3 force = force_n_ + hand_force_n_ - v_m_per_s_ * profile_.damping_n_s_per_m + stop_force_n();
   v_m_per_s_ += force * (dt / m);
   // the speed limit
   const double speed = physics::norm(v_m_per_s_);
@@ -182,9 +184,11 @@ void SimulatedForceDevice::substep(std::int64_t to_ns) noexcept {
   now_ns_ = to_ns;
 }
 
-Vec3 SimulatedForceDevice::hand_at(std::int64_t time_ns) const noexcept {
-  if (hand_path_.t_s.empty()) return params_.start_m;
-  return hand_path_.at(static_cast<double>(time_ns) * 1e-9);
+// the handle at rest at the start, the hand's trial at time 0
+void SimulatedForceDevice::reset_hand() noexcept {
+  v_m_per_s_ = force_n_ = hand_force_n_ = {};
+  hand_->reset({params_.start_m, params_.hand_stiffness_n_per_m});
+  hand_m_ = hand_->target(0, {x_m_, {}, {}});
 }
 
 Vec3 SimulatedForceDevice::stop_force_n() const noexcept {

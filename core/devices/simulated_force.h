@@ -1,13 +1,16 @@
 #pragma once
 // A simulated force-feedback device: the end-effector is a point mass (the profile's moving
-// mass) with the profile's physical damping, pushed by the commanded force and by a scripted
-// hand, so a loop closed through it runs through real dynamics. The hand is a spring-damper
-// pulling the end-effector towards a target that follows a path (or holds the start).
+// mass) with the profile's physical damping, pushed by the commanded force and by a hand,
+// so a loop closed through it runs through real dynamics. The hand is a spring-damper
+// pulling the end-effector towards its target, given by a HandSource (core/devices/hand.h):
+// a scripted path (or the start, held), or a virtual subject that reacts to what it feels.
 //
 // Physics, integrated by semi-implicit Euler in substeps of at most substep_s:
 //   m a = F_cmd + k_h (h - x) + c_h (h' - v) - b v + F_stop
 //   F_cmd : the command, saturated to the profile's peak force (direction kept)
-//   h     : the hand target, hand_path at the time since the device's clock started
+//   h     : the hand target, from the hand source at the time since the device's clock
+//           started, given what the hand feels (handle position, velocity, and the force
+//           -(k_h (h - x) + c_h (h' - v)) of the previous substep)
 //   F_stop: beyond the profile's workspace, per axis, a push-only spring-damper of
 //           stop_stiffness_n_per_m, critically damped for the moving mass
 //   |v| is then limited to the profile's max speed (counted in speed_clamps()).
@@ -21,14 +24,19 @@
 #include <cstdint>
 #include <string>
 
+#include <memory>
+
 #include "core/devices/device.h"
-#include "core/devices/trajectory.h"
+#include "core/devices/hand.h"
 
 namespace enact::devices {
 
 struct SimulatedForceParams {
   std::string profile = "ergos";          // a device profile name (haptics::find_device_profile)
   std::string hand_path;                  // CSV (t_s,x_m,y_m,z_m, t from the clock start) the hand tracks; empty: the hand holds start_m
+  std::string subject;                    // a virtual subject's file (YAML) holds the device instead (not with hand_path)
+  std::uint64_t subject_seed = 0;         // the virtual subject's traits
+  std::uint64_t noise_seed = 0;           // the virtual subject's motor noise and memory errors
   physics::Vec3 start_m{0.0, 0.0, 0.0125};  // start position of the end-effector, inside the workspace
   double hand_stiffness_n_per_m = 300.0;  // >= 0 (0 with 0 damping: no hand, a free device)
   double hand_damping_n_s_per_m = 5.0;    // >= 0, on the velocity relative to the target's
@@ -40,7 +48,7 @@ class SimulatedForceDevice final : public ForceDevice {
  public:
   explicit SimulatedForceDevice(SimulatedForceParams params = {});
 
-  // find the profile, validate the params, load the hand path; throws config::Error
+  // find the profile, validate the params, load the hand path or the subject; throws config::Error
   void configure() override;
   // reset the end-effector to start_m at rest, zero force; the next read or write starts the clock
   void activate() override;
@@ -51,6 +59,8 @@ class SimulatedForceDevice final : public ForceDevice {
   // zero force, disable; the state stays where it is
   void deactivate() noexcept override;
   const haptics::DeviceProfile& profile() const override { return profile_; }
+  // the hand holding the device (valid after configure)
+  HandSource* simulated_hand() noexcept override { return hand_.get(); }
 
   // the unquantised state, for tests and viewers
   physics::Vec3 true_position_m() const { return x_m_; }
@@ -69,13 +79,13 @@ class SimulatedForceDevice final : public ForceDevice {
   void start_clock(std::int64_t now_ns) noexcept;
   void advance(std::int64_t now_ns) noexcept;
   void substep(std::int64_t to_ns) noexcept;
-  physics::Vec3 hand_at(std::int64_t time_ns) const noexcept;
+  void reset_hand() noexcept;
   physics::Vec3 stop_force_n() const noexcept;
   bool outside_workspace() const noexcept;
 
   SimulatedForceParams params_;
   haptics::DeviceProfile profile_;
-  Trajectory hand_path_;  // empty: the hand holds start_m
+  std::unique_ptr<HandSource> hand_;
   double stop_damping_n_s_per_m_ = 0.0;
   double max_substep_s_ = 0.0;
   std::int64_t substep_ns_ = 0;
@@ -89,6 +99,7 @@ class SimulatedForceDevice final : public ForceDevice {
   physics::Vec3 x_m_;
   physics::Vec3 v_m_per_s_;
   physics::Vec3 hand_m_;
+  physics::Vec3 hand_force_n_;  // the hand's pull on the handle, last substep
   physics::Vec3 force_n_;
   std::uint32_t command_faults_ = 0;  // clamped / nonfinite_command bits of the acting command
   std::uint64_t speed_clamps_ = 0;

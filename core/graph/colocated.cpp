@@ -1,5 +1,7 @@
 #include "core/graph/colocated.h"
 
+#include "core/devices/hand.h"
+
 namespace enact::graph {
 
 ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock)
@@ -9,6 +11,8 @@ void ColocatedLoop::activate() {
   force_.activate();
   tactile_.activate();
   sim_.activate(0);
+  devices::HandSource* hand = force_.simulated_hand();
+  hand_ = hand && hand->feels_pins() ? hand : nullptr;
   start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
   obs_ = {};
 }
@@ -30,6 +34,11 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   obs_.force_ns = clock_();
   // pins only at the down-sampled rate the cells can follow
   if (obs_.step.frame_due) tactile_.write(now_ns, obs_.step.frame);
+  // a virtual subject's fingertip feels what the pins show
+  if (hand_) {
+    tactile_.shown(now_ns, shown_, tactile_.rows() * tactile_.cols());
+    hand_->feel_pins(shown_, tactile_.rows(), tactile_.cols());
+  }
   if (obs_.step.event.kind != task::TaskEventKind::none) obs_.step.event.time_ns += start_ns_;  // on the monotonic clock
   obs_.seq += 1;
   return obs_;

@@ -1,8 +1,9 @@
 #pragma once
 // The co-located real-time tick: the simulator and both device drivers in one thread, wired
 // by calls: read the device, step the model, write the force, write the pins (down-sampled),
-// all in the same tick: the zero-delay loop. What happened is returned as a trivially
-// copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
+// all in the same tick: the zero-delay loop. A simulated hand that feels pins (a virtual
+// subject) is given what the tactile device shows at the end of each tick. What happened is
+// returned as a trivially copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
 // blocks and never throws.
 #include <cstdint>
 
@@ -53,6 +54,8 @@ class ColocatedLoop {
   Clock clock_;
   ParamQueue* changes_ = nullptr;
   AppliedQueue* applied_ = nullptr;
+  devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
+  float shown_[32] = {};
   Observation obs_;
   std::int64_t start_ns_ = -1;  // time of the first tick
 };

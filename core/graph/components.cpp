@@ -20,15 +20,19 @@ void refuse_given(const Params& p, std::initializer_list<const char*> names, con
   }
 }
 
-// the scripted hand of a simulated device, or of an emulated one
+// the hand of a simulated device, or of an emulated one: a scripted path or a virtual subject
 void read_hand(const Params& p, devices::SimulatedForceParams& f) {
   f.hand_path = p.text("hand_path", "");
+  f.subject = p.text("subject", "");
+  f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed", 0));
+  f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed", 0));
   f.start_m = p.vec3("start_m", f.start_m);
   f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m", f.hand_stiffness_n_per_m);
   f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m", f.hand_damping_n_s_per_m);
 }
 
-constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "start_m", "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
+constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m",
+                                                           "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
 
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)
 bool emulated(const Params& p) {
@@ -82,8 +86,9 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows,
 
 const std::vector<std::string> kSimParams{"scene", "rate_hz", "model", "tactile_period_s", "tactile_mode", "force",
                                           "min_fall_s", "min_recovery_s", "end_progress"};
-const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "start_m", "hand_stiffness_n_per_m", "hand_damping_n_s_per_m",
-                                            "watchdog_s", "ramp_s", "transport", "serial", "firmware", "homing_timeout_s", "max_force_n"};
+const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "subject", "subject_seed", "noise_seed", "start_m",
+                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m", "watchdog_s", "ramp_s", "transport", "serial",
+                                            "firmware", "homing_timeout_s", "max_force_n"};
 const std::vector<std::string> kTactileParams{"device", "rows", "cols", "rise_time_s", "transport", "serial", "first_cell"};
 
 sim::SimParams sim_params(const Params& p) {

@@ -18,7 +18,8 @@ sim::SimParams sim_params(const Params& p);
 extern const std::vector<std::string> kSimParams;
 
 // force device: device (simulated, falcon), watchdog_s, ramp_s; simulated: profile (ergos,
-// falcon), hand_path, start_m, hand_stiffness_n_per_m, hand_damping_n_s_per_m; falcon:
+// falcon), hand_path or subject (a virtual subject's file) with subject_seed and noise_seed,
+// start_m, hand_stiffness_n_per_m, hand_damping_n_s_per_m; falcon:
 // transport (usb, emulator), serial, firmware, homing_timeout_s, max_force_n, and with the
 // emulator its hand (hand_path, start_m, hand_*). Wrapped in the safety layer (clamp, NaN,
 // watchdog); configured, not yet active

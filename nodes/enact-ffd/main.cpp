@@ -2,10 +2,12 @@
 // Each tick it reads the device, publishes DeviceState, waits (until just before the next
 // tick) for the simulator's ForceCommand answering that sample, and writes the force. The
 // safety layer's watchdog ramps the force to zero when answers stop coming.
+#include <algorithm>
 #include <cstdio>
 
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
+#include "core/devices/hand.h"
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
@@ -28,6 +30,7 @@ at 1 Hz (sample-to-force latency percentiles, jitter, drops).
 parameters:
   rate_hz=5000  sim_node=sim  spin_us=50  duration_s=0  fifo_priority=0  lock_memory=false
   observers=0 (wait up to 10 s for this many observers of ffd/state, e.g. a logger, too)
+  tactile_node=tactile (a virtual subject holding the device feels its tactile/shown)
   device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
 Stops on SIGINT/SIGTERM: zero force first.
 )";
@@ -51,7 +54,8 @@ int run(int argc, char** argv) {
   rtp.fifo_priority = p.integer("fifo_priority", 0);
   auto device = graph::make_force_device(p);
   std::vector<std::string> known = graph::kForceParams;
-  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory", "observers"});
+  const std::string tactile_node = p.text("tactile_node", "tactile");
+  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory", "observers", "tactile_node"});
   p.refuse_unread(known);
 
   // the bus: publish the samples, receive the answers straight from the simulator
@@ -62,6 +66,15 @@ int run(int argc, char** argv) {
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
   in.connect(graph::node_endpoint(sim_node));
+  // a virtual subject's fingertip: the latest pins the tactile driver shows
+  devices::HandSource* hand = device->simulated_hand();
+  const bool feels_pins = hand && hand->feels_pins();
+  bus::ByteSubscriber shown_in;
+  shown_in.set_conflate(true);
+  bus::Subscriber<msgs::TactileShown> shown(shown_in, graph::kTactileShown);
+  if (feels_pins) shown_in.connect(graph::node_endpoint(tactile_node));
+  msgs::TactileShown shown_msg;
+  float levels[32] = {};
   // wait until the simulator (and the observers asked for) listen: ZeroMQ drops what it
   // sends before that
   graph::wait_for_subscribers(out, graph::kDeviceState, 1 + observers, args.name, "subscriber (the simulator, then observers)");
@@ -84,6 +97,11 @@ int run(int argc, char** argv) {
   while (!graph::stop_requested()) {
     const std::int64_t now = scheduler.wait();
     if (now >= end) break;
+    if (feels_pins && shown.receive(shown_msg, 0)) {
+      const int n = std::min(shown_msg.level_size(), 32);
+      for (int i = 0; i < n; ++i) levels[i] = shown_msg.level(i);
+      hand->feel_pins(levels, static_cast<int>(shown_msg.rows()), static_cast<int>(shown_msg.cols()));
+    }
     device->read(now, sample);
     state.mutable_header()->set_stamp_ns(0);
     graph::fill(state, sample);

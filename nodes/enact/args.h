@@ -28,6 +28,9 @@ struct Args {
 // `valued`: options that take a value; `switches`: flags; -h/--help is always a flag
 Args parse(int argc, char** argv, int first, const std::set<std::string>& valued, const std::set<std::string>& switches);
 
+// the items of a comma-separated list ("CM0,CM1"), empty items left out
+std::vector<std::string> split_commas(const std::string& list);
+
 // a file as given, else relative to the source tree above the executable
 // (build/nodes/enact/enact): so that benchmarks find launch/scenes/... from anywhere
 std::string find_file(const std::string& path);

@@ -2,7 +2,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "core/config/yaml.h"
 #include "core/sim/offline.h"
@@ -49,16 +48,6 @@ options:
               300 N/m (launch/paths/bridge_walk.csv)
 )";
 
-std::vector<std::string> split(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream ss(list);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 std::ofstream open_out(const std::string& path) {
   std::ofstream out(path);
   if (!out) throw config::Error(path + ": cannot write the file\n  fix: check that the folder exists and is writable");
@@ -93,7 +82,7 @@ int simulate(int argc, char** argv) {
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one scene file");
-  std::vector<std::string> models = split(a.get("model", "CM1"));
+  std::vector<std::string> models = split_commas(a.get("model", "CM1"));
   if (models.size() == 1 && models[0] == "all") models = haptics::preset_names();
   if (models.empty()) throw UsageError("--model needs at least one computer model");
   if (models.size() > 1 && (a.has("out") || a.has("metrics"))) throw UsageError("--out and --metrics take a single --model");

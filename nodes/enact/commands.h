@@ -25,5 +25,7 @@ int param(int argc, char** argv);
 
 // --attach, else the endpoint of the last graph launched on this machine (UsageError if none)
 std::string attach_endpoint(const Args& a);
+int experiment_run(int argc, char** argv);
+int metrics(int argc, char** argv);
 
 }  // namespace enact::cli

@@ -30,6 +30,8 @@ commands:
   resim FILE        rerun a recording's device states through the simulator, compare
   devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
   param set NAME VALUE  change a parameter of a running graph (answered: applied or refused)
+  experiment FILE   run an experiment's trials (virtual subjects or people), resumable
+  metrics FILE      a trial's metrics recomputed from its recording
 
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
@@ -61,6 +63,8 @@ int main(int argc, char** argv) {
     if (command == "resim") return enact::cli::resim(argc, argv);
     if (command == "devices") return enact::cli::devices(argc, argv);
     if (command == "param") return enact::cli::param(argc, argv);
+    if (command == "experiment") return enact::cli::experiment_run(argc, argv);
+    if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {

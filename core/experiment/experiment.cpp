@@ -1,0 +1,217 @@
+#include "core/experiment/experiment.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/config/yaml.h"
+#include "core/devices/random.h"
+#include "core/devices/virtual_subject.h"
+#include "core/haptics/computer_model.h"
+#include "core/launch/launch_file.h"
+
+namespace enact::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+
+// seeds are below this: a node parameter carries whole numbers up to 1e9
+constexpr std::uint64_t kSeedRange = 1'000'000'000;
+
+// a path written in the experiment file, relative to it
+std::string beside(const std::string& file, const std::string& path) {
+  const fs::path p(path);
+  return (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
+}
+
+// a preset, or a computer-model file relative to the experiment file; errors at its line
+Condition condition(const std::string& file, const YAML::Node& at, const std::string& written) {
+  const bool preset = haptics::preset(written).has_value();
+  const std::string model = preset ? written : beside(file, written);
+  try {
+    return {haptics::resolve_computer_model(model).name, model};
+  } catch (const config::Error& e) {
+    config::fail(file, at, "condition '" + written + "': " + e.what(),
+                 "use a computer model preset (CM0, CM1, CM2, CM3, P, T, PT) or a model file relative to the experiment file");
+  }
+}
+
+// letters, digits, '-' and '_' only: safe in a file name
+std::string safe(const std::string& text) {
+  std::string out;
+  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+  return out;
+}
+
+std::vector<std::string> numbered(int count) {
+  std::vector<std::string> ids;
+  for (int i = 1; i <= count; ++i) ids.push_back(std::to_string(i));
+  return ids;
+}
+
+}  // namespace
+
+const char* to_string(TrialKind kind) {
+  switch (kind) {
+    case TrialKind::familiarisation: return "familiarisation";
+    case TrialKind::practice: return "practice";
+    case TrialKind::measured: return "measured";
+  }
+  return "measured";
+}
+
+ExperimentSpec load_experiment(const std::string& path) {
+  const YAML::Node root = config::load_file(path);
+  const config::Map m(root, path, "experiment",
+                      {"name", "description", "seed", "subjects", "virtual_subject", "conditions", "order", "limit_s",
+                       "familiarisation_s", "practice_s", "graph", "launch_args"});
+  ExperimentSpec s;
+  s.file = fs::absolute(path).lexically_normal().string();
+  s.name = m.text("name", fs::path(path).stem().string());
+  s.seed = static_cast<std::uint64_t>(m.integer("seed", 1, 0, 2147483647));
+  // the subjects: a count or a list of ids
+  const YAML::Node subjects = m.get("subjects");
+  if (subjects.IsScalar()) {
+    s.subjects = numbered(m.integer("subjects", 0, 1, 10000));
+  } else if (subjects.IsSequence() && subjects.size() > 0) {
+    for (const auto& id : subjects) {
+      if (!id.IsScalar() || id.Scalar().empty()) config::fail(path, id, "a subject id must be a word", "write e.g. subjects: [P01, P02]");
+      if (std::find(s.subjects.begin(), s.subjects.end(), id.Scalar()) != s.subjects.end()) {
+        config::fail(path, id, "subject '" + id.Scalar() + "' is listed twice", "give each subject once");
+      }
+      s.subjects.push_back(id.Scalar());
+    }
+  } else {
+    m.fail("subjects", "subjects must be a count or a list of ids", "write subjects: 12, or subjects: [P01, P02]");
+  }
+  // who holds the device: a virtual subject (checked now), or people
+  if (m.has("virtual_subject")) {
+    s.virtual_subject = beside(path, m.text("virtual_subject"));
+    if (!fs::is_regular_file(s.virtual_subject)) m.fail("virtual_subject", "no subject file " + s.virtual_subject, "give a virtual subject's YAML file, relative to the experiment file");
+    devices::load_subject(s.virtual_subject);
+  }
+  // the conditions
+  const YAML::Node conditions = m.get("conditions");
+  if (!conditions.IsSequence() || conditions.size() == 0) m.fail("conditions", "conditions must be a list", "write conditions: [CM0, CM1, CM2, CM3]");
+  for (const auto& c : conditions) {
+    if (!c.IsScalar()) config::fail(path, c, "a condition must be a preset name or a file", "write e.g. CM1 or models/mine.yaml");
+    s.conditions.push_back(condition(path, c, c.Scalar()));
+    for (std::size_t i = 0; i + 1 < s.conditions.size(); ++i) {
+      if (s.conditions[i].label == s.conditions.back().label) config::fail(path, c, "condition '" + s.conditions.back().label + "' is listed twice", "give each condition once");
+    }
+  }
+  // the protocol
+  const std::string order = m.text("order", "random");
+  if (order != "random" && order != "balanced") m.fail("order", "order '" + order + "' is not random or balanced", "write order: random (seeded per subject) or order: balanced (Latin square)");
+  s.order = order == "random" ? Order::random : Order::balanced;
+  s.limit_s = m.positive("limit_s", s.limit_s);
+  s.familiarisation_s = m.positive("familiarisation_s", 0.0, true);
+  s.practice_s = m.positive("practice_s", 0.0, true);
+  // the graph of a trial: a launch file, checked now with the arguments the runner gives it
+  s.launch = beside(path, m.text("graph"));
+  if (!fs::is_regular_file(s.launch)) m.fail("graph", "no launch file " + s.launch, "give the trial's launch file, relative to the experiment file (e.g. trial_rt.yaml: co-located, trial.yaml: distributed)");
+  if (m.has("launch_args")) {
+    const YAML::Node args = m.get("launch_args");
+    if (!args.IsMap()) m.fail("launch_args", "launch_args must be a mapping", "write launch_args: {rate_hz: 5000}");
+    for (const auto& kv : args) {
+      if (!kv.second.IsScalar()) config::fail(path, kv.second, "launch argument '" + kv.first.Scalar() + "' must be a single value", "write NAME: VALUE");
+      s.launch_args.emplace_back(kv.first.Scalar(), kv.second.Scalar());
+    }
+  }
+  try {
+    // the arguments only: the executables are found when a trial starts
+    const launch::LaunchDescription declared = launch::load_launch(s.launch, {}, [](const std::string& exec) { return exec; });
+    std::vector<std::string> needed{"model", "recording", "limit_s"};
+    if (s.virtual_subjects()) needed.insert(needed.end(), {"subject", "subject_seed", "noise_seed"});
+    for (const auto& [name, value] : s.launch_args) needed.push_back(name);
+    for (const std::string& name : needed) {
+      const bool has = std::any_of(declared.args.begin(), declared.args.end(), [&](const launch::ArgSpec& a) { return a.name == name; });
+      if (!has) m.fail("graph", "the launch file " + s.launch + " declares no argument '" + name + "'",
+                       "give a trial launch file declaring model, recording and limit_s (and subject, subject_seed, noise_seed for virtual subjects)");
+    }
+  } catch (const config::Error& e) {
+    const std::string what = e.what();
+    if (what.rfind(path, 0) == 0) throw;
+    m.fail("graph", "the launch file does not load: " + what, "fix the launch file");
+  }
+  return s;
+}
+
+void override_subjects(ExperimentSpec& spec, int count) {
+  if (count < 1) throw config::Error("--subjects " + std::to_string(count) + " is not a count\n  fix: give a number from 1");
+  spec.subjects = numbered(count);
+}
+
+void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& conditions) {
+  if (conditions.empty()) throw config::Error("--conditions is empty\n  fix: give e.g. --conditions CM0,CM1");
+  std::vector<Condition> out;
+  for (const std::string& c : conditions) {
+    const std::string model = haptics::preset(c) ? c : fs::absolute(c).string();
+    try {
+      out.push_back({haptics::resolve_computer_model(model).name, model});
+    } catch (const config::Error& e) {
+      throw config::Error("--conditions: '" + c + "': " + e.what());
+    }
+  }
+  spec.conditions = out;
+}
+
+std::vector<std::size_t> condition_order(Order order, std::size_t n, std::size_t subject_index, std::uint64_t seed) {
+  std::vector<std::size_t> out(n);
+  if (order == Order::random) {
+    // Fisher-Yates with the subject's own stream
+    for (std::size_t i = 0; i < n; ++i) out[i] = i;
+    devices::Random r(devices::derive_seed(seed, 2 * subject_index));
+    for (std::size_t i = n; i > 1; --i) std::swap(out[i - 1], out[r.below(i)]);
+    return out;
+  }
+  // Williams (1949): first row 0, 1, n-1, 2, n-2, ...; row r adds r (mod n); with n odd the
+  // mirrored rows follow, so each condition follows each other equally often
+  std::vector<std::size_t> first{0};
+  for (std::size_t lo = 1, hi = n - 1; first.size() < n;) {
+    first.push_back(lo++);
+    if (first.size() < n) first.push_back(hi--);
+  }
+  const std::size_t rows = n % 2 == 0 ? n : 2 * n;
+  const std::size_t row = subject_index % rows;
+  for (std::size_t j = 0; j < n; ++j) out[j] = (first[j] + row) % n;
+  if (row >= n) std::reverse(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Trial> make_plan(const ExperimentSpec& spec) {
+  std::vector<Trial> plan;
+  const int width = spec.subjects.size() < 10 ? 1 : spec.subjects.size() < 100 ? 2 : 3;
+  for (std::size_t s = 0; s < spec.subjects.size(); ++s) {
+    const std::string& id = spec.subjects[s];
+    const bool number = std::all_of(id.begin(), id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+    char padded[16];
+    std::snprintf(padded, sizeof padded, "%0*d", width, number ? std::stoi(id) : 0);
+    const std::string subject_stem = "s" + (number ? std::string(padded) : safe(id));
+    const std::uint64_t subject_stream = devices::derive_seed(spec.seed, 2 * s + 1);
+    const std::vector<std::size_t> order = condition_order(spec.order, spec.conditions.size(), s, spec.seed);
+    auto add = [&](std::size_t c, int position, TrialKind kind, double limit_s) {
+      Trial t;
+      t.index = plan.size();
+      t.subject = id;
+      t.subject_index = s;
+      t.condition = spec.conditions[c];
+      t.order = position;
+      t.kind = kind;
+      t.limit_s = limit_s;
+      t.subject_seed = static_cast<std::uint32_t>(subject_stream % kSeedRange);
+      t.noise_seed = static_cast<std::uint32_t>(devices::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind)) % kSeedRange);
+      t.file_stem = subject_stem + "_" + safe(t.condition.label) + "_" + to_string(kind);
+      plan.push_back(t);
+    };
+    if (spec.familiarisation_s > 0.0) add(order.front(), 0, TrialKind::familiarisation, spec.familiarisation_s);
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      if (spec.practice_s > 0.0) add(order[i], static_cast<int>(i + 1), TrialKind::practice, spec.practice_s);
+      add(order[i], static_cast<int>(i + 1), TrialKind::measured, spec.limit_s);
+    }
+  }
+  return plan;
+}
+
+}  // namespace enact::experiment

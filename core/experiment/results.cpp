@@ -1,0 +1,157 @@
+#include "core/experiment/results.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/config/format.h"
+#include "core/config/yaml.h"
+#include "core/graph/topics.h"
+#include "core/record/reader.h"
+#include "msgs/device_state.pb.h"
+#include "msgs/task_event.pb.h"
+
+namespace enact::experiment {
+namespace {
+
+using config::number;
+
+double seconds(std::int64_t ns) { return static_cast<double>(ns) * 1e-9; }
+
+// the cells of one CSV line (no quoting: enact writes none)
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(cell);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// appends one line to a CSV file, writing the header first into a new (or empty) file
+void append_line(const std::string& path, const char* header, const std::string& line) {
+  std::ifstream probe(path);
+  const bool fresh = !probe || probe.peek() == std::ifstream::traits_type::eof();
+  probe.close();
+  std::ofstream out(path, std::ios::app);
+  if (fresh) out << header << '\n';
+  out << line << '\n';
+  out.flush();
+  if (!out) throw config::Error(path + ": cannot write\n  fix: check the folder's permissions and free space");
+}
+
+}  // namespace
+
+const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed";
+const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,kind";
+
+RecordedTrial read_trial(const std::string& mcap_path) {
+  record::Reader reader(mcap_path);
+  RecordedTrial out;
+  std::int64_t first_ns = 0, last_ns = 0, end_ns = -1, fall_ns = -1, out_ns = 0;
+  std::uint64_t last_seq = 0;
+  msgs::DeviceState state;
+  msgs::TaskEvent event;
+  std::vector<std::pair<std::int64_t, msgs::TaskEvent::Kind>> events;
+  reader.for_each([&](const record::Message& m) {
+    if (m.topic == graph::kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      if (out.states == 0) {
+        out.first_state_seq = state.header().seq();
+        first_ns = state.header().stamp_ns();
+      } else if (state.header().seq() > last_seq + 1) {
+        out.state_gaps += state.header().seq() - last_seq - 1;
+      }
+      last_seq = state.header().seq();
+      last_ns = state.header().stamp_ns();
+      ++out.states;
+    } else if (m.topic == graph::kTaskEvent && event.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      events.emplace_back(event.time_ns(), event.kind());
+    }
+    return true;
+  });
+  if (out.states == 0) throw config::Error(mcap_path + ": holds no device state (ffd/state)\n  fix: record the trial's graph with its logger");
+  // the simulator's events, in the order it reported them; the runner's own (trial start,
+  // reset, condition) carry no metric. A fall that begins or ends on the very step that
+  // completes the bridge is not reported (BridgeTask keeps it): then falls can be one short.
+  for (const auto& [time_ns, kind] : events) {
+    if (end_ns >= 0) break;
+    if (kind == msgs::TaskEvent::FALL_START) {
+      ++out.metrics.falls;
+      fall_ns = time_ns;
+    } else if (kind == msgs::TaskEvent::FALL_END && fall_ns >= 0) {
+      out_ns += time_ns - fall_ns;
+      fall_ns = -1;
+    } else if (kind == msgs::TaskEvent::TRIAL_END) {
+      end_ns = time_ns;
+      out.metrics.completed = true;
+    }
+  }
+  // a fall still open counts up to the end: the completion, or the last device state
+  const std::int64_t stop_ns = end_ns >= 0 ? end_ns : last_ns;
+  if (fall_ns >= 0) out_ns += stop_ns - fall_ns;
+  out.metrics.time_total_s = seconds(stop_ns - first_ns);
+  out.metrics.time_out_s = seconds(out_ns);
+  out.metrics.ratio = out.metrics.time_total_s > 0.0 ? out.metrics.time_out_s / out.metrics.time_total_s : 0.0;
+  out.duration_s = seconds(last_ns - first_ns);
+  return out;
+}
+
+std::string trial_key(const std::string& subject, const std::string& condition, TrialKind kind) {
+  return subject + '\n' + condition + '\n' + to_string(kind);
+}
+
+void append_result(const std::string& path, const Trial& t, const task::Metrics& m) {
+  std::string line = t.subject + ',' + t.condition.label + ',' + std::to_string(t.order) + ',' + std::to_string(m.falls) + ',' +
+                     number(m.time_total_s) + ',' + number(m.time_out_s) + ',' + number(m.ratio) + ',' + (m.completed ? "1" : "0");
+  const bool measured = t.kind == TrialKind::measured;
+  if (!measured) line += std::string(",") + to_string(t.kind);
+  append_line(path, measured ? kResultsHeader : kPracticeHeader, line);
+}
+
+std::set<std::string> done_trials(const std::string& path) {
+  std::set<std::string> done;
+  std::ifstream in(path);
+  if (!in) return done;
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (n == 1) {
+      if (line != kResultsHeader && line != kPracticeHeader) {
+        throw config::Error(path + ":1: not an enact results file (header: " + line + ")\n  fix: give a new --out folder, or restore the file");
+      }
+      continue;
+    }
+    if (line.empty()) continue;
+    const std::vector<std::string> c = cells(line);
+    if (c.size() < 8) throw config::Error(path + ":" + std::to_string(n) + ": a damaged row (" + line + ")\n  fix: delete the row: its trial runs again");
+    const TrialKind kind = c.size() > 8 ? (c[8] == "practice" ? TrialKind::practice : TrialKind::familiarisation) : TrialKind::measured;
+    done.insert(trial_key(c[0], c[1], kind));
+  }
+  return done;
+}
+
+void append_ranking(const std::string& path, const std::string& subject, const std::map<std::string, int>& ranks) {
+  for (const auto& [condition, rank] : ranks) append_line(path, "subject,condition,rank", subject + ',' + condition + ',' + std::to_string(rank));
+}
+
+std::set<std::string> ranked_subjects(const std::string& path) {
+  std::set<std::string> out;
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 0; std::getline(in, line); ++n) {
+    if (n > 0 && !line.empty()) out.insert(cells(line).front());
+  }
+  return out;
+}
+
+std::string plan_text(const std::vector<Trial>& plan) {
+  std::string out = "index,subject,condition,model,order,kind,limit_s,subject_seed,noise_seed,recording\n";
+  for (const Trial& t : plan) {
+    out += std::to_string(t.index) + ',' + t.subject + ',' + t.condition.label + ',' + t.condition.model + ',' + std::to_string(t.order) + ',' +
+           to_string(t.kind) + ',' + number(t.limit_s) + ',' + std::to_string(t.subject_seed) + ',' + std::to_string(t.noise_seed) + ',' +
+           t.file_stem + ".mcap\n";
+  }
+  return out;
+}
+
+}  // namespace enact::experiment

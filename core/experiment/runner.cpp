@@ -1,0 +1,393 @@
+#include "core/experiment/runner.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/bus/attach.h"
+#include "core/bus/endpoints.h"
+#include "core/bus/typed.h"
+#include "core/config/format.h"
+#include "core/config/yaml.h"
+#include "core/experiment/results.h"
+#include "core/graph/logger.h"
+#include "core/graph/topics.h"
+#include "core/launch/launch_file.h"
+#include "core/launch/supervisor.h"
+#include "core/record/mcap.h"
+#include "msgs/task_event.pb.h"
+
+namespace enact::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// the runner's own node name on the bus (it publishes trial start, condition and resets)
+constexpr const char* kRunnerNode = "experiment";
+// the clock master stops itself at the limit; the runner stops the rest of the graph this
+// long after, once the logger has received the last messages in flight
+constexpr double kDrain_s = 1.0;
+// a trial that reached its limit but for this long is taken as stopped by it: a loaded
+// machine can stall the loop for tens of ms, and the clock master skips the ticks it missed
+constexpr double kLimitSlack_s = 0.5;
+// consecutive failed trials after which the run stops
+constexpr int kMaxFailures = 3;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// a pending SIGINT or SIGTERM (they are blocked, so they wait), taken; true if there was one
+bool take_stop_signal() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  const timespec zero{0, 0};
+  return sigtimedwait(&set, nullptr, &zero) > 0;
+}
+
+// a fresh folder for a trial graph's sockets, removed with it
+struct GraphDir {
+  std::string path;
+  GraphDir() {
+    std::string pattern = "/tmp/enact-graph-XXXXXX";
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a folder under /tmp for the trial's sockets");
+    path = pattern;
+  }
+  ~GraphDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  GraphDir(const GraphDir&) = delete;
+  GraphDir& operator=(const GraphDir&) = delete;
+};
+
+// stdout and stderr (fds 1 and 2) go to a file while this lives: the graph's processes
+// inherit them
+struct OutputTo {
+  int saved_out = -1, saved_err = -1;
+  explicit OutputTo(const std::string& path) {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) throw config::Error(path + ": cannot write the trial's log\n  fix: check the folder's permissions");
+    saved_out = fcntl(1, F_DUPFD_CLOEXEC, 3);
+    saved_err = fcntl(2, F_DUPFD_CLOEXEC, 3);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    close(fd);
+  }
+  ~OutputTo() {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    dup2(saved_out, 1);
+    dup2(saved_err, 2);
+    close(saved_out);
+    close(saved_err);
+  }
+  OutputTo(const OutputTo&) = delete;
+  OutputTo& operator=(const OutputTo&) = delete;
+};
+
+enum class Outcome : std::uint8_t { done, aborted, interrupted, failed };
+
+struct TrialResult {
+  Outcome outcome = Outcome::failed;
+  task::Metrics metrics;
+  std::string problem;
+};
+
+// the time left: each trial left takes the mean of those run (at most its limit and the
+// mean start-up), or its limit before any ran
+struct Estimate {
+  double run_s = 0.0;
+  double overhead_s = 0.0;
+  int runs = 0;
+  void add(double wall_s, double trial_s) {
+    run_s += trial_s;
+    overhead_s += std::max(0.0, wall_s - trial_s);
+    ++runs;
+  }
+  double left_s(const std::vector<Trial>& plan, std::size_t from, const std::set<std::string>& done) const {
+    double left = 0.0;
+    for (std::size_t i = from; i < plan.size(); ++i) {
+      if (done.count(trial_key(plan[i].subject, plan[i].condition.label, plan[i].kind))) continue;
+      left += runs == 0 ? plan[i].limit_s : std::min(plan[i].limit_s, run_s / runs) + overhead_s / runs;
+    }
+    return left;
+  }
+};
+
+class TrialRun {
+ public:
+  TrialRun(const ExperimentSpec& spec, const Trial& trial, const std::string& folder, RunnerUi& ui, Progress progress)
+      : spec_(spec), trial_(trial), ui_(ui), progress_(progress) {
+    recording_ = folder + "/" + trial.file_stem + ".mcap";
+    log_ = folder + "/" + trial.file_stem + ".log";
+  }
+
+  TrialResult run() {
+    std::error_code ec;
+    fs::remove(recording_, ec);  // an abandoned attempt
+    const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
+    GraphDir dir;
+    bus::AttachPoint attach(spec_.name);
+    for (const auto& n : graph.nodes) {
+      const auto topics = graph::topics_of(fs::path(n.path).filename().string());
+      if (topics.empty()) continue;
+      attach.add_publisher(n.name, bus::ipc_endpoint(dir.path, n.name));
+      for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
+    }
+    const std::string events_endpoint = bus::ipc_endpoint(dir.path, kRunnerNode);
+    attach.add_publisher(kRunnerNode, events_endpoint);
+    attach.declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
+    attach.set_launch_info(graph::launch_info(spec_.launch, graph));
+
+    launch::SupervisorOptions options;
+    options.env = {{"ENACT_GRAPH_DIR", dir.path}, {"ENACT_ATTACH", attach.endpoint()}};
+    options.ready_timeout_s = 20.0;
+    options.on_ready = [this] { ready_.store(true); };
+    int code = 0;
+    {
+      const OutputTo to_log(log_);
+      std::thread monitor([&] { watch(events_endpoint, attach.endpoint()); });
+      code = launch::supervise(graph, options, std::cerr);
+      finished_.store(true);
+      monitor.join();
+    }
+    attach.stop();
+    if (stop_sent_) take_stop_signal();  // ours, if the graph ended on its own meanwhile
+    return outcome(code);
+  }
+
+  double trial_s() const { return trial_s_; }
+
+ private:
+  std::map<std::string, std::string> arguments() const {
+    std::map<std::string, std::string> a(spec_.launch_args.begin(), spec_.launch_args.end());
+    a["model"] = trial_.condition.model;
+    a["recording"] = recording_;
+    a["limit_s"] = config::number(trial_.limit_s);
+    if (spec_.virtual_subjects()) {
+      a["subject"] = spec_.virtual_subject;
+      a["subject_seed"] = std::to_string(trial_.subject_seed);
+      a["noise_seed"] = std::to_string(trial_.noise_seed);
+    }
+    return a;
+  }
+
+  // stop the graph: the supervisor stops it in order on SIGTERM
+  void stop_graph() {
+    if (!stop_sent_.exchange(true)) kill(getpid(), SIGTERM);
+  }
+
+  // the runner's side of the trial, while the supervisor runs the graph: announce it, watch
+  // for the simulator's end of the trial, take the experimenter's commands, show progress
+  void watch(const std::string& events_endpoint, const std::string& attach_endpoint) {
+    bus::BytePublisher out(events_endpoint, {.node = kRunnerNode});
+    bus::Publisher<msgs::TaskEvent> publish(out, graph::kTaskEvent);
+    bus::ByteSubscriber in;
+    bus::Subscriber<msgs::TaskEvent> events(in, graph::kTaskEvent);
+    in.connect(attach_endpoint);
+    msgs::TaskEvent event;
+    auto announce = [&](msgs::TaskEvent::Kind kind, const std::string& detail) {
+      event.Clear();
+      event.set_kind(kind);
+      event.set_time_ns(bus::monotonic_ns());
+      event.set_condition(trial_.condition.label);
+      event.set_subject(trial_.subject);
+      event.set_trial(static_cast<std::uint32_t>(trial_.index));
+      event.set_detail(detail);
+      publish.publish(event);
+    };
+    const bool person = !spec_.virtual_subjects();
+    bool announced = false;
+    Clock::time_point start = Clock::now(), shown = start;
+    while (!finished_.load()) {
+      if (ready_.load() && !announced) {
+        announced = true;
+        start = Clock::now();
+        announce(msgs::TaskEvent::CONDITION, to_string(trial_.kind));
+        announce(msgs::TaskEvent::TRIAL_START, "");
+      }
+      if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END) stop_graph();
+      if (!announced) continue;
+      trial_s_ = since(start);
+      if (person) {
+        const TrialCommand command = ui_.poll(trial_);
+        if (command == TrialCommand::reset) announce(msgs::TaskEvent::RESET, "the experimenter repositioned the subject at the start");
+        if (command == TrialCommand::abort) {
+          aborted_ = true;
+          stop_graph();
+        }
+      }
+      if (trial_s_ > trial_.limit_s + kDrain_s) stop_graph();
+      if (since(shown) >= 1.0) {
+        shown = Clock::now();
+        progress_.current = &trial_;
+        progress_.trial_s = trial_s_;
+        ui_.progress(progress_);
+      }
+    }
+  }
+
+  TrialResult outcome(int code) const {
+    TrialResult r;
+    if (aborted_) return {Outcome::aborted, {}, "aborted by the experimenter"};
+    if (code == 0 && !stop_sent_) return {Outcome::interrupted, {}, "interrupted"};
+    try {
+      const RecordedTrial t = read_trial(recording_);
+      if (t.first_state_seq != 1) {
+        return {Outcome::failed, {}, "the recording misses the trial's start (first device state seq " + std::to_string(t.first_state_seq) + "; see " + log_ + ")"};
+      }
+      if (!t.metrics.completed && t.duration_s < trial_.limit_s - kLimitSlack_s) {
+        return {Outcome::failed, {}, "the graph stopped at " + config::number(t.duration_s) + " s of " + config::number(trial_.limit_s) + " s (see " + log_ + ")"};
+      }
+      r.outcome = Outcome::done;
+      r.metrics = t.metrics;
+    } catch (const std::exception& e) {
+      const std::string error = first_error(log_);
+      r.problem = error.empty() ? std::string("no usable recording: ") + e.what() + " (see " + log_ + ")" : "the graph failed: " + error + " (see " + log_ + ")";
+    }
+    return r;
+  }
+
+  // the first line of a log that reports an error, "" when none does
+  static std::string first_error(const std::string& log) {
+    std::ifstream in(log);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.find("error") != std::string::npos) return line;
+    }
+    return "";
+  }
+
+  const ExperimentSpec& spec_;
+  const Trial& trial_;
+  RunnerUi& ui_;
+  Progress progress_;
+  std::string recording_, log_;
+  std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
+  std::atomic<bool> aborted_{false};
+  std::atomic<double> trial_s_{0.0};
+};
+
+// plan.csv: written by the first run, the same for every resumed one
+void check_plan(const std::string& out, const std::vector<Trial>& plan) {
+  const std::string path = out + "/plan.csv";
+  const std::string text = plan_text(plan);
+  std::ifstream in(path);
+  if (!in) {
+    std::ofstream(path) << text;
+    return;
+  }
+  std::stringstream held;
+  held << in.rdbuf();
+  if (held.str() != text) {
+    throw config::Error(path + ": this folder holds a run of another plan (experiment file, --subjects or --conditions differ)\n"
+                        "  fix: run with the same file and options to resume it, or give another --out");
+  }
+}
+
+}  // namespace
+
+RunnerUi::~RunnerUi() = default;
+
+RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, RunnerUi& ui) {
+  fs::create_directories(out + "/trials");
+  const std::vector<Trial> plan = make_plan(spec);
+  check_plan(out, plan);
+  std::error_code ec;
+  fs::copy_file(spec.file, out + "/experiment.yaml", fs::copy_options::skip_existing, ec);
+  RunSummary summary;
+  summary.results = out + "/results.csv";
+  const std::string practice = out + "/practice.csv", ranking = out + "/ranking.csv";
+  std::set<std::string> done = done_trials(summary.results);
+  for (const std::string& key : done_trials(practice)) done.insert(key);
+  const std::set<std::string> ranked = ranked_subjects(ranking);
+  const bool person = !spec.virtual_subjects();
+
+  const Clock::time_point start = Clock::now();
+  Estimate estimate;
+  Progress progress;
+  progress.total = plan.size();
+  int failures = 0;
+  for (std::size_t i = 0; i < plan.size() && !summary.interrupted; ++i) {
+    const Trial& t = plan[i];
+    progress.done = i;
+    progress.current = nullptr;
+    progress.elapsed_s = since(start);
+    progress.left_s = estimate.left_s(plan, i, done);
+    if (done.count(trial_key(t.subject, t.condition.label, t.kind))) {
+      ++summary.skipped;
+      continue;
+    }
+    // a trial: with a person, the experimenter starts it (again after an abort)
+    Outcome outcome = Outcome::aborted;
+    while (outcome == Outcome::aborted) {
+      if (take_stop_signal() || (person && !ui.start_trial(t))) {
+        summary.interrupted = true;
+        break;
+      }
+      ui.progress(progress);
+      const Clock::time_point began = Clock::now();
+      TrialRun run(spec, t, out + "/trials", ui, progress);
+      const TrialResult r = run.run();
+      outcome = r.outcome;
+      if (outcome == Outcome::done) {
+        append_result(t.kind == TrialKind::measured ? summary.results : practice, t, r.metrics);
+        done.insert(trial_key(t.subject, t.condition.label, t.kind));
+        estimate.add(since(began), run.trial_s());
+        ++summary.run;
+        failures = 0;
+        char line[256];
+        std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s", t.subject.c_str(),
+                      t.condition.label.c_str(), to_string(t.kind), t.order, r.metrics.falls, r.metrics.time_total_s, r.metrics.time_out_s,
+                      r.metrics.completed ? "" : ", not completed");
+        ui.note(line);
+      } else if (outcome == Outcome::interrupted) {
+        summary.interrupted = true;
+      } else {
+        ui.note("subject " + t.subject + ", " + t.condition.label + " (" + to_string(t.kind) + "): " + r.problem +
+                (outcome == Outcome::aborted ? "; it runs again" : "; it runs again on resume"));
+        if (outcome == Outcome::failed) {
+          ++summary.failed;
+          if (++failures >= kMaxFailures) {
+            ui.note("stopping: " + std::to_string(failures) + " trials failed in a row");
+            summary.interrupted = true;
+          }
+        }
+        if (!person) break;
+      }
+    }
+    // with people: the ranking of the conditions after a subject's last measured trial
+    const bool last_of_subject = i + 1 == plan.size() || plan[i + 1].subject != t.subject;
+    if (person && last_of_subject && !summary.interrupted && !ranked.count(t.subject)) {
+      bool all_done = true;
+      for (const Trial& other : plan) all_done = all_done && (other.subject != t.subject || done.count(trial_key(other.subject, other.condition.label, other.kind)));
+      const std::map<std::string, int> ranks = all_done ? ui.ranking(t.subject, spec.conditions) : std::map<std::string, int>{};
+      if (!ranks.empty()) append_ranking(ranking, t.subject, ranks);
+    }
+  }
+  progress.done = 0;
+  for (const Trial& t : plan) progress.done += done.count(trial_key(t.subject, t.condition.label, t.kind));
+  progress.current = nullptr;
+  progress.elapsed_s = since(start);
+  progress.left_s = estimate.left_s(plan, 0, done);
+  ui.progress(progress);
+  return summary;
+}
+
+}  // namespace enact::experiment

@@ -1,0 +1,234 @@
+// enact experiment FILE: run an experiment's trials (virtual subjects or people), each in
+// its own graph, recorded, into results.csv; resumable.
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "core/config/format.h"
+#include "core/experiment/experiment.h"
+#include "core/experiment/runner.h"
+#include "core/launch/supervisor.h"
+#include "nodes/enact/commands.h"
+
+namespace enact::cli {
+namespace {
+
+constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--plan]
+
+Run the experiment of FILE (format: README.md, "Experiments"): every subject through every
+condition in a seeded random or balanced order, with optional familiarisation and practice
+trials. Each trial runs in its own graph, started from the experiment's trial launch file
+(co-located or distributed: the same nodes as `enact launch`), and is recorded to
+DIR/trials/<subject>_<condition>_<kind>.mcap by a logger node (the nodes' output goes to the
+.log beside it). A trial ends when the bridge is completed or at the time limit; its metrics
+go to DIR/results.csv (subject,condition,order,falls,time_total_s,time_out_s,ratio,
+completed) at once. Run again with the same FILE and DIR to resume: completed trials never
+run again.
+
+Virtual subjects (virtual_subject: in FILE) hold simulated devices and run unattended.
+With people (no virtual_subject), the experimenter is asked before each trial (Enter:
+start, q: stop here and resume later); during a trial, r + Enter records that the subject
+was put back at the start, a + Enter aborts the trial (it runs again); after a subject's
+last trial the subject's ranking of the conditions is asked (DIR/ranking.csv).
+
+Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
+
+options:
+  --subjects N          N subjects (ids 1..N) instead of the file's
+  --conditions A,B,...  these conditions instead of the file's (presets or model files)
+  --out DIR             results folder (default: results/<name of the experiment>)
+  --plan                print the plan (trial order, seeds) and run nothing
+Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
+2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
+)";
+
+std::string clock_text(double s) {
+  const long total = static_cast<long>(s + 0.5);
+  char buf[32];
+  if (total >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
+  else std::snprintf(buf, sizeof buf, "%ld:%02ld", total / 60, total % 60);
+  return buf;
+}
+
+// a SIGINT or SIGTERM waiting (they are blocked for the supervisor), not taken
+bool stop_pending() {
+  sigset_t pending;
+  sigpending(&pending);
+  return sigismember(&pending, SIGINT) || sigismember(&pending, SIGTERM);
+}
+
+// the terminal side of the runner: a progress bar (a line per trial when not a terminal),
+// prompts and the ranking on stdin
+class TerminalUi final : public experiment::RunnerUi {
+ public:
+  explicit TerminalUi(FILE* term) : term_(term), tty_(isatty(fileno(term)) != 0) {}
+
+  bool start_trial(const experiment::Trial& t) override {
+    clear();
+    std::fprintf(term_, "next: subject %s, condition %s (%s, %d of the subject's order). Enter: start, q: stop here (resume later) > ",
+                 t.subject.c_str(), t.condition.label.c_str(), experiment::to_string(t.kind), t.order);
+    std::fflush(term_);
+    std::string line;
+    if (!read_line(line, -1)) return false;
+    return line != "q";
+  }
+
+  experiment::TrialCommand poll(const experiment::Trial&) override {
+    std::string line;
+    if (!read_line(line, 0)) return experiment::TrialCommand::none;
+    if (line == "r") return experiment::TrialCommand::reset;
+    if (line == "a") return experiment::TrialCommand::abort;
+    note("commands during a trial: r (the subject was put back at the start), a (abort the trial)");
+    return experiment::TrialCommand::none;
+  }
+
+  std::map<std::string, int> ranking(const std::string& subject, const std::vector<experiment::Condition>& conditions) override {
+    while (true) {
+      clear();
+      std::string names;
+      for (const auto& c : conditions) names += " " + c.label;
+      std::fprintf(term_, "subject %s: rank of each condition, 1 = preferred, in this order:%s (Enter alone: skip) > ", subject.c_str(), names.c_str());
+      std::fflush(term_);
+      std::string line;
+      if (!read_line(line, -1) || line.empty()) return {};
+      std::stringstream ss(line);
+      std::map<std::string, int> ranks;
+      std::vector<bool> used(conditions.size() + 1, false);
+      int rank = 0;
+      for (const auto& c : conditions) {
+        if (!(ss >> rank) || rank < 1 || rank > static_cast<int>(conditions.size()) || used[static_cast<std::size_t>(rank)]) break;
+        used[static_cast<std::size_t>(rank)] = true;
+        ranks[c.label] = rank;
+      }
+      if (ranks.size() == conditions.size()) return ranks;
+      std::fprintf(term_, "give each of 1 to %zu once, e.g. 2 1 4 3\n", conditions.size());
+    }
+  }
+
+  void progress(const experiment::Progress& p) override {
+    constexpr int kWidth = 24;
+    const int filled = p.total ? static_cast<int>(kWidth * p.done / p.total) : kWidth;
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.resize(kWidth, '.');
+    std::string now = "between trials";
+    if (p.current) {
+      now = "subject " + p.current->subject + " " + p.current->condition.label + " " + experiment::to_string(p.current->kind) + " " +
+            clock_text(p.trial_s);
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "[%s] %zu/%zu  %s  elapsed %s  left ~%s", bar.c_str(), p.done, p.total, now.c_str(),
+                  clock_text(p.elapsed_s).c_str(), clock_text(p.left_s).c_str());
+    if (tty_) {
+      std::fprintf(term_, "\r\033[K%s", line);
+      shown_ = true;
+    } else if (p.current && p.current != last_) {
+      std::fprintf(term_, "%s\n", line);
+    }
+    last_ = p.current;
+    std::fflush(term_);
+  }
+
+  void note(const std::string& text) override {
+    clear();
+    std::fprintf(term_, "%s\n", text.c_str());
+    std::fflush(term_);
+  }
+
+ private:
+  // a line from stdin within timeout_ms (-1: until one comes, or a stop signal); false on
+  // none, end of input or a stop signal
+  bool read_line(std::string& line, int timeout_ms) {
+    while (true) {
+      const std::size_t eol = buffer_.find('\n');
+      if (eol != std::string::npos) {
+        line = buffer_.substr(0, eol);
+        buffer_.erase(0, eol + 1);
+        return true;
+      }
+      if (eof_ || stop_pending()) return false;
+      pollfd fd{STDIN_FILENO, POLLIN, 0};
+      if (::poll(&fd, 1, timeout_ms < 0 ? 200 : timeout_ms) <= 0) {
+        if (timeout_ms >= 0) return false;
+        continue;
+      }
+      char chunk[256];
+      const ssize_t n = read(STDIN_FILENO, chunk, sizeof chunk);
+      if (n <= 0) {
+        eof_ = true;
+        if (!buffer_.empty()) buffer_ += '\n';
+        continue;
+      }
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+    }
+  }
+
+  void clear() {
+    if (tty_ && shown_) std::fputs("\r\033[K", term_);
+    shown_ = false;
+  }
+
+  FILE* term_;
+  bool tty_;
+  bool shown_ = false;
+  bool eof_ = false;
+  std::string buffer_;
+  const experiment::Trial* last_ = nullptr;
+};
+
+void print_plan(const experiment::ExperimentSpec& spec, const std::vector<experiment::Trial>& plan) {
+  const std::string who = spec.virtual_subjects() ? "virtual subjects " + spec.virtual_subject : "people";
+  std::printf("experiment %s: %zu subjects, %zu conditions, %s order, limit %s s, graph %s, %s\n", spec.name.c_str(), spec.subjects.size(),
+              spec.conditions.size(), spec.order == experiment::Order::random ? "random" : "balanced", config::number(spec.limit_s).c_str(),
+              spec.launch.c_str(), who.c_str());
+  std::printf("%-6s %-10s %-12s %-6s %-16s %-10s %s\n", "trial", "subject", "condition", "order", "kind", "limit_s", "recording");
+  for (const auto& t : plan) {
+    std::printf("%-6zu %-10s %-12s %-6d %-16s %-10s %s.mcap\n", t.index + 1, t.subject.c_str(), t.condition.label.c_str(), t.order,
+                experiment::to_string(t.kind), config::number(t.limit_s).c_str(), t.file_stem.c_str());
+  }
+}
+
+}  // namespace
+
+int experiment_run(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out"}, {"plan"});
+  if (a.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() != 1) throw UsageError("give exactly one experiment file");
+  // every thread from here on (the bus's included) leaves SIGINT / SIGTERM to the runner
+  launch::block_supervisor_signals();
+  experiment::ExperimentSpec spec = experiment::load_experiment(a.positional[0]);
+  if (a.has("subjects")) {
+    const double n = a.number("subjects", 0.0);
+    if (n != static_cast<int>(n)) throw UsageError("--subjects needs a whole number");
+    experiment::override_subjects(spec, static_cast<int>(n));
+  }
+  if (a.has("conditions")) experiment::override_conditions(spec, split_commas(a.get("conditions")));
+  const std::vector<experiment::Trial> plan = experiment::make_plan(spec);
+  if (a.flag("plan")) {
+    print_plan(spec, plan);
+    return 0;
+  }
+  const std::string out = a.get("out", "results/" + spec.name);
+  // the terminal, kept apart from stderr (which each trial's graph writes to its log)
+  FILE* term = fdopen(fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3), "w");
+  if (!term) throw std::runtime_error("cannot duplicate stderr");
+  TerminalUi ui(term);
+  ui.note("experiment " + spec.name + ": " + std::to_string(plan.size()) + " trials (" + std::to_string(spec.subjects.size()) + " subjects x " +
+          std::to_string(spec.conditions.size()) + " conditions" + (plan.size() > spec.subjects.size() * spec.conditions.size() ? ", with practice" : "") +
+          ") into " + out + (spec.virtual_subjects() ? ", virtual subjects" : ", people: the experimenter starts each trial"));
+  const experiment::RunSummary s = experiment::run_experiment(spec, out, ui);
+  ui.note(std::to_string(s.run) + " trials run" + (s.skipped ? ", " + std::to_string(s.skipped) + " done before" : "") +
+          (s.failed ? ", " + std::to_string(s.failed) + " failed" : "") + "; results: " + s.results +
+          (s.interrupted ? "\nstopped before the end: run the same command again to resume" : "\nanalysis: scripts/analyze.py " + s.results + " --out " + out + "/analysis"));
+  std::fclose(term);
+  if (s.interrupted) return 130;
+  return s.failed ? 1 : 0;
+}
+
+}  // namespace enact::cli

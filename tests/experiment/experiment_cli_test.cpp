@@ -1,0 +1,278 @@
+// `enact experiment` end to end on real graphs (short trials): each trial recorded, its
+// metrics in results.csv equal to `enact metrics` replaying the recording, an interrupted
+// run resumed without running a completed trial again, the distributed graph, people
+// prompted and asked for their ranking, bad input refused.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/record/reader.h"
+#include "msgs/task_event.pb.h"
+#include "tests/cli/cli_support.h"
+#include "tests/support/test_util.h"
+
+namespace enact::test {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// `enact experiment ARGS...` in the background: stdin a pipe the test writes to, stdout
+// and stderr into files
+class Experiment {
+ public:
+  Experiment(const TempDir& dir, std::vector<std::string> args) : out_(dir.file("run.out")), err_(dir.file("run.err")) {
+    args.insert(args.begin(), {ENACT_CLI, "experiment"});
+    int in[2];
+    if (pipe(in) != 0) throw std::runtime_error("pipe failed");
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(in[0], 0);
+      close(in[0]);
+      close(in[1]);
+      const int o = open(out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), e = open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(o, 1);
+      dup2(e, 2);
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(in[0]);
+    stdin_ = in[1];
+  }
+  ~Experiment() {
+    if (stdin_ >= 0) close(stdin_);
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      wait_exit(10.0);
+    }
+  }
+
+  void type(const std::string& text) { ASSERT_EQ(write(stdin_, text.data(), text.size()), static_cast<ssize_t>(text.size())); }
+  void signal(int sig) { kill(pid_, sig); }
+  std::string terminal() const { return read_or_empty(err_); }
+
+  // waits until the terminal shows `needle` `count` times; false on timeout or exit
+  bool wait_for(const std::string& needle, int count, double timeout_s) {
+    const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
+    while (Clock::now() < end) {
+      const std::string t = terminal();
+      int seen = 0;
+      for (auto at = t.find(needle); at != std::string::npos; at = t.find(needle, at + 1)) ++seen;
+      if (seen >= count) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  // its exit code (128 + signal), or -1 after timeout_s
+  int wait_exit(double timeout_s) {
+    const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
+    int status = 0;
+    while (Clock::now() < end) {
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+
+ private:
+  static std::string read_or_empty(const std::string& path) {
+    try {
+      return read_file(path);
+    } catch (const std::exception&) {
+      return "";
+    }
+  }
+
+  std::string out_, err_;
+  pid_t pid_ = -1;
+  int stdin_ = -1;
+};
+
+// the rows of a CSV file, split at commas, the header first
+std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// an experiment file in `dir` on the shipped trial graphs
+std::string experiment_file(const TempDir& dir, const std::string& body) {
+  const std::string path = dir.file("exp.yaml");
+  write_file(path, "name: tiny\nseed: 3\n" + body);
+  return path;
+}
+
+std::string virtual_tiny(const TempDir& dir, const std::string& conditions, double limit_s, const std::string& graph = "trial_rt.yaml") {
+  return experiment_file(dir, "subjects: 1\nvirtual_subject: " + source_path("launch/experiments/subjects/quick.yaml") + "\nconditions: [" +
+                                  conditions + "]\norder: balanced\nlimit_s: " + std::to_string(limit_s) +
+                                  "\ngraph: " + source_path("launch/experiments/" + graph) + "\n");
+}
+
+// enact metrics --json agrees with itself (replay = live) and with a results.csv row
+void expect_metrics_agree(const std::string& recording, const std::vector<std::string>& row) {
+  const RunResult m = enact("metrics --json " + recording);
+  ASSERT_EQ(m.exit_code, 0) << m.out << m.err;
+  EXPECT_EQ(json_value(m.out, "agree"), "true") << m.out;
+  EXPECT_EQ(json_value(m.out, "first_state_seq"), "1") << "recorded from the first tick";
+  EXPECT_EQ(json_value(m.out, "falls"), row[3]);
+  EXPECT_NEAR(std::stod(json_value(m.out, "time_total_s")), std::stod(row[4]), 1e-6);
+  EXPECT_NEAR(std::stod(json_value(m.out, "time_out_s")), std::stod(row[5]), 1e-6);
+  EXPECT_EQ(json_value(m.out, "completed"), row[7] == "1" ? "true" : "false");
+}
+
+std::int64_t mtime_ns(const std::string& path) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return -1;
+  return static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
+}
+
+TEST(ExperimentCli, EachTrialIsRecordedAndItsMetricsAreTheReplays) {
+  TempDir dir;
+  const RunResult r = enact("experiment " + virtual_tiny(dir, "CM0, CM1", 8.0) + " --out " + dir.file("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto rows = csv_rows(dir.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 3u) << r.err;
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"subject", "condition", "order", "falls", "time_total_s", "time_out_s", "ratio", "completed"}));
+  // Williams' first row for two conditions: CM0 then CM1
+  EXPECT_EQ(rows[1][0], "1");
+  EXPECT_EQ(rows[1][1], "CM0");
+  EXPECT_EQ(rows[1][2], "1");
+  EXPECT_EQ(rows[2][1], "CM1");
+  EXPECT_EQ(rows[2][2], "2");
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const double total = std::stod(rows[i][4]);
+    EXPECT_TRUE(rows[i][7] == "1" || std::abs(total - 8.0) < 0.01) << "completed, or stopped at the limit: " << total;
+    expect_metrics_agree(dir.file("out/trials/s1_" + rows[i][1] + "_measured.mcap"), rows[i]);
+  }
+  EXPECT_NE(read_file(dir.file("out/trials/s1_CM0_measured.log")).find("logger: closed"), std::string::npos) << "the nodes' output is in the log";
+  EXPECT_NE(r.err.find("2 trials run"), std::string::npos) << r.err;
+}
+
+TEST(ExperimentCli, InterruptedRunResumesWithoutRunningCompletedTrials) {
+  TempDir dir;
+  const std::string file = virtual_tiny(dir, "CM1, CM3", 6.0);
+  const std::string results = dir.file("out/results.csv");
+  std::vector<std::string> first_row;
+  std::int64_t first_mtime = 0;
+  {
+    Experiment run(dir, {file, "--out", dir.file("out")});
+    ASSERT_TRUE(run.wait_for("subject 1, CM1", 1, 60.0)) << run.terminal();
+    run.signal(SIGINT);
+    EXPECT_EQ(run.wait_exit(30.0), 130) << run.terminal();
+    EXPECT_NE(run.terminal().find("run the same command again to resume"), std::string::npos) << run.terminal();
+    const auto rows = csv_rows(results);
+    ASSERT_EQ(rows.size(), 2u) << "the first trial is kept, the interrupted one is not";
+    first_row = rows[1];
+    first_mtime = mtime_ns(dir.file("out/trials/s1_CM1_measured.mcap"));
+  }
+  const RunResult again = enact("experiment " + file + " --out " + dir.file("out"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("1 trials run, 1 done before"), std::string::npos) << again.err;
+  const auto rows = csv_rows(results);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[1], first_row);
+  EXPECT_EQ(rows[2][1], "CM3");
+  EXPECT_EQ(mtime_ns(dir.file("out/trials/s1_CM1_measured.mcap")), first_mtime) << "the completed trial did not run again";
+  expect_metrics_agree(dir.file("out/trials/s1_CM3_measured.mcap"), rows[2]);
+  // done: a third run has nothing left
+  const RunResult third = enact("experiment " + file + " --out " + dir.file("out"));
+  EXPECT_EQ(third.exit_code, 0);
+  EXPECT_NE(third.err.find("0 trials run, 2 done before"), std::string::npos) << third.err;
+  // another plan in the same folder is refused
+  const RunResult other = enact("experiment " + file + " --conditions CM0,CM2 --out " + dir.file("out"));
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("plan.csv: this folder holds a run of another plan"), std::string::npos) << other.err;
+}
+
+TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
+  TempDir dir;
+  const RunResult r = enact("experiment " + virtual_tiny(dir, "CM1", 5.0, "trial.yaml") + " --out " + dir.file("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = csv_rows(dir.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  expect_metrics_agree(dir.file("out/trials/s1_CM1_measured.mcap"), rows[1]);
+  EXPECT_NE(read_file(dir.file("out/trials/s1_CM1_measured.log")).find("started ffd"), std::string::npos) << "the distributed nodes ran";
+}
+
+TEST(ExperimentCli, PeopleArePromptedAndRankTheConditions) {
+  // a "person": the scripted hand walking the bridge, on simulated devices
+  TempDir dir;
+  const std::string file = experiment_file(dir, "subjects: [P1]\nconditions: [CM1, CM3]\norder: balanced\nlimit_s: 3\ngraph: " +
+                                                    source_path("launch/experiments/trial_rt.yaml") + "\nlaunch_args: {hand_path: " +
+                                                    source_path("launch/paths/bridge_walk.csv") + "}\n");
+  Experiment run(dir, {file, "--out", dir.file("out")});
+  ASSERT_TRUE(run.wait_for("next: subject P1, condition CM1", 1, 30.0)) << run.terminal();
+  run.type("\nr\n");  // start; then, during the trial, the subject was put back at the start
+  ASSERT_TRUE(run.wait_for("next: subject P1, condition CM3", 1, 30.0)) << run.terminal();
+  run.type("\n");
+  ASSERT_TRUE(run.wait_for("rank of each condition", 1, 30.0)) << run.terminal();
+  run.type("2 1\n");
+  ASSERT_EQ(run.wait_exit(30.0), 0) << run.terminal();
+  EXPECT_EQ(csv_rows(dir.file("out/results.csv")).size(), 3u);
+  const auto ranks = csv_rows(dir.file("out/ranking.csv"));
+  ASSERT_EQ(ranks.size(), 3u);
+  EXPECT_EQ(ranks[1], (std::vector<std::string>{"P1", "CM1", "2"}));
+  EXPECT_EQ(ranks[2], (std::vector<std::string>{"P1", "CM3", "1"}));
+  // the reset is in the first trial's recording, with the trial's start and condition
+  record::Reader reader(dir.file("out/trials/sP1_CM1_measured.mcap"));
+  std::vector<msgs::TaskEvent::Kind> kinds;
+  msgs::TaskEvent e;
+  reader.for_each([&](const record::Message& m) {
+    if (m.topic == "task/event" && e.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) && e.subject() == "P1") kinds.push_back(e.kind());
+    return true;
+  });
+  EXPECT_EQ(kinds, (std::vector<msgs::TaskEvent::Kind>{msgs::TaskEvent::CONDITION, msgs::TaskEvent::TRIAL_START, msgs::TaskEvent::RESET}));
+}
+
+TEST(ExperimentCli, BadInputIsRefused) {
+  TempDir dir;
+  const std::string file = experiment_file(dir, "subjects: 1\nconditions: [CM1]\nlimit_s: 3\ngraph: nowhere.yaml\n");
+  const RunResult r = enact("experiment " + file);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("exp.yaml:6:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("fix:"), std::string::npos) << r.err;
+  const RunResult conditions = enact("experiment " + virtual_tiny(dir, "CM1", 3.0) + " --conditions CM1,XX --plan");
+  EXPECT_EQ(conditions.exit_code, 1);
+  EXPECT_NE(conditions.err.find("XX"), std::string::npos) << conditions.err;
+  EXPECT_EQ(enact("experiment").exit_code, 2);
+  EXPECT_EQ(enact("metrics " + dir.file("nothing.mcap")).exit_code, 1);
+}
+
+TEST(ExperimentCli, PlanIsPrintedWithoutRunning) {
+  TempDir dir;
+  const RunResult r = enact("experiment " + virtual_tiny(dir, "CM0, CM1, CM2, CM3", 3.0) + " --subjects 2 --plan --out " + dir.file("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 subjects, 4 conditions, balanced order"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("s2_CM2_measured.mcap"), std::string::npos) << r.out;
+  std::ifstream none(dir.file("out/plan.csv"));
+  EXPECT_FALSE(none.good()) << "nothing written";
+}
+
+}  // namespace
+}  // namespace enact::test
