@@ -75,6 +75,7 @@ int run(int argc, char** argv) {
   if (feels_pins) shown_in.connect(graph::node_endpoint(tactile_node));
   msgs::TactileShown shown_msg;
   float levels[32] = {};
+  std::uint64_t pins_felt = 0;
   // wait until the simulator (and the observers asked for) listen: ZeroMQ drops what it
   // sends before that
   graph::wait_for_subscribers(out, graph::kDeviceState, 1 + observers, args.name, "subscriber (the simulator, then observers)");
@@ -101,6 +102,7 @@ int run(int argc, char** argv) {
       const int n = std::min(shown_msg.level_size(), 32);
       for (int i = 0; i < n; ++i) levels[i] = shown_msg.level(i);
       hand->feel_pins(levels, static_cast<int>(shown_msg.rows()), static_cast<int>(shown_msg.cols()));
+      ++pins_felt;
     }
     device->read(now, sample);
     state.mutable_header()->set_stamp_ns(0);
@@ -134,6 +136,7 @@ int run(int argc, char** argv) {
   rt::take_timing(scheduler, stats);
   graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(missing) +
                             ", late answers: " + std::to_string(late) + ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
+  if (feels_pins) graph::say(args.name, "the virtual subject felt " + std::to_string(pins_felt) + " pin states from " + tactile_node + " (tactile/shown).");
   return 0;
 }
 

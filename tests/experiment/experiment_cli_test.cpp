@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -217,7 +218,12 @@ TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
   const auto rows = csv_rows(dir.file("out/results.csv"));
   ASSERT_EQ(rows.size(), 2u);
   expect_metrics_agree(dir.file("out/trials/s1_CM1_measured.mcap"), rows[1]);
-  EXPECT_NE(read_file(dir.file("out/trials/s1_CM1_measured.log")).find("started ffd"), std::string::npos) << "the distributed nodes ran";
+  const std::string log = read_file(dir.file("out/trials/s1_CM1_measured.log"));
+  EXPECT_NE(log.find("started ffd"), std::string::npos) << "the distributed nodes ran";
+  // the subject in enact-ffd felt the pins enact-tactile showed
+  std::smatch felt;
+  ASSERT_TRUE(std::regex_search(log, felt, std::regex("the virtual subject felt ([0-9]+) pin states from tactile"))) << log;
+  EXPECT_GT(std::stoi(felt[1].str()), 100) << "about 100 a second for 5 s";
 }
 
 TEST(ExperimentCli, PeopleArePromptedAndRankTheConditions) {
