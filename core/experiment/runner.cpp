@@ -21,6 +21,7 @@
 #include "core/config/yaml.h"
 #include "core/experiment/results.h"
 #include "core/graph/logger.h"
+#include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
@@ -55,22 +56,6 @@ bool take_stop_signal() {
   const timespec zero{0, 0};
   return sigtimedwait(&set, nullptr, &zero) > 0;
 }
-
-// a fresh folder for a trial graph's sockets, removed with it
-struct GraphDir {
-  std::string path;
-  GraphDir() {
-    std::string pattern = "/tmp/enact-graph-XXXXXX";
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a folder under /tmp for the trial's sockets");
-    path = pattern;
-  }
-  ~GraphDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  GraphDir(const GraphDir&) = delete;
-  GraphDir& operator=(const GraphDir&) = delete;
-};
 
 // stdout and stderr (fds 1 and 2) go to a file while this lives: the graph's processes
 // inherit them
@@ -142,21 +127,21 @@ class TrialRun {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
     const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
-    GraphDir dir;
+    const graph::TempFolder dir("/tmp/enact-graph-");  // the trial graph's sockets
     bus::AttachPoint attach(spec_.name);
     for (const auto& n : graph.nodes) {
       const auto topics = graph::topics_of(fs::path(n.path).filename().string());
       if (topics.empty()) continue;
-      attach.add_publisher(n.name, bus::ipc_endpoint(dir.path, n.name));
+      attach.add_publisher(n.name, bus::ipc_endpoint(dir.path(), n.name));
       for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
     }
-    const std::string events_endpoint = bus::ipc_endpoint(dir.path, kRunnerNode);
+    const std::string events_endpoint = bus::ipc_endpoint(dir.path(), kRunnerNode);
     attach.add_publisher(kRunnerNode, events_endpoint);
     attach.declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
     attach.set_launch_info(graph::launch_info(spec_.launch, graph));
 
     launch::SupervisorOptions options;
-    options.env = {{"ENACT_GRAPH_DIR", dir.path}, {"ENACT_ATTACH", attach.endpoint()}};
+    options.env = {{"ENACT_GRAPH_DIR", dir.path()}, {"ENACT_ATTACH", attach.endpoint()}};
     options.ready_timeout_s = 20.0;
     options.on_ready = [this] { ready_.store(true); };
     int code = 0;

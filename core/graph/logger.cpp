@@ -168,7 +168,7 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
   if (it == channels_.end()) {
     Channel c;
     c.id = kNoChannel;
-    c.report = {std::string(m.topic()), header_.source(), std::string(m.type())};
+    c.report = {std::string(m.topic()), header_.source(), std::string(m.type()), {}};
     it = channels_.emplace(key_, std::move(c)).first;
   }
   Channel& c = it->second;
@@ -176,14 +176,10 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
     c.id = writer_->add_channel(schema_for(c.report.type), c.report.topic, "protobuf", {{"publisher", c.report.publisher}});
   }
   // sequence: +1 per message per publisher and topic; a jump is a loss
-  const std::uint64_t seq = has_header ? header_.seq() : c.seq.last + 1;
-  c.seq.add(seq);
-  c.report.messages = c.seq.messages;
-  c.report.gaps = c.seq.gaps;
-  c.report.restarts = c.seq.restarts;
+  c.report.seq.add(has_header ? header_.seq() : c.report.seq.last + 1);
   ++messages_;
   const std::int64_t publish_ns = has_header && header_.stamp_ns() > 0 ? header_.stamp_ns() : now_ns;
-  writer_->write(c.id, static_cast<std::uint32_t>(seq), now_ns, publish_ns,
+  writer_->write(c.id, static_cast<std::uint32_t>(c.report.seq.last), now_ns, publish_ns,
                  std::string_view(static_cast<const char*>(m.payload()), m.payload_size()));
 }
 
@@ -206,7 +202,7 @@ void Logger::run(const std::function<bool()>& stop, const std::function<void(con
       LoggerProgress p;
       p.elapsed_s = static_cast<double>(now - start_ns_) * 1e-9;
       p.messages = messages_;
-      for (const auto& [k, c] : channels_) p.gaps += c.report.gaps;
+      for (const auto& [k, c] : channels_) p.gaps += c.report.seq.gaps;
       std::uint64_t bytes = 0;
       for (std::size_t i = 0; i + 1 < files_.size(); ++i) bytes += std::filesystem::file_size(files_[i]);
       p.bytes = bytes + writer_->bytes_written();
@@ -224,8 +220,8 @@ void Logger::close_file() {
   std::uint64_t gaps = 0;
   for (const auto& [k, c] : channels_) {
     stats[c.report.topic + " (" + c.report.publisher + ")"] =
-        "messages " + std::to_string(c.report.messages) + ", gaps " + std::to_string(c.report.gaps);
-    gaps += c.report.gaps;
+        "messages " + std::to_string(c.report.seq.messages) + ", gaps " + std::to_string(c.report.seq.gaps);
+    gaps += c.report.seq.gaps;
   }
   stats["messages"] = std::to_string(messages_);
   stats["gaps"] = std::to_string(gaps);
@@ -256,11 +252,11 @@ std::string format(const std::vector<ChannelReport>& channels) {
   std::uint64_t messages = 0, gaps = 0;
   for (const ChannelReport& c : channels) {
     std::snprintf(line, sizeof line, "  %-16s %-10s %10llu messages  %llu gaps%s\n", c.topic.c_str(), c.publisher.c_str(),
-                  static_cast<unsigned long long>(c.messages), static_cast<unsigned long long>(c.gaps),
-                  c.restarts ? "  (publisher restarted)" : "");
+                  static_cast<unsigned long long>(c.seq.messages), static_cast<unsigned long long>(c.seq.gaps),
+                  c.seq.restarts ? "  (publisher restarted)" : "");
     out += line;
-    messages += c.messages;
-    gaps += c.gaps;
+    messages += c.seq.messages;
+    gaps += c.seq.gaps;
   }
   std::snprintf(line, sizeof line, "  total: %llu messages, %llu gaps\n", static_cast<unsigned long long>(messages),
                 static_cast<unsigned long long>(gaps));

@@ -46,9 +46,7 @@ struct SequenceCheck {
 // traffic of one channel (topic and publishing node)
 struct ChannelReport {
   std::string topic, publisher, type;
-  std::uint64_t messages = 0;
-  std::uint64_t gaps = 0;        // messages missing by sequence number
-  std::uint64_t restarts = 0;    // sequence numbers that went back (a publisher restarted)
+  SequenceCheck seq;  // messages, gaps (missing by sequence number), restarts of the publisher
 };
 
 struct LoggerProgress {
@@ -77,9 +75,8 @@ class Logger {
 
  private:
   struct Channel {
-    std::uint16_t id = 0;
-    SequenceCheck seq;
-    ChannelReport report;
+    std::uint16_t id = 0;  // in the current file
+    ChannelReport report;  // across files
   };
   void open_file();
   void close_file();
@@ -94,7 +91,6 @@ class Logger {
   std::unique_ptr<record::Writer> writer_;
   std::map<std::string, std::uint16_t> schemas_;   // per file
   std::map<std::string, Channel> channels_;        // key: topic '\0' publisher
-  std::map<std::string, ChannelReport> totals_;    // across files, same key
   std::vector<std::string> files_;
   std::string key_;
   msgs::Header header_;

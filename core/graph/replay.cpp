@@ -1,5 +1,6 @@
 #include "core/graph/replay.h"
 
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <vector>
@@ -32,7 +33,12 @@ struct Force {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-std::string exact(double v) { return config::number(v) + (same_bits(v, 0.0) ? "" : " (" + std::to_string(v) + ")"); }
+// every bit of a double in text (17 significant digits read back to the same value)
+std::string exact(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
 
 // the simulator's parameters in the recording: the node (or container component) that
 // published ffd/force; "" when the recording has no launch parameters

@@ -1,7 +1,7 @@
 #pragma once
-// A temporary folder for files taken out of a graph's GraphInfo or a recording (a scene, a
-// computer model) so that the loaders, which read paths, can read them; removed with
-// everything in it when destroyed.
+// A fresh temporary folder, removed with everything in it when destroyed: for files taken
+// out of a graph's GraphInfo or a recording (a scene, a computer model) so that the loaders,
+// which read paths, can read them; for a graph's ipc sockets; for benchmark files.
 #include <stdlib.h>
 
 #include <filesystem>
@@ -13,10 +13,11 @@ namespace enact::graph {
 
 class TempFolder {
  public:
-  // a fresh folder under the system's temporary directory; throws std::runtime_error
-  TempFolder() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "enact-files-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder");
+  // a fresh folder `prefix` + 6 random characters (default: under the system's temporary
+  // directory); throws std::runtime_error
+  explicit TempFolder(std::string prefix = (std::filesystem::temp_directory_path() / "enact-files-").string()) {
+    std::string pattern = prefix + "XXXXXX";
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder " + pattern);
     path_ = pattern;
   }
   ~TempFolder() {
@@ -25,6 +26,8 @@ class TempFolder {
   }
   TempFolder(const TempFolder&) = delete;
   TempFolder& operator=(const TempFolder&) = delete;
+
+  const std::string& path() const { return path_; }
 
   // writes `data` as `name` (with the extension of `like`); returns its path
   std::string put(const std::string& name, const std::string& like, const std::string& data) const {

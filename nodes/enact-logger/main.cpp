@@ -4,6 +4,7 @@
 // logger from the command line.
 #include <cstdio>
 
+#include "core/config/lists.h"
 #include "core/config/yaml.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
@@ -29,19 +30,6 @@ To record a graph from its first tick, list the logger before the drivers in the
 file and give the clock master `observers: 1` (README, "Recording and replay").
 )";
 
-std::vector<std::string> split_commas(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t at = 0;
-  while (at <= s.size() && !s.empty()) {
-    const std::size_t comma = s.find(',', at);
-    const std::string item = s.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
-    if (!item.empty()) out.push_back(item);
-    if (comma == std::string::npos) break;
-    at = comma + 1;
-  }
-  return out;
-}
-
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "logger");
   if (args.help) {
@@ -51,7 +39,7 @@ int run(int argc, char** argv) {
   graph::Params& p = args.params;
   graph::LoggerOptions o;
   o.output = p.text("output", o.output);
-  o.topics = split_commas(p.text("topics", ""));
+  o.topics = config::split_commas(p.text("topics", ""));
   try {
     o.writer.compression = record::parse_compression(p.text("compression", "zstd"));
   } catch (const std::invalid_argument& e) {

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 
 namespace enact::cli {
 
@@ -57,13 +56,18 @@ Args parse(int argc, char** argv, int first, const std::set<std::string>& valued
   return a;
 }
 
-std::vector<std::string> split_commas(const std::string& list) {
+std::vector<std::string> take_list(int& argc, char** argv, const std::string& name) {
   std::vector<std::string> out;
-  std::stringstream ss(list);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
+  int kept = 0;
+  for (int i = 0; i < argc; ++i) {
+    if (argv[i] == name) {
+      while (i + 1 < argc && argv[i + 1][0] != '-') out.emplace_back(argv[++i]);
+      if (out.empty()) throw UsageError(name + " needs at least one value");
+      continue;
+    }
+    argv[kept++] = argv[i];
   }
+  argc = kept;
   return out;
 }
 

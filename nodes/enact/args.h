@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/config/lists.h"
+
 namespace enact::cli {
 
 class UsageError : public std::runtime_error {
@@ -29,7 +31,11 @@ struct Args {
 Args parse(int argc, char** argv, int first, const std::set<std::string>& valued, const std::set<std::string>& switches);
 
 // the items of a comma-separated list ("CM0,CM1"), empty items left out
-std::vector<std::string> split_commas(const std::string& list);
+using config::split_commas;
+
+// "NAME a b c" up to the next option: the items (UsageError if none), removed from argv
+// (argc shrinks); empty when NAME is absent
+std::vector<std::string> take_list(int& argc, char** argv, const std::string& name);
 
 // a file as given, else relative to the source tree above the executable
 // (build/nodes/enact/enact): so that benchmarks find launch/scenes/... from anywhere

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
 #include "core/graph/logger.h"
+#include "core/graph/temp_folder.h"
 #include "core/record/writer.h"
 #include "core/rt/clock.h"
 #include "msgs/device_state.pb.h"
@@ -146,7 +148,7 @@ LoggerRun run_logger(const std::string& dir, double rate, double seconds, int in
   recorder.join();
   logger.close();
   r.messages = logger.messages();
-  for (const auto& c : logger.report()) r.gaps += c.gaps;
+  for (const auto& c : logger.report()) r.gaps += c.seq.gaps;
   r.msgs_per_s = static_cast<double>(r.messages) / std::max(sent_s, total_s);
   return r;
 }
@@ -161,13 +163,10 @@ int bench_record(int argc, char** argv) {
   }
   const auto n = static_cast<std::uint64_t>(a.number("messages", 2e6));
   if (n < 1000) throw UsageError("--messages must be >= 1000");
-  std::string dir = a.get("dir", "");
-  const bool temporary = dir.empty();
-  if (temporary) {
-    std::string pattern = (std::filesystem::temp_directory_path() / "enact-bench-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder");
-    dir = pattern;
-  }
+  // the files go to --dir, else to a temporary folder removed at the end
+  std::optional<graph::TempFolder> temporary;
+  if (!a.has("dir")) temporary.emplace((std::filesystem::temp_directory_path() / "enact-bench-").string());
+  const std::string dir = temporary ? temporary->path() : a.get("dir");
   // 1. writer: the four cases interleaved, 5 times
   const char* names[4] = {"zstd", "lz4", "none", "raw"};
   std::vector<double> secs[4];
@@ -213,7 +212,6 @@ int bench_record(int argc, char** argv) {
     j.end_object();
     std::ofstream(a.get("json")) << j.str() << "\n";
   }
-  if (temporary) std::filesystem::remove_all(dir);
   return 0;
 }
 

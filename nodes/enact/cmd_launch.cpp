@@ -10,6 +10,7 @@
 #include "core/bus/attach.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
+#include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
@@ -45,13 +46,6 @@ options:
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end.
 )";
-
-// a fresh folder for the graph's ipc sockets
-std::string make_graph_dir() {
-  std::string pattern = "/tmp/enact-graph-XXXXXX";
-  if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a folder under /tmp for the graph's sockets");
-  return pattern;
-}
 
 }  // namespace
 
@@ -93,7 +87,8 @@ int launch(int argc, char** argv) {
   // the graph's folder and its attach point (observers: viewers, loggers, enact topic); the
   // attach point's thread must not receive the signals the supervisor waits for
   launch::block_supervisor_signals();
-  const std::string dir = make_graph_dir();
+  const graph::TempFolder graph_dir("/tmp/enact-graph-");  // the graph's ipc sockets, removed at the end
+  const std::string& dir = graph_dir.path();
   options.env.push_back({"ENACT_GRAPH_DIR", dir});
   bus::AttachOptions attach_options;
   attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
@@ -119,7 +114,6 @@ int launch(int argc, char** argv) {
   options.on_ready = [&] { std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n"; };
   const int code = launch::supervise(graph, options, std::cerr);
   attach.stop();
-  std::filesystem::remove_all(dir, ec);
   return code;
 }
 

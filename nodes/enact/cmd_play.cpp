@@ -47,10 +47,10 @@ void on_stop(int) { g_stop.store(true); }
 }  // namespace
 
 int play(int argc, char** argv) {
-  // repeatable and list options first
+  // list and repeatable options first
+  const std::vector<std::string> topics = take_list(argc, argv, "--topics");
   std::map<std::string, std::string> remap;
   std::vector<char*> rest;
-  std::vector<std::string> topics;
   for (int i = 0; i < argc; ++i) {
     const std::string s = argv[i];
     if (s == "--remap") {
@@ -58,9 +58,6 @@ int play(int argc, char** argv) {
       const std::size_t at = r.find(":=");
       if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
       remap[r.substr(0, at)] = r.substr(at + 2);
-    } else if (s == "--topics") {
-      while (i + 1 < argc && argv[i + 1][0] != '-') topics.emplace_back(argv[++i]);
-      if (topics.empty()) throw UsageError("--topics needs at least one topic");
     } else {
       rest.push_back(argv[i]);
     }

@@ -35,7 +35,7 @@ machine) and keep every message of its topics in an MCAP file, until Ctrl-C / SI
 counted per topic and reported at the end.
 
 options:
-  -o, --output FILE      default enact_YYYYmmdd_HHMMSS.mcap
+  -o, --out FILE         default enact_YYYYmmdd_HHMMSS.mcap
   --all                  every topic (the default)
   --topics T...          only these topics
   --split-size MB        start a new file (FILE_000.mcap, FILE_001.mcap, ...) past this size
@@ -69,22 +69,6 @@ Rebuild a complete, indexed recording from everything readable in a damaged or u
 
 std::atomic<bool> g_stop{false};
 void on_stop(int) { g_stop.store(true); }
-
-// "--topics a b c" up to the next option: the list, and argv without it
-std::vector<std::string> take_list(int& argc, char** argv, const std::string& name) {
-  std::vector<std::string> out;
-  int w = 0;
-  for (int i = 0; i < argc; ++i) {
-    if (argv[i] == name) {
-      while (i + 1 < argc && argv[i + 1][0] != '-') out.emplace_back(argv[++i]);
-      if (out.empty()) throw UsageError(name + " needs at least one value");
-      continue;
-    }
-    argv[w++] = argv[i];
-  }
-  argc = w;
-  return out;
-}
 
 std::string default_output() {
   char name[64];
@@ -168,10 +152,7 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  for (int i = 0; i < argc; ++i) {
-    if (std::string(argv[i]) == "-o") argv[i] = const_cast<char*>("--output");
-  }
-  const Args a = parse(argc, argv, 2, {"output", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
     return 0;
@@ -180,7 +161,7 @@ int record(int argc, char** argv) {
   if (a.flag("all") && !topics.empty()) throw UsageError("give --all or --topics, not both");
   if (a.has("split-size") && a.has("split-duration")) throw UsageError("give --split-size or --split-duration, not both");
   graph::LoggerOptions o;
-  o.output = a.get("output", default_output());
+  o.output = a.get("out", default_output());
   o.topics = topics;
   try {
     o.writer.compression = record::parse_compression(a.get("compression", "zstd"));
@@ -333,16 +314,13 @@ int export_csv(int argc, char** argv) {
 }
 
 int recover(int argc, char** argv) {
-  for (int i = 0; i < argc; ++i) {
-    if (std::string(argv[i]) == "-o") argv[i] = const_cast<char*>("--output");
-  }
-  const Args a = parse(argc, argv, 2, {"output", "compression"}, {});
+  const Args a = parse(argc, argv, 2, {"out", "compression"}, {});
   if (a.flag("help")) {
     std::fputs(kRecoverHelp, stdout);
     return 0;
   }
-  if (a.positional.size() != 1 || !a.has("output")) throw UsageError("give BROKEN.mcap and -o FIXED.mcap");
-  if (a.get("output") == a.positional[0]) throw UsageError("write the recovered file next to the broken one, not over it");
+  if (a.positional.size() != 1 || !a.has("out")) throw UsageError("give BROKEN.mcap and -o FIXED.mcap");
+  if (a.get("out") == a.positional[0]) throw UsageError("write the recovered file next to the broken one, not over it");
   record::WriterOptions wo;
   try {
     wo.compression = record::parse_compression(a.get("compression", "zstd"));
@@ -350,7 +328,7 @@ int recover(int argc, char** argv) {
     throw UsageError(e.what());
   }
   record::Reader r(a.positional[0]);
-  record::Writer w(a.get("output"), wo);
+  record::Writer w(a.get("out"), wo);
   std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;
   std::uint64_t n = 0;
   r.for_each([&](const record::Message& m) {
@@ -372,7 +350,7 @@ int recover(int argc, char** argv) {
   for (const auto& at : r.attachments()) w.add_attachment(at.name, at.media_type, at.data, at.log_time_ns, at.create_time_ns);
   w.close();
   std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n),
-              channel_ids.size(), r.metadata_records().size(), r.attachments().size(), a.get("output").c_str());
+              channel_ids.size(), r.metadata_records().size(), r.attachments().size(), a.get("out").c_str());
   if (r.damage().empty()) std::printf("the source had no damage\n");
   for (const auto& d : r.damage()) std::printf("  lost or skipped at %s\n", d.c_str());
   return 0;
