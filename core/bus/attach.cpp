@@ -65,6 +65,7 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
       requester_(make_socket(zmq::socket_type::pair)),
       inbound_(make_socket(zmq::socket_type::pub)),
       inbound_topics_(options.inbound_topics),
+      latched_topics_(options.latched_topics),
       descriptor_set_(msgs_descriptor_set()) {
   // refuse a bad or exposed endpoint before binding it
   const std::string& bind = options.bind_endpoint;
@@ -194,7 +195,8 @@ bool AttachPoint::handle_command() {
       error = "cannot connect to '" + command[1] + "': " + e.what();
     }
   } else if (command.size() == 4 && command[0] == "topic") {
-    topics_.push_back({command[1], command[2], command[3]});
+    const bool known = std::any_of(topics_.begin(), topics_.end(), [&](const Topic& t) { return t.name == command[1] && t.publisher == command[3]; });
+    if (!known) topics_.push_back({command[1], command[2], command[3]});
   } else if (command.size() == 1 && command[0] == "stop") {
     keep_running = false;
   } else {
@@ -205,11 +207,17 @@ bool AttachPoint::handle_command() {
 }
 
 void AttachPoint::forward_data() {
-  // publishers -> observers, whole messages, a batch at a time
+  // publishers -> observers, whole messages, a batch at a time; the last of a state topic kept
   zmq::message_t frame;
   for (int i = 0; i < kForwardBatch && xsub_.recv(frame, zmq::recv_flags::dontwait); ++i) {
+    std::vector<std::string>* keep = nullptr;
+    if (std::find(latched_topics_.begin(), latched_topics_.end(), frame.to_string_view()) != latched_topics_.end()) {
+      keep = &latched_[frame.to_string()];
+      keep->clear();
+    }
     for (;;) {
       const bool more = frame.more();
+      if (keep) keep->push_back(frame.to_string());
       (void)xpub_.send(frame, more ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait);
       if (!more) break;
       (void)xsub_.recv(frame);
@@ -230,6 +238,7 @@ bool AttachPoint::forward_from_observers() {
     const std::string_view n = notice.to_string_view();
     if (n.empty() || (n.front() != 0 && n.front() != 1)) continue;  // a stray one-frame message
     if (n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
+    if (n.front() == 1) send_latched(n.substr(1));
     (void)xsub_.send(notice, zmq::send_flags::dontwait);
   }
   return wants_graph;
@@ -254,6 +263,17 @@ void AttachPoint::relay_inbound(zmq::message_t& first) {
       copy.copy(frames[i]);
       const auto flags = i + 1 < frames.size() ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
       if (!out->send(copy, flags)) break;
+    }
+  }
+}
+
+void AttachPoint::send_latched(std::string_view prefix) {
+  // the subscription is in force already: the new observer receives these
+  for (const auto& [topic, frames] : latched_) {
+    if (!std::string_view(topic).starts_with(prefix)) continue;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const auto flags = i + 1 < frames.size() ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
+      if (!xpub_.send(zmq::const_buffer(frames[i].data(), frames[i].size()), flags)) break;
     }
   }
 }

@@ -19,6 +19,7 @@
 #include <atomic>
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <mutex>
 #include <string>
 #include <string_view>
@@ -48,6 +49,10 @@ struct AttachOptions {
   std::string inbound_endpoint{};
   // the topics observers may send on; anything else they send is dropped
   std::vector<std::string> inbound_topics{};
+  // state topics: the last message of each is kept and sent at once to every observer that
+  // subscribes to it (a late joiner sees the current state; the observers already
+  // subscribed receive that copy again, with the same header.seq)
+  std::vector<std::string> latched_topics{};
 };
 
 class AttachPoint {
@@ -72,8 +77,8 @@ class AttachPoint {
   void add_publisher(const std::string& node, const std::string& endpoint);
 
   // lists topic `name` of message type `type` (full name, e.g. "enact.msgs.DeviceState"),
-  // published by node `publisher`, in GraphInfo; sends an updated GraphInfo at once.
-  // Thread-safe.
+  // published by node `publisher`, in GraphInfo (once: declaring it again changes nothing);
+  // sends an updated GraphInfo at once. Thread-safe.
   void declare_topic(const std::string& name, const std::string& type, const std::string& publisher);
 
   // the same, with the type name taken from Msg
@@ -105,6 +110,7 @@ class AttachPoint {
   bool forward_from_observers();
   void relay_inbound(zmq::message_t& first);
   void publish_graph();
+  void send_latched(std::string_view prefix);
 
   std::string graph_;
   std::string endpoint_;
@@ -115,6 +121,8 @@ class AttachPoint {
   zmq::socket_t requester_;   // callers' end, used under request_mutex_
   zmq::socket_t inbound_;     // republishes what observers send (bound only with an endpoint)
   std::vector<std::string> inbound_topics_;
+  std::vector<std::string> latched_topics_;
+  std::map<std::string, std::vector<std::string>, std::less<>> latched_;  // topic -> frames of its last message (forwarding thread)
   std::mutex request_mutex_;
   std::atomic<bool> failed_ = false;
   std::string failure_;       // why the thread stopped, set before failed_

@@ -74,6 +74,11 @@ class BytePublisher {
   // the ZMQ_XPUB socket (readable when a subscription notice is pending)
   zmq::socket_t& socket() { return socket_; }
 
+  // the topics this publisher carries, with their message types (full protobuf names), in
+  // the order declared: a typed Publisher declares its topic when it is made
+  void declare(std::string topic, std::string type) { declared_.emplace_back(std::move(topic), std::move(type)); }
+  const std::vector<std::pair<std::string, std::string>>& declared() const { return declared_; }
+
  private:
   void read_subscriptions();
 
@@ -82,6 +87,7 @@ class BytePublisher {
   std::string node_;
   std::map<std::string, TopicCounters, std::less<>> counters_;
   std::multiset<std::string, std::less<>> subscriptions_;  // prefixes, once per subscriber asking
+  std::vector<std::pair<std::string, std::string>> declared_;  // (topic, type)
 };
 
 // one received bus message; its frames are reused by ByteSubscriber::receive(RawMessage&, ...)

@@ -31,9 +31,11 @@ inline std::int64_t monotonic_ns() noexcept {
 template <class Msg>
 class Publisher {
  public:
-  // publishes on `topic` through `bytes` (which must outlive it)
+  // publishes on `topic` through `bytes` (which must outlive it), declared there
   Publisher(BytePublisher& bytes, std::string topic)
-      : bytes_(bytes), topic_(std::move(topic)), type_(Msg::descriptor()->full_name()) {}
+      : bytes_(bytes), topic_(std::move(topic)), type_(Msg::descriptor()->full_name()) {
+    bytes_.declare(topic_, std::string(type_));
+  }
 
   // fills msg.header (seq: +1 per call, from 1; stamp_ns: now, only if 0; source: the node
   // name of the BytePublisher), serialises and sends without blocking. false when the message

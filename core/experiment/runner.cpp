@@ -14,14 +14,13 @@
 #include <sstream>
 #include <thread>
 
-#include "core/bus/attach.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
 #include "core/config/format.h"
 #include "core/config/yaml.h"
 #include "core/experiment/results.h"
 #include "core/graph/logger.h"
-#include "core/graph/temp_folder.h"
+#include "core/graph/session.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
@@ -127,33 +126,25 @@ class TrialRun {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
     const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
-    const graph::TempFolder dir("/tmp/enact-graph-");  // the trial graph's sockets
-    bus::AttachPoint attach(spec_.name);
-    for (const auto& n : graph.nodes) {
-      const auto topics = graph::topics_of(fs::path(n.path).filename().string());
-      if (topics.empty()) continue;
-      attach.add_publisher(n.name, bus::ipc_endpoint(dir.path(), n.name));
-      for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
-    }
-    const std::string events_endpoint = bus::ipc_endpoint(dir.path(), kRunnerNode);
-    attach.add_publisher(kRunnerNode, events_endpoint);
-    attach.declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
-    attach.set_launch_info(graph::launch_info(spec_.launch, graph));
+    // the trial's graph: watched and adjusted live like any other, by its name
+    graph::GraphSession session(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch);
+    session_ = &session;
+    const std::string events_endpoint = session.node_endpoint(kRunnerNode);
+    session.attach().add_publisher(kRunnerNode, events_endpoint);
+    session.attach().declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
 
     launch::SupervisorOptions options;
-    options.env = {{"ENACT_GRAPH_DIR", dir.path()}, {"ENACT_ATTACH", attach.endpoint()}};
     options.ready_timeout_s = 20.0;
     options.on_ready = [this] { ready_.store(true); };
     int code = 0;
     {
       const OutputTo to_log(log_);
-      std::thread monitor([&] { watch(events_endpoint, attach.endpoint()); });
-      code = launch::supervise(graph, options, std::cerr);
+      std::thread monitor([&] { watch(events_endpoint, session.endpoint()); });
+      code = session.run(graph, spec_.launch, options, std::cerr);
       finished_.store(true);
       monitor.join();
     }
-    attach.stop();
-    if (stop_sent_) take_stop_signal();  // ours, if the graph ended on its own meanwhile
+    session_ = nullptr;
     return outcome(code);
   }
 
@@ -173,9 +164,10 @@ class TrialRun {
     return a;
   }
 
-  // stop the graph: the supervisor stops it in order on SIGTERM
+  // stop the graph: the supervisor stops it in order
   void stop_graph() {
-    if (!stop_sent_.exchange(true)) kill(getpid(), SIGTERM);
+    stop_sent_.store(true);
+    session_->stop();
   }
 
   // the runner's side of the trial, while the supervisor runs the graph: announce it, watch
@@ -267,6 +259,7 @@ class TrialRun {
   std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
   std::atomic<bool> aborted_{false};
   std::atomic<double> trial_s_{0.0};
+  graph::GraphSession* session_ = nullptr;  // while run() runs
 };
 
 // plan.csv: written by the first run, the same for every resumed one

@@ -25,12 +25,7 @@ constexpr std::uint16_t kNoChannel = 0xFFFF;
 std::string find_endpoint(const std::string& given) {
   if (!given.empty()) return given;
   if (const char* env = std::getenv("ENACT_ATTACH"); env && *env) return env;
-  std::ifstream f(attach_file());
-  std::string endpoint;
-  if (!(f >> endpoint)) {
-    throw config::Error("no running graph found (" + attach_file() + " is missing)\n  fix: start one with `enact launch FILE`, or give its attach endpoint");
-  }
-  return endpoint;
+  throw config::Error("no attach endpoint given, and $ENACT_ATTACH is not set\n  fix: run it under `enact launch`, or give the attach endpoint (enact record --graph NAME)");
 }
 
 // the header of a stream message: field 1 (length-delimited) of the payload
@@ -172,6 +167,7 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
     it = channels_.emplace(key_, std::move(c)).first;
   }
   Channel& c = it->second;
+  if (has_header && c.report.seq.repeats(header_.seq())) return;
   if (c.id == kNoChannel) {
     c.id = writer_->add_channel(schema_for(c.report.type), c.report.topic, "protobuf", {{"publisher", c.report.publisher}});
   }

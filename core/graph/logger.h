@@ -41,6 +41,9 @@ struct SequenceCheck {
     last = seq;
     ++messages;
   }
+  // the same message again (an attach point repeats a state topic's last message for an
+  // observer that came late)
+  bool repeats(std::uint64_t seq) const { return messages > 0 && seq != 0 && seq == last; }
 };
 
 // traffic of one channel (topic and publishing node)

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 #include "core/bus/endpoints.h"
 #include "core/rt/clock.h"
@@ -18,7 +19,19 @@ namespace {
 std::atomic<bool> g_stop{false};
 void on_stop(int) { g_stop.store(true); }
 
+// one line to the launcher on the ready pipe, if there is one
+void tell_launcher(const std::string& line) {
+  const char* fd = std::getenv("ENACT_READY_FD");
+  if (!fd) return;
+  const std::string text = line + "\n";
+  (void)!write(std::atoi(fd), text.data(), text.size());
+}
+
 }  // namespace
+
+void announce_topics(const bus::BytePublisher& out) {
+  for (const auto& [topic, type] : out.declared()) tell_launcher("topic " + topic + " " + type);
+}
 
 std::string graph_dir() {
   const char* dir = std::getenv("ENACT_GRAPH_DIR");
@@ -55,10 +68,19 @@ bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns) {
 
 void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who) {
   if (count <= 0) return;
-  const std::int64_t give_up = rt::now_ns() + 10'000'000'000;
+  // a short grace for subscribers already on their way, then the wait is announced
+  const std::int64_t grace = rt::now_ns() + 200'000'000;
+  while (out.subscriber_count(topic) < count && rt::now_ns() < grace && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+  if (out.subscriber_count(topic) >= count) return;
+  tell_launcher("wait " + std::to_string(kObserversWait_s));
+  const char* attach = std::getenv("ENACT_ATTACH");
+  say(node, "waiting up to " + std::to_string(static_cast<int>(kObserversWait_s)) + " s for " + std::to_string(count) + " " + who + " of " + topic +
+                (attach ? " (they attach at " + std::string(attach) + ")" : ""));
+  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9);
   while (out.subscriber_count(topic) < count && rt::now_ns() < give_up && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
   const int n = out.subscriber_count(topic);
-  if (n < count) say(node, std::to_string(n) + " of " + std::to_string(count) + " " + who + " listening to " + topic + " after 10 s; running anyway");
+  if (n < count) say(node, std::to_string(n) + " of " + std::to_string(count) + " " + who + " listening to " + topic + " after " + std::to_string(static_cast<int>(kObserversWait_s)) + " s; running anyway");
+  else say(node, std::to_string(n) + " " + who + " listening to " + topic + "; starting");
 }
 
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in) {

@@ -24,8 +24,18 @@ bool stop_requested();
 // resolution, unlike zmq_poll's milliseconds); true when readable
 bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns);
 
-// waits up to 10 s (or a stop request) until `count` subscribers listen to `topic` on `out`;
-// says so on stderr, naming `who`, when they do not come (the node then runs anyway)
+// how long a node waits for the observers it was asked to wait for (launch parameter
+// observers=N) before it runs anyway
+inline constexpr double kObserversWait_s = 60.0;
+
+// tells the launcher (on $ENACT_READY_FD, before "ready") the topics `out` publishes, with
+// their types: what its typed publishers declared. Call it once every publisher is made.
+void announce_topics(const bus::BytePublisher& out);
+
+// waits up to kObserversWait_s (or a stop request) until `count` subscribers listen to
+// `topic` on `out`, saying so on stderr with the graph's attach endpoint, and telling the
+// launcher to wait that long more for "ready"; says so again, naming `who`, when they do
+// not come (the node then runs anyway)
 void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who);
 // per-topic counters of a node's sockets into its NodeStatus
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);

@@ -8,32 +8,14 @@ inline constexpr const char* kTactileFrame = "tactile/frame"; // TactileFrame, s
 inline constexpr const char* kTactileShown = "tactile/shown"; // TactileShown, tactile driver, device rate
 inline constexpr const char* kSceneState = "sim/scene";       // SceneState, simulator, viewer rate
 inline constexpr const char* kTaskEvent = "task/event";       // TaskEvent, simulator, on event
+inline constexpr const char* kTaskState = "task/state";       // TaskState, simulator, 10 Hz and on change (latched)
 inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, viewer / CLI, on demand
 inline constexpr const char* kParamAck = "param/ack";         // ParamAck, simulator, one per ParamUpdate
 inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
 
-}  // namespace enact::graph
-
-#include <string>
-#include <vector>
-
-namespace enact::graph {
-
-struct TopicDecl {
-  std::string name;
-  std::string type;  // full protobuf name
-};
-
-// the topics a node executable publishes (by its file name: enact-sim, enact-ffd,
-// enact-tactile, enact-rt); empty for other programs
-std::vector<TopicDecl> topics_of(const std::string& exec_name);
 
 // the attach point's inbound publisher (what observers send: param/set) is at
 // node_endpoint(kInboundNode); ':' keeps it apart from every node name
 inline constexpr const char* kInboundNode = "attach:in";
-
-// where the last graph started by `enact launch` on this machine can be attached:
-// /tmp/enact-<uid>/attach holds its endpoint
-std::string attach_file();
 
 }  // namespace enact::graph

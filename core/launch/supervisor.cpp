@@ -9,7 +9,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <ostream>
@@ -34,6 +36,8 @@ struct Child {
   int ready_fd = -1;     // read end of its ready pipe
   bool ready = false;
   std::string ready_buffer;
+  std::size_t parsed = 0;      // ready_buffer's lines handled so far
+  double wait_s = 0.0;         // what it said it waits for (extends its ready timeout)
   int status = 0;        // wait status once exited
   std::int64_t respawn_at_ns = 0;
 };
@@ -85,20 +89,33 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
   c.ready_fd = fds[0];
   c.ready = false;
   c.ready_buffer.clear();
+  c.parsed = 0;
+  c.wait_s = 0.0;
   log << "enact launch: started " << c.spec->name << " (pid " << pid << ")\n";
   return true;
 }
 
-// read what a process wrote on its ready pipe; true once it said "ready"
-bool read_ready(Child& c) {
-  char buf[64];
+// read what a process wrote on its ready pipe, handling its declarations; true once it
+// said "ready"
+bool read_ready(Child& c, const SupervisorOptions& options) {
+  char buf[256];
   const ssize_t n = read(c.ready_fd, buf, sizeof buf);
   if (n > 0) c.ready_buffer.append(buf, static_cast<std::size_t>(n));
-  if (n <= 0 || c.ready_buffer.find("ready\n") != std::string::npos) {
+  bool ready = false;
+  for (std::size_t end; (end = c.ready_buffer.find('\n', c.parsed)) != std::string::npos; c.parsed = end + 1) {
+    const std::string line = c.ready_buffer.substr(c.parsed, end - c.parsed);
+    ready = ready || line == "ready";
+    if (line.rfind("wait ", 0) == 0) c.wait_s = std::max(0.0, std::atof(line.c_str() + 5));
+    const std::size_t space = line.find(' ', 6);
+    if (line.rfind("topic ", 0) == 0 && space != std::string::npos && options.on_topic) {
+      options.on_topic(*c.spec, line.substr(6, space - 6), line.substr(space + 1));
+    }
+  }
+  if (n <= 0 || ready) {
     close(c.ready_fd);
     c.ready_fd = -1;
   }
-  return c.ready_buffer.find("ready\n") != std::string::npos;
+  return ready || c.ready_buffer.find("ready\n") != std::string::npos;
 }
 
 struct Graph {
@@ -106,6 +123,7 @@ struct Graph {
   int signal_fd = -1;
   sigset_t blocked{};
   std::ostream& log;
+  const SupervisorOptions& options;
 
   // reap every exited child into `exited` (what it wrote on its ready pipe first still counts)
   void reap(std::vector<Child*>& exited) {
@@ -117,7 +135,7 @@ struct Graph {
         c.status = status;
         c.pid = -1;
         // what it wrote before it exited still counts
-        while (c.ready_fd >= 0 && !c.ready) c.ready = read_ready(c);
+        while (c.ready_fd >= 0 && !c.ready) c.ready = read_ready(c, options);
         if (c.ready_fd >= 0) {
           close(c.ready_fd);
           c.ready_fd = -1;
@@ -151,6 +169,8 @@ struct Graph {
     log << "enact launch: killed " << c.spec->name << " (no exit " << timeout_s << " s after SIGTERM)\n";
   }
 
+  bool stop_requested() const { return options.stop && options.stop->load(); }
+
   void stop_all(double timeout_s) {
     for (auto it = children.rbegin(); it != children.rend(); ++it) stop(*it, timeout_s);
     for (Child& c : children) {
@@ -173,12 +193,22 @@ struct Graph {
 
   // wait for `c` to say ready; false on timeout, exit, or a stop signal (then `signalled`)
   bool wait_ready(Child& c, double timeout_s, bool& signalled) {
-    const std::int64_t deadline = now_ns() + to_ns(timeout_s);
+    std::int64_t deadline = now_ns() + to_ns(timeout_s);
+    double extended_s = 0.0;
     while (!c.ready) {
+      // a process that waits (for observers) has that long more
+      if (c.wait_s > extended_s) {
+        deadline = std::max(deadline, now_ns() + to_ns(timeout_s + c.wait_s));
+        extended_s = c.wait_s;
+      }
       const std::int64_t left_ms = (deadline - now_ns()) / 1'000'000;
       if (left_ms <= 0) {
-        log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") did not report ready within " << timeout_s
+        log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") did not report ready within " << timeout_s + extended_s
             << " s\n  fix: check its output above; a node writes \"ready\" to $ENACT_READY_FD once active\n";
+        return false;
+      }
+      if (stop_requested()) {
+        signalled = true;
         return false;
       }
       pollfd fds[2] = {{signal_fd, POLLIN, 0}, {c.ready_fd, POLLIN, 0}};
@@ -190,7 +220,7 @@ struct Graph {
           return false;
         }
       }
-      if (c.ready_fd >= 0 && (fds[1].revents & (POLLIN | POLLHUP))) c.ready = read_ready(c);
+      if (c.ready_fd >= 0 && (fds[1].revents & (POLLIN | POLLHUP))) c.ready = read_ready(c, options);
       std::vector<Child*> exited;
       reap(exited);
       for (Child* e : exited) {
@@ -226,7 +256,7 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
   sigaddset(&blocked, SIGCHLD);
   sigset_t previous;
   sigprocmask(SIG_BLOCK, &blocked, &previous);
-  Graph g{{}, signalfd(-1, &blocked, SFD_CLOEXEC), blocked, log};
+  Graph g{{}, signalfd(-1, &blocked, SFD_CLOEXEC), blocked, log, options};
   for (const NodeSpec& n : graph.nodes) {
     Child c;
     c.spec = &n;
@@ -262,6 +292,10 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       c.respawn_at_ns = 0;
       bool signalled = false;
       if (!start(c, blocked, options.env, log) || !g.wait_ready(c, options.ready_timeout_s, signalled)) return finish(signalled ? 0 : 1);
+    }
+    if (g.stop_requested()) {
+      log << "enact launch: stop requested, stopping\n";
+      return finish(0);
     }
     pollfd fd{g.signal_fd, POLLIN, 0};
     poll(&fd, 1, 50);

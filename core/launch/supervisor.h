@@ -4,8 +4,13 @@
 // first, zeroing force and lowering pins). No process outlives the launcher.
 //
 // Ready protocol: each process gets ENACT_READY_FD=<fd> in its environment and writes a
-// line "ready\n" to that file descriptor once it is active.
+// line "ready\n" to that file descriptor once it is active. Before it, it may write:
+//   "topic NAME TYPE\n"  it publishes topic NAME of message type TYPE (passed to on_topic)
+//   "wait S\n"           it waits up to S s for something (observers) before it is ready:
+//                        its ready timeout is extended by S from then
+#include <atomic>
 #include <functional>
+#include <string>
 #include <iosfwd>
 #include <vector>
 
@@ -20,6 +25,10 @@ struct SupervisorOptions {
   std::vector<Param> env;         // set in every process's environment (before its own env)
   // called once every process is ready (e.g. to print where observers attach)
   std::function<void()> on_ready;
+  // a process declared a topic it publishes (on its ready pipe)
+  std::function<void(const NodeSpec& node, const std::string& topic, const std::string& type)> on_topic;
+  // set from any thread: the graph stops in order, as on SIGTERM (checked every 50 ms)
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // block SIGINT, SIGTERM and SIGCHLD in the calling thread; call it before starting any
@@ -27,7 +36,7 @@ struct SupervisorOptions {
 // the supervisor's signalfd and none is delivered (and lost, or fatal) elsewhere
 void block_supervisor_signals();
 
-// runs the graph until SIGINT/SIGTERM, --duration, or the exit of a required process.
+// runs the graph until SIGINT/SIGTERM, options.stop, --duration, or the exit of a required process.
 // Returns 0 after a requested stop, 1 when a required process exited or a process did not
 // become ready (the message says which and why). Progress lines go to `log`.
 int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& log);

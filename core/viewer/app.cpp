@@ -73,7 +73,8 @@ class SceneInUse {
 void live_frame(GraphLink& link, ViewModel& model, SceneInUse& scene, std::int64_t now, const Layout& l, const std::vector<char>& keys) {
   if (link.follow(now)) {
     model.clear();
-    model.note("attaching to " + link.endpoint());
+    model.note("attaching to " + link.describe());
+    std::fprintf(stderr, "enact-viewer: %s\n", link.endpoint().empty() ? ("the graph ended; waiting for " + link.describe()).c_str() : ("attached to " + link.describe()).c_str());
   }
   Controls& controls = scene.controls();
   for (const graph::ParamAnswer& a : link.receive(model, now)) {
@@ -117,7 +118,7 @@ int run_viewer(const ViewerOptions& o) {
   SceneInUse scene(o);
   Window window("enact viewer", o.width, o.height, !o.snapshot.empty());
   ViewModel model;
-  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.attach, "viewer");
+  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.graph, "viewer");
   if (playback) {
     scene.offer(playback->scene());
     playback->seek(o.at_s >= 0.0 ? static_cast<std::int64_t>(o.at_s * 1e9) : 0, model);

@@ -4,10 +4,12 @@
 // one snapshot of either and exit.
 #include <string>
 
+#include "core/graph/registry.h"
+
 namespace enact::viewer {
 
 struct ViewerOptions {
-  std::string attach;       // the attach point's endpoint; "" follows the attach file
+  graph::AttachChoice graph;  // which graph to attach to (an endpoint, a name, a trial prefix; none: the only one)
   std::string recording;    // an MCAP recording to play instead of attaching ("" : live)
   std::string scene;        // the scene file; "" : the one the graph (or recording) names
   std::string sim;          // the simulator's name; "" : the one the graph names, else "sim"

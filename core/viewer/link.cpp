@@ -1,20 +1,27 @@
 #include "core/viewer/link.h"
 
-#include <fstream>
+#include <optional>
 
 #include "core/graph/topics.h"
 
 namespace enact::viewer {
 namespace {
 
-// how often the attach file is read
+// how often the registry is read
 constexpr std::int64_t kLook_ns = 500'000'000;
 
-std::string read_attach_file() {
-  std::ifstream in(graph::attach_file());
-  std::string endpoint;
-  in >> endpoint;
-  return endpoint;
+// the running graph that fits `choice` (the one in use while it runs and fits), nullopt
+// when none does, or when several do and none is named
+std::optional<graph::GraphEntry> pick(const graph::AttachChoice& choice, const std::string& current) {
+  std::vector<graph::GraphEntry> fit;
+  for (const graph::GraphEntry& g : graph::list_graphs()) {
+    const bool match = !choice.graph.empty() ? g.name == choice.graph : g.name.rfind(choice.prefix, 0) == 0;
+    if (!match) continue;
+    if (g.endpoint == current) return g;
+    fit.push_back(g);
+  }
+  if (fit.size() == 1 || (!fit.empty() && !choice.prefix.empty())) return fit.front();
+  return std::nullopt;
 }
 
 }  // namespace
@@ -28,6 +35,7 @@ struct GraphLink::Connection {
   bus::Subscriber<msgs::TactileShown> shown{bytes, graph::kTactileShown};
   bus::Subscriber<msgs::ParamAck> acks{bytes, graph::kParamAck};
   bus::Subscriber<msgs::GraphInfo> graph{bytes, std::string(bus::kGraphTopic)};
+  bus::Subscriber<msgs::TaskState> task{bytes, graph::kTaskState};
   graph::ParamClient params;
   bus::RawMessage raw;
   msgs::SceneState scene_msg;
@@ -36,12 +44,13 @@ struct GraphLink::Connection {
   msgs::TactileShown shown_msg;
   msgs::ParamAck ack_msg;
   msgs::GraphInfo graph_msg;
+  msgs::TaskState task_msg;
 
   Connection(const std::string& endpoint, const std::string& source) : params(endpoint, source) { bytes.connect(endpoint); }
 };
 
-GraphLink::GraphLink(std::string endpoint, std::string source) : follow_file_(endpoint.empty()), source_(std::move(source)) {
-  if (!follow_file_) connect(endpoint);
+GraphLink::GraphLink(graph::AttachChoice choice, std::string source) : choice_(std::move(choice)), source_(std::move(source)) {
+  if (!choice_.endpoint.empty()) connect(choice_.endpoint);
 }
 
 GraphLink::~GraphLink() = default;
@@ -53,9 +62,11 @@ void GraphLink::connect(const std::string& endpoint) {
 }
 
 bool GraphLink::follow(std::int64_t now_ns) {
-  if (!follow_file_ || now_ns < next_look_ns_) return false;
+  if (!choice_.endpoint.empty() || now_ns < next_look_ns_) return false;
   next_look_ns_ = now_ns + kLook_ns;
-  const std::string endpoint = read_attach_file();
+  const std::optional<graph::GraphEntry> g = pick(choice_, endpoint_);
+  const std::string endpoint = g ? g->endpoint : "";
+  name_ = g ? g->name : "";
   if (endpoint == endpoint_) return false;
   connect(endpoint);
   return true;
@@ -71,6 +82,7 @@ std::vector<graph::ParamAnswer> GraphLink::receive(ViewModel& model, std::int64_
     else if (c.status.accept(c.raw, c.status_msg)) model.on_status(c.status_msg, now_ns);
     else if (c.shown.accept(c.raw, c.shown_msg)) model.on_shown(c.shown_msg);
     else if (c.graph.accept(c.raw, c.graph_msg)) model.on_graph(c.graph_msg, now_ns);
+    else if (c.task.accept(c.raw, c.task_msg)) model.on_task_state(c.task_msg);
     else if (c.acks.accept(c.raw, c.ack_msg)) {
       if (auto a = c.params.take(c.ack_msg)) answers.push_back(*a);
     }
@@ -82,8 +94,10 @@ std::vector<graph::ParamAnswer> GraphLink::receive(ViewModel& model, std::int64_
 std::uint64_t GraphLink::send(const msgs::ParamUpdate& update) { return connection_ ? connection_->params.send(update) : 0; }
 
 std::string GraphLink::describe() const {
-  if (!endpoint_.empty()) return endpoint_;
-  return "the next graph launched here (" + graph::attach_file() + ")";
+  if (!endpoint_.empty()) return name_.empty() ? endpoint_ : "graph " + name_ + " at " + endpoint_;
+  if (!choice_.graph.empty()) return "graph " + choice_.graph + " (waiting for it)";
+  if (!choice_.prefix.empty()) return "the trials of " + choice_.prefix + " (waiting for one)";
+  return "the graph launched next here (waiting for it)";
 }
 
 }  // namespace enact::viewer

@@ -33,8 +33,9 @@ void ViewModel::on_scene(const msgs::SceneState& m) {
   task_.on_top = m.on_top();
   task_.progress = m.progress();
   if (restart_pending_) {
-    task_.start_ns = m.header().stamp_ns();
+    task_.start_ns = m.header().stamp_ns() - resume_ns_;
     restart_pending_ = false;
+    resume_ns_ = 0;
   }
   if (task_.running) task_.time_ns = m.header().stamp_ns() - task_.start_ns;
 }
@@ -71,6 +72,18 @@ void ViewModel::on_event(const msgs::TaskEvent& m) {
     default: break;
   }
   note(std::string(kind_name(m.kind())) + (m.detail().empty() ? "" : ": " + m.detail()) + (m.condition().empty() ? "" : " [" + m.condition() + "]"));
+}
+
+void ViewModel::on_task_state(const msgs::TaskState& m) {
+  task_.falls = m.falls();
+  task_.falling = m.falling();
+  task_.running = m.phase() == msgs::TaskState::RUNNING;
+  task_.completed = m.phase() == msgs::TaskState::COMPLETED;
+  task_.time_ns = static_cast<std::int64_t>(m.trial_s() * 1e9);
+  // the scene's clock goes on from here
+  if (has_scene_) task_.start_ns = scene_.header().stamp_ns() - task_.time_ns;
+  restart_pending_ = !has_scene_;
+  resume_ns_ = restart_pending_ ? task_.time_ns : 0;
 }
 
 void ViewModel::on_status(const msgs::NodeStatus& m, std::int64_t now_ns) { nodes_[m.node()] = {m, now_ns}; }

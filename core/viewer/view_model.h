@@ -14,6 +14,7 @@
 #include "core/viewer/ring.h"
 #include "core/viewer/scene_geometry.h"
 #include "msgs/graph.pb.h"
+#include "msgs/task_state.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/scene_state.pb.h"
 #include "msgs/tactile_frame.pb.h"
@@ -33,7 +34,7 @@ struct NodeRow {
   std::int64_t received_ns = 0;
 };
 
-// the bridge task as seen from its events and the scene (falls since the viewer attached)
+// the bridge task as seen from task/state, its events and the scene
 struct TaskView {
   bool on_top = false;
   double progress = 0.0;
@@ -54,6 +55,8 @@ class ViewModel {
   void on_scene(const msgs::SceneState& m);
   void on_shown(const msgs::TactileShown& m);
   void on_event(const msgs::TaskEvent& m);
+  // the trial as the simulator counts it (latched: what a late viewer sees first)
+  void on_task_state(const msgs::TaskState& m);
   void on_status(const msgs::NodeStatus& m, std::int64_t now_ns);
   void on_graph(const msgs::GraphInfo& m, std::int64_t now_ns);
   void on_answer(const graph::ParamAnswer& a);
@@ -96,6 +99,7 @@ class ViewModel {
   int shown_rows_ = 0, shown_cols_ = 0;
   TaskView task_;
   bool restart_pending_ = false;  // a trial (re)started: its model time starts at the next scene
+  std::int64_t resume_ns_ = 0;    // the trial time the next scene continues from (task/state before any scene)
   std::map<std::string, NodeRow> nodes_;
   Ring<std::string, kLog> log_;
 };

@@ -63,6 +63,7 @@ int run(int argc, char** argv) {
   bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});
   bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  graph::announce_topics(out);
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
   in.connect(graph::node_endpoint(sim_node));

@@ -1,8 +1,6 @@
 // enact-rt: the co-located real-time container. The simulator and both device drivers run
 // in one process and one real-time thread (read device, step, write force, write pins, in
 // the same tick); observers are fed from a lock-free queue by a non-real-time thread.
-#include <signal.h>
-
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +13,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/param_bus.h"
+#include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
@@ -32,8 +31,8 @@ The co-located real-time container: components sim, ffd and tactile (one of each
 process and one real-time thread, ticking at rate_hz: read the device, step the model,
 write the force, write the pins (down-sampled), in the same tick. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
-tactile/frame and task/event at their rates, sim/scene at scene_rate_hz, tactile/shown at
-shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
+tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
+at scene_rate_hz, tactile/shown at shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
 param/set (SIM.model, SIM.stiffness_n_per_m, ...: README "Live viewer"; SIM is the sim
 component's name) are checked on that thread, handed to the real-time thread through a
 lock-free queue, applied at the top of a tick, and answered on param/ack.
@@ -44,16 +43,13 @@ container parameters:
   spin_us=50            spin on the clock for the last microseconds before each tick
   lock_memory=false     mlockall; fifo_priority=0 (1..99: SCHED_FIFO); cpus= (e.g. 1)
   scene_rate_hz=60      shown_rate_hz=100
-  observers=0           wait (up to 10 s) for this many observers of ffd/state (a logger
+  observers=0           wait (up to 60 s) for this many observers of ffd/state (a logger
                         recording from the first tick) before the loop starts
 component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
   sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
   ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
   tactile:  device rows cols rise_time_s
 )";
-
-std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop.store(true); }
 
 // what the hand felt, accumulated by the non-real-time thread
 struct Felt {
@@ -128,8 +124,7 @@ int run(int argc, char** argv) {
   const int observers = static_cast<int>(args.params.integer("observers", 0));
   args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz", "observers"});
 
-  signal(SIGINT, on_signal);
-  signal(SIGTERM, on_signal);
+  graph::install_stop_handlers();
   // the publishers, and the parameter port (it copies the simulator's model: before the
   // real-time thread starts)
   bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 10000});
@@ -141,6 +136,8 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   graph::ParamPort params(simulator, sim_name, out, event_pub);
+  graph::TaskStateTracker task_state(out);
+  graph::announce_topics(out);
   graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   struct Shown {
@@ -181,7 +178,7 @@ int run(int argc, char** argv) {
     loop.activate();
     scheduler.start(start);
     const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
-    for (std::int64_t n = 0; !g_stop.load(std::memory_order_relaxed); ++n) {
+    for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
       const std::int64_t woke = scheduler.wait();
       if (woke >= end) break;
       const graph::Observation& o = loop.tick(woke);
@@ -220,7 +217,10 @@ int run(int argc, char** argv) {
   // the computer model in force at that tick
   sim::ParamApplied done;
   auto take_applied = [&] {
-    while (applied.try_pop(done)) params.applied(done);
+    while (applied.try_pop(done)) {
+      params.applied(done);
+      task_state.applied(done.kind);
+    }
   };
   auto publish = [&](const graph::Observation& o) {
     graph::fill(state_msg, o.sample);
@@ -247,8 +247,10 @@ int run(int argc, char** argv) {
     while (queue.try_pop(o)) {
       take_applied();
       consume(o, felt);
+      task_state.step(o.sample.time_ns, o.step);
       publish(o);
     }
+    task_state.publish_due(rt::now_ns(), params.model_name());
     while (scenes.try_pop(scene)) {
       take_applied();
       graph::fill(scene_msg, scene.snap, params.model_name_at(scene.tick_ns));

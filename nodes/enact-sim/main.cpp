@@ -9,6 +9,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/param_bus.h"
+#include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
@@ -21,7 +22,8 @@ constexpr const char* kHelp = R"(usage: enact-sim [--name NAME] --param NAME=VAL
 
 The simulator of a distributed graph: for every ffd/state it steps the model and answers
 on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
-sim/scene (scene_rate_hz), task/event and node/status (1 Hz). Parameter changes on
+sim/scene (scene_rate_hz), task/event, task/state (10 Hz and on change) and node/status
+(1 Hz). Parameter changes on
 param/set (NAME.model, NAME.stiffness_n_per_m, ...: README "Live viewer") are applied
 between two DeviceStates and answered on param/ack.
 
@@ -29,7 +31,7 @@ parameters:
   scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
   tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
   ffd_node=ffd  scene_rate_hz=60
-  observers=0 (wait up to 10 s for this many observers of ffd/force before answering)
+  observers=0 (wait up to 60 s for this many observers of ffd/force before answering)
 )";
 
 // how often parameter requests are looked for while states flow
@@ -62,6 +64,8 @@ int run(int argc, char** argv) {
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
   in.connect(graph::node_endpoint(ffd_node));
   graph::ParamPort params(simulator, args.name, out, event_pub);
+  graph::TaskStateTracker task_state(out);
+  graph::announce_topics(out);
 
   msgs::DeviceState state;
   msgs::ForceCommand command;
@@ -81,9 +85,14 @@ int run(int argc, char** argv) {
   graph::report_ready();
   // parameter changes, between two steps
   auto apply_params = [&] {
-    while (const auto change = params.next()) params.applied(simulator.apply(*change, last_step_ns, rt::now_ns()));
+    while (const auto change = params.next()) {
+      const sim::ParamApplied done = simulator.apply(*change, last_step_ns, rt::now_ns());
+      params.applied(done);
+      task_state.applied(done.kind);
+    }
   };
   while (!graph::stop_requested()) {
+    task_state.publish_due(rt::now_ns(), simulator.computer_model().name);
     if (!states.receive(state, 100)) {
       apply_params();
       continue;
@@ -100,6 +109,9 @@ int run(int argc, char** argv) {
     force_pub.publish(command);
     stats.latency.record(rt::now_ns() - received);
     ++steps;
+    task::TaskEvent when = o.event;
+    when.time_ns += first_ns;  // back on the device's clock
+    task_state.step(last_step_ns, o);
     // answered: now is between two steps
     if (received >= next_params) {
       next_params = received + kParamPoll_ns;
@@ -109,8 +121,6 @@ int run(int argc, char** argv) {
       graph::fill(frame, body.rows, body.cols, o.frame);
       frame_pub.publish(frame);
     }
-    task::TaskEvent when = o.event;
-    when.time_ns += first_ns;  // back on the device's clock
     if (graph::fill(event, when, simulator.computer_model().name)) event_pub.publish(event);
     if (received >= next_scene) {
       next_scene = received + scene_period_ns;

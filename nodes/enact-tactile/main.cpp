@@ -43,6 +43,7 @@ int run(int argc, char** argv) {
   bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});
   bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
+  graph::announce_topics(out);
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::TactileFrame> frames(in, graph::kTactileFrame);
   in.connect(graph::node_endpoint(sim_node));

@@ -8,7 +8,7 @@
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact-viewer [--attach ENDPOINT] [--scene FILE] [--sim NAME]
+constexpr const char* kHelp = R"(usage: enact-viewer [--graph NAME | --follow EXPERIMENT | --attach ENDPOINT] [--scene FILE] [--sim NAME]
                     [--snapshot OUT.png [--after SECONDS]] [--size WxH]
        enact-viewer FILE.mcap [--at SECONDS] [--scene FILE] [--snapshot OUT.png [--after SECONDS]]
 
@@ -25,10 +25,14 @@ With a recording (FILE.mcap, from `enact record` or enact-logger), play it inste
 timeline: play, pause, seek, speed (keys: space, ',' '.' 5 s back / on, '<' '>' speed).
 
 options:
+  --graph NAME       the running graph to watch (enact graph list), followed: a viewer
+                     started first waits, and connects when the graph appears (again when
+                     it is launched anew). Default: the only graph running (several: they
+                     are listed, exit 2; none: it waits for one)
+  --follow EXPERIMENT  an experiment's current trial (graphs EXPERIMENT/SUBJECT_CONDITION),
+                     the next one as each trial ends
   --attach ENDPOINT  the graph's attach point (printed by `enact launch`; from another
-                     machine: tcp://HOST:PORT of a graph launched with --allow-remote).
-                     Default: the last graph launched on this machine, followed: a viewer
-                     started first waits, and connects when the graph appears
+                     machine: tcp://HOST:PORT of a graph launched with --allow-remote)
   --scene FILE       the scene to draw (default: the one the graph's launch names, or the
                      one attached to the recording)
   --sim NAME         the simulator's node or component name (default: as the graph names
@@ -47,16 +51,29 @@ int main(int argc, char** argv) {
   using enact::cli::UsageError;
   enact::viewer::ViewerOptions o;
   try {
-    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at", "fps"}, {});
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"graph", "follow", "attach", "scene", "sim", "snapshot", "after", "size", "at", "fps"}, {});
     if (a.flag("help")) {
       std::fputs(kHelp, stdout);
       return 0;
     }
     if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
     if (!a.positional.empty()) o.recording = a.positional[0];
-    if (!o.recording.empty() && a.has("attach")) throw UsageError("give a recording or --attach, not both");
+    const int choices = a.has("graph") + a.has("follow") + a.has("attach");
+    if (!o.recording.empty() && choices > 0) throw UsageError("give a recording or a graph to attach to, not both");
+    if (choices > 1) throw UsageError("give one of --graph, --follow and --attach");
     if (o.recording.empty() && a.has("at")) throw UsageError("--at is for a recording");
-    o.attach = a.get("attach");
+    o.graph.graph = a.get("graph");
+    o.graph.endpoint = a.get("attach");
+    o.graph.prefix = a.has("follow") ? a.get("follow") + "/" : "";
+    // none named: several running graphs are not guessed between
+    if (o.recording.empty() && choices == 0) {
+      const auto running = enact::graph::list_graphs();
+      if (running.size() > 1) {
+        std::string names;
+        for (const auto& g : running) names += "\n  " + g.name + "  " + g.endpoint;
+        throw UsageError("several graphs run; name one with --graph NAME:" + names);
+      }
+    }
     o.scene = a.get("scene");
     o.sim = a.get("sim");
     o.at_s = a.number("at", -1.0);

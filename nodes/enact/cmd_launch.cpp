@@ -2,26 +2,18 @@
 #include <cstdio>
 #include <iostream>
 
-#include <stdlib.h>
-
 #include <filesystem>
-#include <fstream>
 
-#include "core/bus/attach.h"
-#include "core/graph/logger.h"
-#include "core/graph/node.h"
-#include "core/graph/temp_folder.h"
-#include "core/graph/topics.h"
+#include "core/graph/session.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
-#include "msgs/param_update.pb.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--duration S] [--ready-timeout S] [--check]
-                         [--attach ENDPOINT [--allow-remote]]
+constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
+                         [--check] [--attach ENDPOINT [--allow-remote]]
 
 Run a graph from a YAML launch file (format: README.md, "Launch files"): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
@@ -34,17 +26,20 @@ killed, or a process did not become ready; 2 for bad arguments.
 
 options:
   --arg NAME=VALUE   set a launch argument (repeatable)
+  --name NAME        the graph's name (default: the launch file's stem, numbered -2, -3, ...
+                     when a graph of that name runs already); tools attach to it
+                     with --graph NAME; `enact graph list` shows the running graphs
   --duration S       stop the graph cleanly after S seconds
   --ready-timeout S  how long each process may take to report ready (default 10)
   --check            load and print the plan, start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
-                     port; printed, and kept in /tmp/enact-<uid>/attach for `enact topic`)
+                     port; printed, and kept in the graph's registry entry)
   --allow-remote     allow an --attach endpoint other machines can reach (no authentication
                      yet: anyone who reaches the port sees every topic and can send
                      param/set)
 
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
-removed at the end.
+removed at the end (or by the next launch, if this one was killed).
 )";
 
 }  // namespace
@@ -64,7 +59,7 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach"}, {"check", "allow-remote"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -74,6 +69,8 @@ int launch(int argc, char** argv) {
   options.duration_s = a.number("duration", 0.0);
   options.ready_timeout_s = a.number("ready-timeout", options.ready_timeout_s);
   if (options.duration_s < 0.0 || options.ready_timeout_s <= 0.0) throw UsageError("--duration must be >= 0 and --ready-timeout > 0");
+  const std::string name = a.get("name", std::filesystem::path(a.positional[0]).stem().string());
+  if (name.empty()) throw UsageError("--name needs a name");
   const launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
   for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
   for (const auto& n : graph.nodes) {
@@ -84,37 +81,16 @@ int launch(int argc, char** argv) {
   std::fflush(stdout);
   if (a.flag("check")) return 0;
 
-  // the graph's folder and its attach point (observers: viewers, loggers, enact topic); the
-  // attach point's thread must not receive the signals the supervisor waits for
-  launch::block_supervisor_signals();
-  const graph::TempFolder graph_dir("/tmp/enact-graph-");  // the graph's ipc sockets, removed at the end
-  const std::string& dir = graph_dir.path();
-  options.env.push_back({"ENACT_GRAPH_DIR", dir});
-  bus::AttachOptions attach_options;
-  attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
-  attach_options.allow_remote = a.flag("allow-remote");
-  // observers may send parameter changes; the nodes find them at the inbound publisher
-  attach_options.inbound_endpoint = bus::ipc_endpoint(dir, graph::kInboundNode);
-  attach_options.inbound_topics = {graph::kParamSet};
-  bus::AttachPoint attach(std::filesystem::path(a.positional[0]).stem().string(), attach_options);
-  attach.declare_topic<msgs::ParamUpdate>(graph::kParamSet, "attach");
-  for (const auto& n : graph.nodes) {
-    const std::string exec = std::filesystem::path(n.path).filename().string();
-    const auto topics = graph::topics_of(exec);
-    if (topics.empty()) continue;
-    attach.add_publisher(n.name, bus::ipc_endpoint(dir, n.name));
-    for (const auto& t : topics) attach.declare_topic(t.name, t.type, n.name);
-  }
-  attach.set_launch_info(graph::launch_info(a.positional[0], graph));
-  options.env.push_back({"ENACT_ATTACH", attach.endpoint()});
-  // observers can find the graph from now on (a node may wait for them before it is ready)
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(graph::attach_file()).parent_path(), ec);
-  std::ofstream(graph::attach_file()) << attach.endpoint() << "\n";
-  options.on_ready = [&] { std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n"; };
-  const int code = launch::supervise(graph, options, std::cerr);
-  attach.stop();
-  return code;
+  // the graph's session: its folder, attach point and registry entry; observers can find
+  // it from now on (a node may wait for them before it is ready)
+  graph::SessionOptions session_options;
+  session_options.bind_endpoint = a.get("attach", session_options.bind_endpoint);
+  session_options.allow_remote = a.flag("allow-remote");
+  session_options.numbered = !a.has("name");
+  graph::GraphSession session(name, a.positional[0], session_options);
+  std::cerr << "enact launch: graph " << session.name() << ": observers attach at " << session.endpoint() << std::endl;
+  options.on_ready = [&] { std::cerr << "enact launch: graph " << session.name() << " ready; observers attach at " << session.endpoint() << std::endl; };
+  return session.run(graph, a.positional[0], options, std::cerr);
 }
 
 }  // namespace enact::cli

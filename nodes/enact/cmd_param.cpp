@@ -3,16 +3,18 @@
 
 #include "core/bus/attach.h"
 #include "core/bus/typed.h"
+#include "core/graph/node.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "msgs/param_update.pb.h"
+#include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--attach ENDPOINT]
+constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--graph NAME | --attach ENDPOINT]
 
 Send a parameter change to a running graph on param/set, through its attach point, and wait
 for the simulator's answer on param/ack: prints "applied" (exit 0) or "refused: REASON"
@@ -26,20 +28,21 @@ flag for true / false, else as text. Names (SIM is the simulator's node or compo
   SIM.reset               (any VALUE) model, pins and task back to the start: a new trial
   SIM.reposition          (any VALUE) the subject is put back at the start
   SIM.trial               start | stop
---attach: the graph's attach endpoint (printed by `enact launch`); default: the last graph
-launched on this machine (/tmp/enact-<uid>/attach).
+options:
 )";
 
 }  // namespace
 
 int param(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"attach"}, {});
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait"}, {});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
+    std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
     return a.flag("help") ? 0 : 2;
   }
   if (a.positional[0] != "set" || a.positional.size() != 3) throw UsageError("use: enact param set NAME VALUE");
-  const std::string endpoint = attach_endpoint(a);
+  graph::install_stop_handlers();
+  const std::string endpoint = attach_target(a, "param").endpoint;
   // the answer comes on param/ack, through the same attach point
   bus::ByteSubscriber acks_bytes;
   bus::Subscriber<msgs::ParamAck> acks(acks_bytes, graph::kParamAck);

@@ -1,16 +1,15 @@
 // enact play FILE: republish a recording on the bus with its recorded timing.
-#include <signal.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <filesystem>
 #include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
 
-#include "core/bus/attach.h"
 #include "core/bus/bytes.h"
+#include "core/graph/session.h"
 #include "core/graph/node.h"
 #include "core/graph/params.h"
 #include "core/record/reader.h"
@@ -26,8 +25,10 @@ constexpr const char* kHelp = R"(usage: enact play FILE [--rate R] [--loop] [--t
 Republish a recording's messages with their recorded timing, so any node consumes them as
 if live (README, "Recording and replay"). Each message goes out, byte for byte, from the
 endpoint of the node that published it (ipc://$ENACT_GRAPH_DIR/<node>.pub), or from NODE's
-with --name (as `enact launch` passes to a node). Run alone, it also opens an attach point
-for observers (enact topic, a viewer, a logger). Progress on the terminal.
+with --name (as `enact launch` passes to a node). Run alone, it is a graph of its own named
+play:FILE (a session: its own folder, an attach point, a registry entry), which observers
+find like any other (enact topic, a viewer, a logger, --graph play:FILE). Progress on the
+terminal.
 
 options:
   --rate R          speed factor (default 1); 0 = as fast as the subscribers take them
@@ -40,9 +41,6 @@ options:
   --name NODE       publish everything as node NODE
   --wait S          wait up to S s for a subscriber of every topic before playing (default 5)
 )";
-
-std::atomic<bool> g_stop{false};
-void on_stop(int) { g_stop.store(true); }
 
 }  // namespace
 
@@ -85,22 +83,29 @@ int play(int argc, char** argv) {
   };
 
   // one publisher per recorded node (or one for all, as --name)
-  signal(SIGINT, on_stop);
-  signal(SIGTERM, on_stop);
+  graph::install_stop_handlers();
   std::map<std::string, std::unique_ptr<bus::BytePublisher>> pubs;
-  std::unique_ptr<bus::AttachPoint> attach;
+  std::unique_ptr<graph::GraphSession> session;
   const bool standalone = std::getenv("ENACT_GRAPH_DIR") == nullptr;
-  if (standalone) attach = std::make_unique<bus::AttachPoint>("play");
+  if (standalone) {
+    graph::SessionOptions so;
+    so.supervised = false;
+    so.numbered = true;
+    session = std::make_unique<graph::GraphSession>("play:" + std::filesystem::path(a.positional[0]).filename().string(), a.positional[0], so);
+  }
   auto publisher = [&](const record::Channel& c) -> bus::BytePublisher& {
     const auto p = c.metadata.find("publisher");
     const std::string node = !as_node.empty() ? as_node : p != c.metadata.end() && !p->second.empty() ? p->second : "play";
     auto& slot = pubs[node];
     if (!slot) {
-      slot = std::make_unique<bus::BytePublisher>(graph::node_endpoint(node), bus::PublisherOptions{.node = node, .send_hwm = 1000});
-      if (attach) attach->add_publisher(node, slot->endpoint());
+      slot = std::make_unique<bus::BytePublisher>(session ? session->node_endpoint(node) : graph::node_endpoint(node), bus::PublisherOptions{.node = node, .send_hwm = 1000});
+      if (session) session->attach().add_publisher(node, slot->endpoint());
     }
     const auto s = r.schemas().find(c.schema_id);
-    if (attach && s != r.schemas().end()) attach->declare_topic(out_topic(c.topic), s->second.name, node);
+    if (s != r.schemas().end()) {
+      slot->declare(out_topic(c.topic), s->second.name);
+      if (session) session->attach().declare_topic(out_topic(c.topic), s->second.name, node);
+    }
     return *slot;
   };
   std::map<std::uint16_t, bus::BytePublisher*> by_channel;
@@ -108,10 +113,9 @@ int play(int argc, char** argv) {
     if (wanted(c.topic)) by_channel[id] = &publisher(c);
   }
   if (by_channel.empty() && !r.channels().empty()) throw UsageError("none of the topics given is in " + r.path());
+  for (const auto& [node, pub] : pubs) graph::announce_topics(*pub);
   graph::report_ready();
-  if (attach) {
-    std::cerr << "enact play: observers attach at " << attach->endpoint() << "\n";
-  }
+  if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";
   // the subscribers connect: ZeroMQ drops what is sent before they do
   const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(wait_s * 1e9);
   auto all_heard = [&] {
@@ -120,7 +124,7 @@ int play(int argc, char** argv) {
     }
     return true;
   };
-  while (!all_heard() && rt::now_ns() < give_up && !g_stop.load()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+  while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
   if (a.flag("paused")) {
     std::cerr << "enact play: paused; press Enter to play " << r.path() << "\n";
     std::string line;
@@ -133,7 +137,7 @@ int play(int argc, char** argv) {
     std::int64_t t0 = -1, wall0 = 0, next_progress = 0;
     std::int64_t last_log = 0;
     r.for_each([&](const record::Message& m) {
-      if (g_stop.load()) return false;
+      if (graph::stop_requested()) return false;
       if (t0 < 0) {
         t0 = m.log_time_ns + static_cast<std::int64_t>(offset_s * 1e9);
         wall0 = rt::now_ns();
@@ -145,7 +149,7 @@ int play(int argc, char** argv) {
       if (rate > 0.0) rt::sleep_until_ns(wall0 + static_cast<std::int64_t>(static_cast<double>(m.log_time_ns - t0) / rate));
       const std::string topic = out_topic(std::string(m.topic));
       // flow control: a full subscriber queue waits, nothing is dropped
-      while (!c->second->send(topic, m.schema_name, m.data.data(), m.data.size()) && !g_stop.load()) rt::sleep_until_ns(rt::now_ns() + 50'000);
+      while (!c->second->send(topic, m.schema_name, m.data.data(), m.data.size()) && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 50'000);
       ++sent;
       last_log = m.log_time_ns;
       const std::int64_t now = rt::now_ns();
@@ -156,7 +160,7 @@ int play(int argc, char** argv) {
       }
       return true;
     });
-  } while (a.flag("loop") && !g_stop.load());
+  } while (a.flag("loop") && !graph::stop_requested());
   if (tty) std::fputs("\n", stderr);
   std::fprintf(stderr, "enact play: %llu messages republished from %s\n", static_cast<unsigned long long>(sent), r.path().c_str());
   for (const auto& d : r.damage()) std::fprintf(stderr, "enact play: %s: %s\n", r.path().c_str(), d.c_str());

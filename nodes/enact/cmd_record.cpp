@@ -1,11 +1,10 @@
 // enact record | info | export | recover: make, inspect, flatten and repair MCAP recordings.
-#include <signal.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cinttypes>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -16,21 +15,26 @@
 
 #include "core/config/yaml.h"
 #include "core/graph/logger.h"
+#include "core/graph/node.h"
+#include "core/graph/registry.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "core/record/writer.h"
+#include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
 constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--split-size MB | --split-duration S]
-                    [--compression zstd|lz4|none] [--chunk-duration S] [--attach ENDPOINT]
-                    [--duration S] [--wait S]
+                    [--compression zstd|lz4|none] [--chunk-duration S]
+                    [--graph NAME | --attach ENDPOINT] [--duration S] [--wait S]
 
-Attach to a running graph (the last one started here, or --attach ENDPOINT, also on another
-machine) and keep every message of its topics in an MCAP file, until Ctrl-C / SIGTERM (or
---duration): the file is then complete and indexed. A kill -9 loses at most the last chunk
+Attach to a running graph (--graph NAME, the only one running here, or --attach ENDPOINT,
+also on another machine) and keep every message of its topics in an MCAP file, until the
+graph ends (a registered graph: within a second of its end), Ctrl-C / SIGTERM or
+--duration: the file is then complete and indexed, exit 0. Started before its graph, it
+waits for it (saying so). A kill -9 loses at most the last chunk
 (--chunk-duration, 1 s by default); `enact recover` rebuilds the rest. Sequence gaps are
 counted per topic and reported at the end.
 
@@ -42,9 +46,7 @@ options:
   --split-duration S     ... or after this long
   --compression C        zstd (default), lz4 or none
   --chunk-duration S     a chunk reaches the file at least this often (default 1)
-  --attach ENDPOINT      the graph's attach endpoint (printed by `enact launch`)
   --duration S           stop after S seconds
-  --wait S               how long to wait for the graph to appear (default 10)
 )";
 
 constexpr const char* kInfoHelp = R"(usage: enact info FILE
@@ -66,9 +68,6 @@ constexpr const char* kRecoverHelp = R"(usage: enact recover BROKEN.mcap -o FIXE
 Rebuild a complete, indexed recording from everything readable in a damaged or unclosed one
 (a logger killed with kill -9, a truncated copy, a corrupted chunk). Reports what was lost.
 )";
-
-std::atomic<bool> g_stop{false};
-void on_stop(int) { g_stop.store(true); }
 
 std::string default_output() {
   char name[64];
@@ -148,13 +147,33 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
   }
 }
 
+// a registered graph's end, seen from its registry entry (looked at every 0.5 s); the
+// messages it sent last are taken for a further 0.5 s
+class GraphEnd {
+ public:
+  explicit GraphEnd(graph::GraphEntry entry) : entry_(std::move(entry)) {}
+  bool ended(std::int64_t now_ns) {
+    if (entry_.pid <= 0) return false;
+    if (gone_ns_ < 0 && now_ns >= next_check_ns_) {
+      next_check_ns_ = now_ns + 500'000'000;
+      if (!graph::alive(entry_) || !std::filesystem::exists(entry_.file)) gone_ns_ = now_ns;
+    }
+    return gone_ns_ >= 0 && now_ns >= gone_ns_ + 500'000'000;
+  }
+
+ private:
+  graph::GraphEntry entry_;
+  std::int64_t next_check_ns_ = 0, gone_ns_ = -1;
+};
+
 }  // namespace
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
+    std::fputs(kAttachOptionsHelp, stdout);
     return 0;
   }
   if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "' (the file goes after -o)");
@@ -171,24 +190,24 @@ int record(int argc, char** argv) {
   o.writer.chunk_duration_ns = static_cast<std::int64_t>(a.number("chunk-duration", 1.0) * 1e9);
   o.split_size_mb = a.number("split-size", 0.0);
   o.split_duration_s = a.number("split-duration", 0.0);
-  o.attach = a.get("attach", "");
-  o.wait_s = a.number("wait", 10.0);
   const double duration_s = a.number("duration", 0.0);
-  if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0 || o.split_duration_s < 0 || duration_s < 0 || o.wait_s < 0) {
-    throw UsageError("--chunk-duration must be > 0; sizes, durations and --wait >= 0");
+  if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0 || o.split_duration_s < 0 || duration_s < 0) {
+    throw UsageError("--chunk-duration must be > 0; sizes and durations >= 0");
   }
-  signal(SIGINT, on_stop);
-  signal(SIGTERM, on_stop);
+  graph::install_stop_handlers();
+  const graph::GraphEntry target = attach_target(a, "record");
+  o.attach = target.endpoint;
   graph::Logger logger(o);
   logger.attach();
-  std::fprintf(stderr, "enact record: attached at %s, recording %s to %s (Ctrl-C stops)\n", logger.endpoint().c_str(),
-               topics.empty() ? "every topic" : "the topics given", logger.files().back().c_str());
+  std::fprintf(stderr, "enact record: recording %s to %s (Ctrl-C stops)\n", topics.empty() ? "every topic" : "the topics given", logger.files().back().c_str());
   const std::int64_t end_ns = duration_s > 0 ? rt::now_ns() + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
   const bool tty = isatty(2);
-  logger.run([&] { return g_stop.load() || rt::now_ns() >= end_ns; },
+  GraphEnd graph_end(target);
+  logger.run([&] { return graph::stop_requested() || rt::now_ns() >= end_ns || graph_end.ended(rt::now_ns()); },
              [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
   logger.close();
   if (tty) std::fputs("\n", stderr);
+  if (graph_end.ended(rt::now_ns())) std::fprintf(stderr, "enact record: graph %s ended\n", target.name.c_str());
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());

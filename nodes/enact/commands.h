@@ -22,9 +22,7 @@ int play(int argc, char** argv);
 int resim(int argc, char** argv);
 int devices(int argc, char** argv);
 int param(int argc, char** argv);
-
-// --attach, else the endpoint of the last graph launched on this machine (UsageError if none)
-std::string attach_endpoint(const Args& a);
+int graph_list(int argc, char** argv);
 int experiment_run(int argc, char** argv);
 int metrics(int argc, char** argv);
 

@@ -21,6 +21,7 @@ commands:
   bench loop        the real-time loop and the bus against the machine's floor
   bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
+  graph list        the running graphs of this user (name, attach endpoint, pid, launch file)
   topic list|echo|hz  look at a running graph through its attach point
   record            keep a running graph's messages in an MCAP file
   info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
     if (command == "path") return enact::cli::path(argc, argv);
     if (command == "bench") return enact::cli::bench(argc, argv);
     if (command == "launch") return enact::cli::launch(argc, argv);
+    if (command == "graph") return enact::cli::graph_list(argc, argv);
     if (command == "topic") return enact::cli::topic(argc, argv);
     if (command == "record") return enact::cli::record(argc, argv);
     if (command == "info") return enact::cli::info(argc, argv);

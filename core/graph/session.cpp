@@ -1,0 +1,67 @@
+#include "core/graph/session.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/bus/endpoints.h"
+#include "core/graph/logger.h"
+#include "core/graph/topics.h"
+#include "msgs/param_update.pb.h"
+
+namespace enact::graph {
+namespace {
+
+// the prefix of a fresh graph folder, once those of killed sessions are removed;
+// `supervised`: the supervisor's signals are blocked before any thread starts (the attach
+// point's)
+std::string folder_prefix(bool supervised) {
+  if (supervised) launch::block_supervisor_signals();
+  clean_stale_folders();
+  return (std::filesystem::temp_directory_path() / "enact-graph-").string();
+}
+
+bus::AttachOptions attach_options(const SessionOptions& o, const std::string& folder) {
+  bus::AttachOptions a;
+  a.bind_endpoint = o.bind_endpoint;
+  a.allow_remote = o.allow_remote;
+  // observers may send parameter changes; the nodes find them at the inbound publisher
+  a.inbound_endpoint = bus::ipc_endpoint(folder, kInboundNode);
+  a.inbound_topics = {kParamSet};
+  a.latched_topics = {kTaskState};
+  return a;
+}
+
+}  // namespace
+
+GraphSession::GraphSession(const std::string& name, const std::string& launch_file, const SessionOptions& options)
+    : folder_(folder_prefix(options.supervised)),
+      attach_(name, attach_options(options, folder_.path())),
+      registration_(name, attach_.endpoint(), launch_file, folder_.path(), options.numbered) {
+  // a later session removes the folder if this process is killed
+  std::ofstream(folder_.path() + "/launcher") << getpid() << " " << process_start(getpid()) << "\n";
+  attach_.declare_topic<msgs::ParamUpdate>(kParamSet, "attach");
+}
+
+GraphSession::~GraphSession() { attach_.stop(); }
+
+std::string GraphSession::node_endpoint(const std::string& node) const { return bus::ipc_endpoint(folder_.path(), node); }
+
+std::vector<launch::Param> GraphSession::environment() const {
+  return {{"ENACT_GRAPH_DIR", folder_.path()}, {"ENACT_ATTACH", attach_.endpoint()}, {"ENACT_GRAPH", name()}};
+}
+
+int GraphSession::run(const launch::LaunchDescription& graph, const std::string& launch_path, launch::SupervisorOptions options, std::ostream& log) {
+  // every node may publish: its endpoint is connected now, its topics listed as it declares them
+  for (const launch::NodeSpec& n : graph.nodes) attach_.add_publisher(n.name, node_endpoint(n.name));
+  attach_.set_launch_info(launch_info(launch_path, graph));
+  std::vector<launch::Param> env = environment();
+  env.insert(env.end(), options.env.begin(), options.env.end());
+  options.env = env;
+  options.on_topic = [this](const launch::NodeSpec& n, const std::string& topic, const std::string& type) { attach_.declare_topic(topic, type, n.name); };
+  options.stop = &stop_;
+  return launch::supervise(graph, options, log);
+}
+
+}  // namespace enact::graph
