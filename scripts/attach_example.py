@@ -1,16 +1,22 @@
 #!/usr/bin/python3
 """Attach to a running enact graph and print what it carries.
 
-    attach_example.py ENDPOINT [TOPIC ...] [--count N] [--timeout S]
+    attach_example.py [--graph NAME | --attach ENDPOINT] [TOPIC ...] [--count N] [--timeout S]
 
-Connects a SUB socket to the attach endpoint the graph prints (e.g. tcp://127.0.0.1:40123),
-reads one GraphInfo from "graph/topics" to list the topics and load every message schema,
+Finds the graph like every enact tool (README, "Graphs by name"): --graph NAME in this
+user's registry of running graphs, --attach ENDPOINT as printed by the graph (e.g.
+tcp://127.0.0.1:40123; a first positional argument with "://" is taken as one too), or the
+only graph running (several: they are listed, exit 2; none: it waits for one). It prints
+the graph and endpoint it attached to, connects a SUB socket there, reads one GraphInfo from "graph/topics" to list the topics and load every message schema,
 then prints N messages of each TOPIC given, decoded from those schemas alone: no .proto
 files, no generated code. Needs python3-zmq and python3-protobuf (Debian).
 Wire format and protocol: core/bus/README.md.
 """
 import argparse
+import glob
+import os
 import sys
+import tempfile
 import time
 
 import zmq
@@ -66,13 +72,70 @@ def receive(sub, topics, deadline):
             return topic, frames[1].decode("utf-8", "replace"), frames[2]
 
 
+def registry_dir():
+    """The registry of running graphs (core/graph/registry.h): one small YAML file each."""
+    return os.environ.get("ENACT_REGISTRY") or os.path.join(tempfile.gettempdir(), f"enact-{os.getuid()}", "graphs")
+
+
+def process_start(pid):
+    """The start time of process `pid` (/proc/PID/stat field 22), 0 when there is none."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            stat = f.read()
+    except OSError:
+        return 0
+    return int(stat[stat.rindex(")") + 2:].split()[19])
+
+
+def running_graphs():
+    """The entries of the running graphs (those of dead processes are left out)."""
+    graphs = []
+    for path in sorted(glob.glob(os.path.join(registry_dir(), "*.yaml"))):
+        entry = {}
+        with open(path) as f:
+            for line in f:
+                key, _, value = line.rstrip("\n").partition(": ")
+                entry[key] = value.strip('"')
+        if entry.get("pid") and process_start(int(entry["pid"])) == int(entry.get("pid_start", -1)):
+            graphs.append(entry)
+    return graphs
+
+
+def find_graph(name, timeout):
+    """The endpoint of graph `name`, or of the only graph running; waits for it until timeout."""
+    deadline = time.monotonic() + timeout
+    said = False
+    while True:
+        graphs = [g for g in running_graphs() if not name or g["name"] == name]
+        if len(graphs) == 1:
+            return graphs[0]["name"], graphs[0]["endpoint"]
+        if len(graphs) > 1:
+            listing = "".join(f"\n  {g['name']}  {g['endpoint']}" for g in graphs)
+            print(f"several graphs run; name one with --graph NAME:{listing}", file=sys.stderr)
+            sys.exit(2)
+        if not said:
+            print(f"waiting for {'graph ' + name if name else 'a graph'} to start", file=sys.stderr)
+            said = True
+        if time.monotonic() >= deadline:
+            sys.exit(f"no {'graph ' + name if name else 'graph'} started within {timeout} s")
+        time.sleep(0.2)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("endpoint", help="attach endpoint printed by the graph, e.g. tcp://127.0.0.1:40123")
     parser.add_argument("topics", nargs="*", help="topics to print (default: only list them)")
+    parser.add_argument("--graph", help="the running graph's name (enact graph list)")
+    parser.add_argument("--attach", help="an attach endpoint, e.g. tcp://127.0.0.1:40123")
     parser.add_argument("--count", type=int, default=5, help="messages to print per topic (default 5)")
     parser.add_argument("--timeout", type=float, default=10.0, help="give up after this many seconds")
     args = parser.parse_args()
+    if not args.attach and args.topics and "://" in args.topics[0]:
+        args.attach = args.topics.pop(0)
+    if args.graph and args.attach:
+        parser.error("give --graph or --attach, not both")
+    name, endpoint = ("(given)", args.attach) if args.attach else find_graph(args.graph, args.timeout)
+    print(f"attached to graph {name} at {endpoint}", file=sys.stderr)
+    args.endpoint = endpoint
     deadline = time.monotonic() + args.timeout
 
     sub = zmq.Context.instance().socket(zmq.SUB)

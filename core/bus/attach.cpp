@@ -156,6 +156,11 @@ void AttachPoint::run() {
         {xpub_.handle(), 0, ZMQ_POLLIN, 0},
         {control_.handle(), 0, ZMQ_POLLIN, 0},
     };
+    // the state topics come here even while nobody observes them (kept subscribed: see below)
+    for (const std::string& topic : latched_topics_) {
+      const std::string subscribe = '\x01' + topic;
+      (void)xsub_.send(zmq::const_buffer(subscribe.data(), subscribe.size()), zmq::send_flags::dontwait);
+    }
     auto next_graph = Clock::now();
     for (;;) {
       // sleep until traffic, a command or the next GraphInfo
@@ -239,6 +244,8 @@ bool AttachPoint::forward_from_observers() {
     if (n.empty() || (n.front() != 0 && n.front() != 1)) continue;  // a stray one-frame message
     if (n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
     if (n.front() == 1) send_latched(n.substr(1));
+    const bool latched = std::find(latched_topics_.begin(), latched_topics_.end(), n.substr(1)) != latched_topics_.end();
+    if (n.front() == 0 && latched) continue;  // the attach point's own subscription stays
     (void)xsub_.send(notice, zmq::send_flags::dontwait);
   }
   return wants_graph;

@@ -127,10 +127,14 @@ class TrialRun {
     fs::remove(recording_, ec);  // an abandoned attempt
     const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
     // the trial's graph: watched and adjusted live like any other, by its name
-    graph::GraphSession session(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch);
+    // (numbered when the same experiment runs twice on this machine)
+    graph::SessionOptions session_options;
+    session_options.numbered = true;
+    graph::GraphSession session(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch, session_options);
     session_ = &session;
-    const std::string events_endpoint = session.node_endpoint(kRunnerNode);
-    session.attach().add_publisher(kRunnerNode, events_endpoint);
+    // the runner's publisher, bound before the attach point connects to it
+    bus::BytePublisher out(session.node_endpoint(kRunnerNode), {.node = kRunnerNode});
+    session.attach().add_publisher(kRunnerNode, out.endpoint());
     session.attach().declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
 
     launch::SupervisorOptions options;
@@ -139,7 +143,7 @@ class TrialRun {
     int code = 0;
     {
       const OutputTo to_log(log_);
-      std::thread monitor([&] { watch(events_endpoint, session.endpoint()); });
+      std::thread monitor([&] { watch(out, session.endpoint()); });
       code = session.run(graph, spec_.launch, options, std::cerr);
       finished_.store(true);
       monitor.join();
@@ -172,8 +176,7 @@ class TrialRun {
 
   // the runner's side of the trial, while the supervisor runs the graph: announce it, watch
   // for the simulator's end of the trial, take the experimenter's commands, show progress
-  void watch(const std::string& events_endpoint, const std::string& attach_endpoint) {
-    bus::BytePublisher out(events_endpoint, {.node = kRunnerNode});
+  void watch(bus::BytePublisher& out, const std::string& attach_endpoint) {
     bus::Publisher<msgs::TaskEvent> publish(out, graph::kTaskEvent);
     bus::ByteSubscriber in;
     bus::Subscriber<msgs::TaskEvent> events(in, graph::kTaskEvent);
@@ -193,7 +196,9 @@ class TrialRun {
     bool announced = false;
     Clock::time_point start = Clock::now(), shown = start;
     while (!finished_.load()) {
-      if (ready_.load() && !announced) {
+      // announced once the attach point forwards task/event from here (this thread's own
+      // subscription reached it: so did the logger's, made before the graph was ready)
+      if (ready_.load() && !announced && out.has_subscribers(graph::kTaskEvent)) {
         announced = true;
         start = Clock::now();
         announce(msgs::TaskEvent::CONDITION, to_string(trial_.kind));

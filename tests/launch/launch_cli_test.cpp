@@ -247,6 +247,62 @@ TEST_F(Launch, KillingTheLauncherKillsItsChildren) {
   eventually([] { return waitpid(-1, nullptr, WNOHANG) < 0; }, 2.0);
 }
 
+// a node that says it waits (for observers) has that much more than --ready-timeout
+TEST_F(Launch, AWaitingNodeHasItsWaitAddedToTheReadyTimeout) {
+  const std::string waiter = "echo 'wait 3' >&$ENACT_READY_FD\nsleep 1.5\n" + std::string(kReady) + "\nwhile :; do sleep 0.05; done";
+  const RunResult r = launch(sh_node("waiter", waiter), "--ready-timeout 0.5 --duration 0.5");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.err, "graph ready")) << r.err;
+  // the same node past its wait fails
+  const std::string late = "echo 'wait 0.5' >&$ENACT_READY_FD\nsleep 2.5\n" + std::string(kReady) + "\nwhile :; do sleep 0.05; done";
+  const RunResult l = launch(sh_node("late", late), "--ready-timeout 0.5 --duration 0.5");
+  EXPECT_EQ(l.exit_code, 1) << l.err;
+  EXPECT_TRUE(has(l.err, "did not report ready within 1 s")) << l.err;
+}
+
+// the registry holds the graph under its name while it runs, and never two of one name
+TEST_F(Launch, TheGraphIsRegisteredByNameWhileItRunsAndNamesAreUnique) {
+  setenv("ENACT_REGISTRY", f("registry").c_str(), 1);
+  const std::string file = launch_file(sh_node("a", idle()));
+  Launcher launcher(dir_, file);
+  ASSERT_TRUE(launcher.wait_for_log("graph ready", 10.0)) << launcher.log();
+  const RunResult list = run(std::string(ENACT_CLI) + " graph list");
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_TRUE(has(list.out, "launch ")) << "the default name: the file's stem\n" << list.out;
+  EXPECT_TRUE(has(list.out, std::to_string(launcher.pid()))) << list.out;
+  // the same name given again is refused; the default one is numbered
+  const RunResult clash = launch(sh_node("b", idle()), "--name launch --duration 0.3");
+  EXPECT_EQ(clash.exit_code, 1) << clash.err;
+  EXPECT_TRUE(has(clash.err, "a graph named 'launch' runs already")) << clash.err;
+  const RunResult numbered = run(std::string(ENACT_CLI) + " launch " + file + " --duration 0.3");
+  EXPECT_EQ(numbered.exit_code, 0) << numbered.err;
+  EXPECT_TRUE(has(numbered.err, "graph launch-2")) << numbered.err;
+  kill(launcher.pid(), SIGTERM);
+  ASSERT_NE(launcher.wait_exit(10.0), -1);
+  EXPECT_TRUE(std::filesystem::is_empty(f("registry"))) << "every entry removed at the end";
+  EXPECT_TRUE(has(run(std::string(ENACT_CLI) + " graph list").out, "no graph running"));
+}
+
+// kill -9 of a launcher leaves its entry and folder; the next look at the registry removes them
+TEST_F(Launch, AKilledLaunchersEntryAndFolderAreCleanedByTheNext) {
+  setenv("ENACT_REGISTRY", f("registry").c_str(), 1);
+  std::string folder;
+  {
+    Launcher launcher(dir_, launch_file(sh_node("a", "echo $ENACT_GRAPH_DIR > " + f("dir") + "\n" + idle())));
+    ASSERT_TRUE(launcher.wait_for_log("graph ready", 10.0)) << launcher.log();
+    folder = lines_of(read_file(f("dir"))).at(0);
+    ASSERT_TRUE(exists(folder));
+    kill(launcher.pid(), SIGKILL);
+    ASSERT_NE(launcher.wait_exit(5.0), -1);
+  }
+  EXPECT_TRUE(exists(folder)) << "nothing ran to remove it";
+  EXPECT_FALSE(std::filesystem::is_empty(f("registry")));
+  const RunResult list = run(std::string(ENACT_CLI) + " graph list");
+  EXPECT_TRUE(has(list.out, "no graph running")) << list.out;
+  EXPECT_FALSE(exists(folder));
+  EXPECT_TRUE(std::filesystem::is_empty(f("registry")));
+}
+
 TEST_F(Launch, SigintStopsTheGraphCleanly) {
   const std::string trapper = "trap 'echo term > " + f("term") + "; exit 0' TERM\n" + kReady + "\nwhile :; do sleep 0.05; done";
   Launcher launcher(dir_, launch_file(sh_node("a", idle(f("a.pid"))) + sh_node("b", trapper)));

@@ -21,6 +21,7 @@
 #include "msgs/scene_state.pb.h"
 #include "msgs/tactile_frame.pb.h"
 #include "msgs/task_event.pb.h"
+#include "msgs/task_state.pb.h"
 
 namespace msgs = enact::msgs;
 using google::protobuf::Descriptor;
@@ -108,6 +109,20 @@ msgs::TaskEvent task_event() {
   m.set_subject("S07");
   m.set_trial(2);
   m.set_detail("left wall, second segment");
+  return m;
+}
+
+msgs::TaskState task_state() {
+  msgs::TaskState m;
+  fill(*m.mutable_header(), 4);
+  m.set_phase(msgs::TaskState::COMPLETED);
+  m.set_trial_s(23.5);
+  m.set_falls(2);
+  m.set_time_out_s(3.25);
+  m.set_progress(0.99);
+  m.set_model("CM2");
+  m.set_trial(3);
+  m.set_falling(true);
   return m;
 }
 
@@ -219,7 +234,7 @@ std::vector<const Descriptor*> stream_messages() {
   return {msgs::DeviceState::descriptor(),  msgs::ForceCommand::descriptor(), msgs::TactileFrame::descriptor(),
           msgs::TactileShown::descriptor(), msgs::SceneState::descriptor(),   msgs::TaskEvent::descriptor(),
           msgs::ParamUpdate::descriptor(),  msgs::ParamAck::descriptor(),     msgs::NodeStatus::descriptor(),
-          msgs::GraphInfo::descriptor()};
+          msgs::GraphInfo::descriptor(),    msgs::TaskState::descriptor()};
 }
 
 // a header field as the contract wants it: `Header header = 1`, singular
@@ -265,6 +280,11 @@ TEST(Msgs, SceneStateRoundTrip) {
 TEST(Msgs, TaskEventRoundTrip) {
   expect_round_trip(task_event());
   EXPECT_EQ(round_trip(task_event()).kind(), msgs::TaskEvent::FALL_START);
+}
+
+TEST(Msgs, TaskStateRoundTrip) {
+  expect_round_trip(task_state());
+  EXPECT_EQ(round_trip(task_state()).phase(), msgs::TaskState::COMPLETED);
 }
 
 TEST(Msgs, ParamUpdateRoundTripEachValueKind) {
