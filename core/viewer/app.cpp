@@ -22,7 +22,9 @@ namespace {
 
 // what a snapshot showed, for people and tests
 void report_snapshot(const ViewerOptions& o, const ViewModel& model, int w, int h) {
-  std::printf("enact-viewer: snapshot %s (%d x %d)", o.snapshot.c_str(), w, h);
+  const TaskView& t = model.task();
+  std::printf("enact-viewer: snapshot %s (%d x %d), task: falls %d, trial %.1f s (%s)", o.snapshot.c_str(), w, h, t.falls,
+              static_cast<double>(t.time_ns) * 1e-9, t.completed ? "completed" : t.running ? "running" : "stopped");
   if (model.has_scene()) {
     const msgs::SceneState& s = model.scene();
     std::uint32_t contact = 0;

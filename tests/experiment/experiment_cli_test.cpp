@@ -226,6 +226,34 @@ TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
   EXPECT_GT(std::stoi(felt[1].str()), 100) << "about 100 a second for 5 s";
 }
 
+// a trial's graph is a named graph like any other: watched and adjusted while it runs
+TEST(ExperimentCli, ATrialCanBeWatchedAndAdjustedLiveByItsName) {
+  TempDir dir;
+  setenv("ENACT_REGISTRY", dir.file("registry").c_str(), 1);
+  Experiment run(dir, {virtual_tiny(dir, "CM1", 10.0), "--out", dir.file("out")});
+  // EXPERIMENT/SUBJECT_CONDITION
+  const auto end = Clock::now() + std::chrono::seconds(60);
+  RunResult list;
+  while (Clock::now() < end && (list = enact("graph list")).out.find("tiny/1_CM1") == std::string::npos) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_NE(list.out.find("tiny/1_CM1"), std::string::npos) << list.out << run.terminal();
+  const RunResult set = enact("param set sim.stiffness_n_per_m 600 --graph tiny/1_CM1");
+  EXPECT_EQ(set.exit_code, 0) << set.out << set.err;
+  EXPECT_NE(set.out.find("applied"), std::string::npos) << set.out;
+  const RunResult state = enact("topic echo task/state --once --graph tiny/1_CM1");
+  EXPECT_EQ(state.exit_code, 0) << state.err;
+  EXPECT_NE(state.out.find("model: \"CM1\""), std::string::npos) << state.out;
+  EXPECT_EQ(run.wait_exit(60.0), 0) << run.terminal();
+  // the change is in the trial's recording, acknowledged
+  record::Reader reader(dir.file("out/trials/s1_CM1_measured.mcap"));
+  int acks = 0;
+  reader.for_each([&](const record::Message& m) {
+    acks += m.topic == "param/ack";
+    return true;
+  });
+  EXPECT_EQ(acks, 1);
+  EXPECT_NE(enact("graph list").out.find("no graph running"), std::string::npos);
+}
+
 TEST(ExperimentCli, PeopleArePromptedAndRankTheConditions) {
   // a "person": the scripted hand walking the bridge, on simulated devices
   TempDir dir;

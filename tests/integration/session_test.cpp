@@ -4,6 +4,7 @@
 // with it, the latched task/state for a late observer, a player registered as a graph.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <regex>
 #include <string>
 #include <vector>
@@ -109,7 +110,7 @@ TEST_F(Sessions, WithTwoGraphsToolsRefuseToGuessAndGraphPicksTheRightOne) {
   ASSERT_FALSE(right.empty());
   ASSERT_NE(left, right);
   // no name: no guess, both listed, exit 2
-  for (const std::string& tool : {"topic list --wait 1", "param set sim.stiffness_n_per_m 600 --wait 1", "record -o " + dir_.file("x.mcap") + " --wait 1"}) {
+  for (const std::string& tool : std::vector<std::string>{"topic list --wait 1", "param set sim.stiffness_n_per_m 600 --wait 1", "record -o " + dir_.file("x.mcap") + " --wait 1"}) {
     const RunResult r = enact(tool);
     EXPECT_EQ(r.exit_code, 2) << tool << "\n" << r.err;
     EXPECT_NE(r.err.find("several graphs run"), std::string::npos) << r.err;
@@ -126,7 +127,7 @@ TEST_F(Sessions, WithTwoGraphsToolsRefuseToGuessAndGraphPicksTheRightOne) {
   EXPECT_NE(set.err.find("attached to graph right at " + right), std::string::npos) << set.err;
   msgs::ParamAck ack;
   EXPECT_TRUE(right_acks.receive(ack, 2000));
-  EXPECT_EQ(ack.name(), "sim.stiffness_n_per_m");
+  EXPECT_TRUE(ack.applied());
   EXPECT_FALSE(left_acks.receive(ack, 500)) << "left's simulator got a change meant for right";
   // the topic tools say where they attached
   const RunResult list = enact("topic list --graph left");

@@ -23,6 +23,7 @@
 #include "core/viewer/draw.h"
 #include "core/viewer/layout.h"
 #include "core/viewer/scene_geometry.h"
+#include "msgs/task_state.pb.h"
 #include "tests/integration/integration_util.h"
 
 namespace enact::test {
@@ -206,6 +207,28 @@ TEST_F(ViewerTest, SnapshotShowsTheBridgeAndTheGridWhereTheSceneSays) {
   ASSERT_TRUE(shown) << "the viewer showed no scene: " << viewer_out();
   EXPECT_EQ(shown->model, "CM1");
   expect_bridge_and_grid(png, *shown);
+}
+
+// a viewer attached after the trial's end shows its falls and completion (task/state is
+// latched at the attach point), not "falls 0, running"
+TEST_F(ViewerTest, AViewerAttachedLateShowsTheTrialsFallsAndCompletion) {
+  setenv("ENACT_REGISTRY", dir_.file("registry").c_str(), 1);
+  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 60.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  // the scripted hand completes the bridge, after a fall, in about 10 s
+  Observer watch(launcher.endpoint());
+  bus::Subscriber<msgs::TaskState> states(watch.bytes(), "task/state");
+  msgs::TaskState s;
+  const auto end = after(50.0);
+  while (Clock::now() < end && !(states.receive(s, 100) && s.phase() == msgs::TaskState::COMPLETED)) {
+  }
+  ASSERT_EQ(s.phase(), msgs::TaskState::COMPLETED);
+  ASSERT_GT(s.falls(), 0) << "the scripted walk falls once: a late viewer counting events alone would show 0";
+  // the only graph running (this test's registry): no option needed
+  ASSERT_EQ(viewer({"--snapshot", dir_.file("late.png"), "--after", "1.5"})->wait(30.0), 0) << viewer_err();
+  EXPECT_NE(viewer_out().find("task: falls " + std::to_string(s.falls()) + ", trial"), std::string::npos) << viewer_out();
+  EXPECT_NE(viewer_out().find("(completed)"), std::string::npos) << viewer_out();
+  EXPECT_NE(viewer_err().find("attached to graph bridge_rt at " + launcher.endpoint()), std::string::npos) << viewer_err();
 }
 
 TEST_F(ViewerTest, ARecordingShowsTheSceneRecordedAtTheTimeAsked) {
