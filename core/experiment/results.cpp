@@ -5,6 +5,7 @@
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
+#include "core/graph/logger.h"
 #include "core/graph/topics.h"
 #include "core/record/reader.h"
 #include "msgs/device_state.pb.h"
@@ -48,7 +49,7 @@ RecordedTrial read_trial(const std::string& mcap_path) {
   record::Reader reader(mcap_path);
   RecordedTrial out;
   std::int64_t first_ns = 0, last_ns = 0, end_ns = -1, fall_ns = -1, out_ns = 0;
-  std::uint64_t last_seq = 0;
+  graph::SequenceCheck seq;
   msgs::DeviceState state;
   msgs::TaskEvent event;
   std::vector<std::pair<std::int64_t, msgs::TaskEvent::Kind>> events;
@@ -57,10 +58,9 @@ RecordedTrial read_trial(const std::string& mcap_path) {
       if (out.states == 0) {
         out.first_state_seq = state.header().seq();
         first_ns = state.header().stamp_ns();
-      } else if (state.header().seq() > last_seq + 1) {
-        out.state_gaps += state.header().seq() - last_seq - 1;
       }
-      last_seq = state.header().seq();
+      seq.add(state.header().seq());
+      out.state_gaps = seq.gaps;
       last_ns = state.header().stamp_ns();
       ++out.states;
     } else if (m.topic == graph::kTaskEvent && event.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {

@@ -17,6 +17,7 @@
 #include "core/graph/colocated.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/temp_folder.h"
 #include "core/rt/clock.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
@@ -242,7 +243,8 @@ int bench_loop(int argc, char** argv) {
   c.mutable_header()->set_seq(1000000);
   c.mutable_header()->set_source("sim");
   const std::size_t out_size = s.ByteSizeLong() + 9 + 22, back_size = c.ByteSizeLong() + 9 + 23;  // + topic and type frames
-  const std::string dir = graph::graph_dir();
+  const graph::TempFolder folder;  // the ipc sockets, removed at the end
+  const std::string& dir = folder.path();
   const Rtt ipc = bus_rtt(scene, "ipc://" + dir + "/bench-a", "ipc://" + dir + "/bench-b", seconds, fifo);
   const Rtt raw_ipc = raw_rtt("ipc://" + dir + "/bench-c", "ipc://" + dir + "/bench-d", out_size, back_size, seconds, fifo);
   const Rtt tcp = bus_rtt(scene, "tcp://127.0.0.1:*", "tcp://127.0.0.1:*", seconds, fifo);
