@@ -22,6 +22,7 @@
 #include "core/graph/logger.h"
 #include "core/graph/session.h"
 #include "core/graph/topics.h"
+#include "core/launch/check.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
 #include "core/record/mcap.h"
@@ -85,6 +86,20 @@ struct OutputTo {
   OutputTo& operator=(const OutputTo&) = delete;
 };
 
+// the launch arguments of a trial's graph
+std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {
+  std::map<std::string, std::string> a(spec.launch_args.begin(), spec.launch_args.end());
+  a["model"] = trial.condition.model;
+  a["recording"] = recording;
+  a["limit_s"] = config::number(trial.limit_s);
+  if (spec.virtual_subjects()) {
+    a["subject"] = spec.virtual_subject;
+    a["subject_seed"] = std::to_string(trial.subject_seed);
+    a["noise_seed"] = std::to_string(trial.noise_seed);
+  }
+  return a;
+}
+
 enum class Outcome : std::uint8_t { done, aborted, interrupted, failed };
 
 struct TrialResult {
@@ -125,7 +140,7 @@ class TrialRun {
   TrialResult run() {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
-    const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
+    const launch::LaunchDescription graph = launch::load_launch(spec_.launch, trial_arguments(spec_, trial_, recording_));
     // the trial's graph: watched and adjusted live like any other, by its name
     // (numbered when the same experiment runs twice on this machine)
     graph::SessionOptions session_options;
@@ -155,19 +170,6 @@ class TrialRun {
   double trial_s() const { return trial_s_; }
 
  private:
-  std::map<std::string, std::string> arguments() const {
-    std::map<std::string, std::string> a(spec_.launch_args.begin(), spec_.launch_args.end());
-    a["model"] = trial_.condition.model;
-    a["recording"] = recording_;
-    a["limit_s"] = config::number(trial_.limit_s);
-    if (spec_.virtual_subjects()) {
-      a["subject"] = spec_.virtual_subject;
-      a["subject_seed"] = std::to_string(trial_.subject_seed);
-      a["noise_seed"] = std::to_string(trial_.noise_seed);
-    }
-    return a;
-  }
-
   // stop the graph: the supervisor stops it in order
   void stop_graph() {
     stop_sent_.store(true);
@@ -287,6 +289,17 @@ void check_plan(const std::string& out, const std::vector<Trial>& plan) {
 }  // namespace
 
 RunnerUi::~RunnerUi() = default;
+
+std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const std::vector<Trial>& plan, const std::string& out) {
+  std::vector<std::string> problems;
+  std::set<std::string> checked;
+  for (const Trial& t : plan) {
+    if (!checked.insert(t.condition.label + "/" + to_string(t.kind)).second) continue;
+    const launch::LaunchDescription graph = launch::load_launch(spec.launch, trial_arguments(spec, t, out + "/trials/" + t.file_stem + ".mcap"));
+    for (const std::string& p : launch::check_nodes(graph)) problems.push_back("condition " + t.condition.label + ": " + p);
+  }
+  return problems;
+}
 
 RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, RunnerUi& ui) {
   fs::create_directories(out + "/trials");

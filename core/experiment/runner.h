@@ -66,6 +66,11 @@ struct RunSummary {
   std::string results;          // results.csv
 };
 
+// every node of the trial graphs checks its parameters (launch::check_nodes), once per
+// condition and kind of trial, with the arguments the trial would get (recordings into
+// `out`); the problems found, empty when every trial graph would start
+std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const std::vector<Trial>& plan, const std::string& out);
+
 // runs the plan of `spec` into the folder `out` (created): results.csv, practice.csv,
 // ranking.csv (people), plan.csv, trials/<stem>.mcap and .log. A folder holding an earlier
 // run of the same plan resumes it; one holding another plan is refused (config::Error).

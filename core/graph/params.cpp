@@ -105,6 +105,7 @@ NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name)
       return argv[++i];
     };
     if (a == "-h" || a == "--help") out.help = true;
+    else if (a == "--check") out.check = true;
     else if (a == "--name" || a.rfind("--name=", 0) == 0) out.name = value("--name");
     else if (a == "--param" || a.rfind("--param=", 0) == 0) params.push_back(value("--param"));
     else if (a == "--component" || a.rfind("--component=", 0) == 0) {

@@ -43,12 +43,15 @@ class Params {
 };
 
 // the command line of a node: --name N, --param=K=V (or --param K=V), --component=N:PLUGIN,
-// --help; anything else is refused
+// --help, --check; anything else is refused
 struct NodeArgs {
   std::string name;
   Params params;
   std::vector<std::pair<std::string, std::string>> components;  // name, plugin
   bool help = false;
+  // check every parameter as the node would before it starts, then exit (0: all good),
+  // binding nothing: `enact launch` does this for every node before it starts any
+  bool check = false;
 };
 NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name);
 

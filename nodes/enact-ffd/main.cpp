@@ -57,6 +57,7 @@ int run(int argc, char** argv) {
   const std::string tactile_node = p.text("tactile_node", "tactile");
   known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory", "observers", "tactile_node"});
   p.refuse_unread(known);
+  if (args.check) return 0;
 
   // the bus: publish the samples, receive the answers straight from the simulator
   graph::install_stop_handlers();

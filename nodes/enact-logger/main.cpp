@@ -54,6 +54,7 @@ int run(int argc, char** argv) {
   if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0.0 || o.split_duration_s < 0.0) {
     throw config::Error(args.name + ": chunk_duration_s must be > 0, split_size_mb and split_duration_s >= 0\n  fix: e.g. chunk_duration_s=1");
   }
+  if (args.check) return 0;
 
   graph::install_stop_handlers();
   graph::Logger logger(o);

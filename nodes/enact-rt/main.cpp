@@ -123,6 +123,7 @@ int run(int argc, char** argv) {
   if (scene_rate_hz <= 0.0 || shown_rate_hz <= 0.0) throw config::Error(args.name + ": scene_rate_hz and shown_rate_hz must be > 0\n  fix: e.g. scene_rate_hz=60");
   const int observers = static_cast<int>(args.params.integer("observers", 0));
   args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz", "observers"});
+  if (args.check) return 0;
 
   graph::install_stop_handlers();
   // the publishers, and the parameter port (it copies the simulator's model: before the

@@ -52,6 +52,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> known = graph::kSimParams;
   known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers"});
   p.refuse_unread(known);
+  if (args.check) return 0;
 
   graph::install_stop_handlers();
   bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});

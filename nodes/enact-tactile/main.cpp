@@ -38,6 +38,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> known = graph::kTactileParams;
   known.insert(known.end(), {"sim_node", "shown_rate_hz"});
   p.refuse_unread(known);
+  if (args.check) return 0;
 
   graph::install_stop_handlers();
   bus::BytePublisher out(graph::node_endpoint(args.name), {.node = args.name, .send_hwm = 1000});

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/config/format.h"
+#include "core/config/yaml.h"
 #include "core/experiment/experiment.h"
 #include "core/experiment/runner.h"
 #include "core/launch/supervisor.h"
@@ -41,7 +42,8 @@ options:
   --subjects N          N subjects (ids 1..N) instead of the file's
   --conditions A,B,...  these conditions instead of the file's (presets or model files)
   --out DIR             results folder (default: results/<name of the experiment>)
-  --plan                print the plan (trial order, seeds) and run nothing
+  --plan                print the plan (trial order, seeds), check every trial graph's
+                        parameters (as a run does first), and run nothing
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
 )";
@@ -210,11 +212,13 @@ int experiment_run(int argc, char** argv) {
   }
   if (a.has("conditions")) experiment::override_conditions(spec, split_commas(a.get("conditions")));
   const std::vector<experiment::Trial> plan = experiment::make_plan(spec);
-  if (a.flag("plan")) {
-    print_plan(spec, plan);
-    return 0;
-  }
   const std::string out = a.get("out", "results/" + spec.name);
+  if (a.flag("plan")) print_plan(spec, plan);
+  // every trial graph's nodes check their parameters before any trial starts
+  const std::vector<std::string> problems = experiment::check_trial_graphs(spec, plan, out);
+  for (const std::string& p : problems) std::fprintf(stderr, "enact experiment: %s\n", p.c_str());
+  if (!problems.empty()) throw config::Error(spec.file + ": a trial graph's nodes refuse their parameters (above); nothing ran");
+  if (a.flag("plan")) return 0;
   // the terminal, kept apart from stderr (which each trial's graph writes to its log)
   FILE* term = fdopen(fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3), "w");
   if (!term) throw std::runtime_error("cannot duplicate stderr");

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/graph/session.h"
+#include "core/launch/check.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"
 #include "nodes/enact/commands.h"
@@ -19,7 +20,9 @@ Run a graph from a YAML launch file (format: README.md, "Launch files"): start i
 and containers in order, each ready before the next, supervise them, and stop them in
 reverse order on Ctrl-C / SIGTERM, after --duration, or when a required process exits.
 The whole file is checked first (unknown keys, wrong types, missing executables: file:line
-and the fix); nothing starts when it is wrong.
+and the fix), then every node's parameters after substitution (each node of this project
+is run once with --check: unknown names, malformed or out-of-range values, missing files,
+named with the node's launch file line); nothing starts when something is wrong.
 Exit status: 0 after a requested stop or when a required process finished with status 0
 (e.g. `enact play` at the end of a recording); 1 when a required process failed or was
 killed, or a process did not become ready; 2 for bad arguments.
@@ -31,7 +34,8 @@ options:
                      with --graph NAME; `enact graph list` shows the running graphs
   --duration S       stop the graph cleanly after S seconds
   --ready-timeout S  how long each process may take to report ready (default 10)
-  --check            load and print the plan, start nothing
+  --check            load and print the plan, have every node check its parameters (as it
+                     always does before anything starts), start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
                      port; printed, and kept in the graph's registry entry)
   --allow-remote     allow an --attach endpoint other machines can reach (no authentication
@@ -79,7 +83,24 @@ int launch(int argc, char** argv) {
     std::printf("%-5s %s%s: %s\n", n.container ? "rt" : "node", n.name.c_str(), n.required ? " (required)" : n.respawn ? " (respawn)" : "", line.c_str());
   }
   std::fflush(stdout);
-  if (a.flag("check")) return 0;
+  // every node checks its parameters, as it would at start, before anything starts
+  const std::vector<std::string> problems = launch::check_nodes(graph);
+  for (const std::string& p : problems) {
+    std::string from;
+    for (const auto& [arg, value] : launch_args) {
+      if (!value.empty() && p.find(value) != std::string::npos) from += "\n  (the value comes from --arg " + arg + "=" + value + ")";
+    }
+    std::fprintf(stderr, "enact launch: %s%s\n", p.c_str(), from.c_str());
+  }
+  if (!problems.empty()) {
+    std::fprintf(stderr, "enact launch: nothing started (%zu node%s refused %s parameters)\n", problems.size(), problems.size() == 1 ? "" : "s",
+                 problems.size() == 1 ? "its" : "their");
+    return 1;
+  }
+  if (a.flag("check")) {
+    std::printf("check: every node accepts its parameters\n");
+    return 0;
+  }
 
   // the graph's session: its folder, attach point and registry entry; observers can find
   // it from now on (a node may wait for them before it is ready)

@@ -40,6 +40,7 @@ options:
   --paused          wait for Enter before playing
   --name NODE       publish everything as node NODE
   --wait S          wait up to S s for a subscriber of every topic before playing (default 5)
+  --check           check the options and the recording, play nothing
 )";
 
 }  // namespace
@@ -60,7 +61,7 @@ int play(int argc, char** argv) {
       rest.push_back(argv[i]);
     }
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"rate", "start-offset", "name", "wait"}, {"loop", "paused"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"rate", "start-offset", "name", "wait"}, {"loop", "paused", "check"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -70,6 +71,7 @@ int play(int argc, char** argv) {
   if (rate < 0.0 || offset_s < 0.0 || wait_s < 0.0) throw UsageError("--rate, --start-offset and --wait must be >= 0");
   const std::string as_node = a.get("name", "");
   record::Reader r(a.positional[0]);
+  if (a.flag("check")) return 0;  // options and recording are good (enact launch checks its nodes)
   auto wanted = [&](std::string_view topic) {
     if (topics.empty()) return true;
     for (const auto& t : topics) {
