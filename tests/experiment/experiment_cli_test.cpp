@@ -64,7 +64,7 @@ class Experiment {
 
   void type(const std::string& text) { ASSERT_EQ(write(stdin_, text.data(), text.size()), static_cast<ssize_t>(text.size())); }
   void signal(int sig) { kill(pid_, sig); }
-  std::string terminal() const { return read_or_empty(err_); }
+  std::string terminal() const { return read_file_or_empty(err_); }
 
   // waits until the terminal shows `needle` `count` times; false on timeout or exit
   bool wait_for(const std::string& needle, int count, double timeout_s) {
@@ -94,14 +94,6 @@ class Experiment {
   }
 
  private:
-  static std::string read_or_empty(const std::string& path) {
-    try {
-      return read_file(path);
-    } catch (const std::exception&) {
-      return "";
-    }
-  }
-
   std::string out_, err_;
   pid_t pid_ = -1;
   int stdin_ = -1;

@@ -59,17 +59,10 @@ class Background {
     }
     return false;
   }
-  std::string out() const { return text(out_); }
-  std::string err() const { return text(err_); }
+  std::string out() const { return read_file_or_empty(out_); }
+  std::string err() const { return read_file_or_empty(err_); }
 
  private:
-  static std::string text(const std::string& path) {
-    try {
-      return read_file(path);
-    } catch (const std::exception&) {
-      return "";
-    }
-  }
   std::string out_, err_;
   pid_t pid_ = -1;
   int code_ = -1;

@@ -36,6 +36,14 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
+std::string read_file_or_empty(const std::string& path) {
+  try {
+    return read_file(path);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 RunResult run(const std::string& command_line) {
   const TempDir dir;
   const std::string err_file = dir.file("stderr");

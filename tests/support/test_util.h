@@ -20,6 +20,8 @@ class TempDir {
 
 void write_file(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
+// the file's text, "" when it cannot be read (not written yet)
+std::string read_file_or_empty(const std::string& path);
 
 struct RunResult {
   int exit_code = -1;
