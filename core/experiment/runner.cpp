@@ -190,7 +190,7 @@ class TrialRun {
     auto announce = [&](msgs::TaskEvent::Kind kind, const std::string& detail) {
       event.Clear();
       event.set_kind(kind);
-      event.set_time_ns(bus::monotonic_ns());
+      event.set_time_ns(rt::now_ns());
       event.set_condition(trial_.condition.label);
       event.set_subject(trial_.subject);
       event.set_trial(static_cast<std::uint32_t>(trial_.index));
