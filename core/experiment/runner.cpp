@@ -24,6 +24,7 @@
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
+#include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
 #include "core/record/mcap.h"
 #include "msgs/task_event.pb.h"
@@ -126,7 +127,7 @@ class TrialRun {
   TrialResult run() {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
-    const launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
+    launch::LaunchDescription graph = launch::load_launch(spec_.launch, arguments());
     const graph::TempFolder dir("/tmp/enact-graph-");  // the trial graph's sockets
     bus::AttachPoint attach(spec_.name);
     for (const auto& n : graph.nodes) {
@@ -147,6 +148,7 @@ class TrialRun {
     int code = 0;
     {
       const OutputTo to_log(log_);
+      const auto realtime = launch::apply_realtime(graph, std::cerr);  // said in the trial's log
       std::thread monitor([&] { watch(events_endpoint, attach.endpoint()); });
       code = launch::supervise(graph, options, std::cerr);
       finished_.store(true);

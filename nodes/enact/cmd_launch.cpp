@@ -13,6 +13,7 @@
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
+#include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
 #include "msgs/param_update.pb.h"
 #include "nodes/enact/commands.h"
@@ -74,7 +75,7 @@ int launch(int argc, char** argv) {
   options.duration_s = a.number("duration", 0.0);
   options.ready_timeout_s = a.number("ready-timeout", options.ready_timeout_s);
   if (options.duration_s < 0.0 || options.ready_timeout_s <= 0.0) throw UsageError("--duration must be >= 0 and --ready-timeout > 0");
-  const launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
+  launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
   for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
   for (const auto& n : graph.nodes) {
     std::string line;
@@ -83,6 +84,8 @@ int launch(int argc, char** argv) {
   }
   std::fflush(stdout);
   if (a.flag("check")) return 0;
+  // the real-time profile, before the launcher starts any thread or process (they inherit it)
+  const auto realtime = launch::apply_realtime(graph, std::cerr);
 
   // the graph's folder and its attach point (observers: viewers, loggers, enact topic); the
   // attach point's thread must not receive the signals the supervisor waits for
