@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -32,6 +33,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/temp_folder.h"
+#include "core/launch/launch_file.h"
 #include "core/rt/clock.h"
 #include "core/rt/profile.h"
 #include "core/rt/round_trip.h"
@@ -56,8 +58,11 @@ the same run (noise hits both alike):
             graph: the bus (DeviceState, a simulator step, ForceCommand) and a raw ZeroMQ
             ping-pong of the same sizes and socket layout, alternating tick by tick, over ipc
             then tcp; replies matched by sequence number (stale and unanswered counted per arm)
-The graph's real-time profile applies (loop threads and the peer on one CPU, CPU latency
-request held) unless --no-profile; --fifo P adds SCHED_FIFO as in a launch file.
+  peer      when ddsperf is installed (Debian cyclonedds-tools): Cyclone DDS's ping/pong at
+            5 kHz, 100 bytes, on the same CPU, reported beside ours
+The shipped graphs' real-time profile applies (loop threads and the peer on one CPU, CPU
+latency request held, SCHED_FIFO 80 ordered as in a launch file) unless --no-profile;
+--fifo P changes the priority (0: normal scheduling). Refusals are said, the bench runs.
 
 options:
   --seconds S       each round-trip case and the 44 kHz case (default 5)
@@ -65,7 +70,7 @@ options:
   --json FILE       every figure, with the machine's state
 JSON: distributed_rtt_p50_ratio (bus / raw ZeroMQ, ipc; expected 0.7-1.3),
 colocated_jitter_p99_ratio, colocated_latency_p99_us, colocated_44khz_missed_fraction, ...
-Total time at the defaults: about 40 s. (--peer DIR --peer-of ENDPOINTS: the second
+Total time at the defaults: about 45 s. (--peer DIR --peer-of ENDPOINTS: the second
 process, started by the bench itself.)
 )";
 
@@ -461,6 +466,47 @@ class RttCase {
   rt::RoundTrip handshake_[2];
 };
 
+// ---- peer arm: Cyclone DDS's ddsperf ping/pong, when installed ----------------------
+
+struct DdsPerf {
+  bool ran = false;
+  double p50_us = 0.0, p99_us = 0.0;  // medians over its per-second reports
+  std::uint64_t round_trips = 0, expected = 0;
+};
+
+// the number after `key` in a ddsperf report line ("50% 16.6us", "cnt 1370"), -1 if absent
+double after(const std::string& line, const std::string& key) {
+  const std::size_t at = line.find(key);
+  return at == std::string::npos ? -1.0 : std::atof(line.c_str() + at + key.size());
+}
+
+// the same 5 kHz ping/pong of 100 bytes, both processes started from this thread (they
+// inherit its CPU and scheduling: the loop's)
+DdsPerf ddsperf(double seconds) {
+  DdsPerf r;
+  const std::string exe = launch::default_resolver()("ddsperf");
+  if (exe.empty()) return r;
+  const int s = static_cast<int>(std::ceil(seconds));
+  FILE* pong = popen((exe + " -D " + std::to_string(s + 3) + " pong >/dev/null 2>&1").c_str(), "r");
+  FILE* ping = popen((exe + " -D " + std::to_string(s) + " -Qminmatch:1 ping 5000Hz size 100 2>&1").c_str(), "r");
+  std::vector<double> p50, p99;
+  char buf[1024];
+  while (ping && std::fgets(buf, sizeof buf, ping)) {
+    const std::string line = buf;
+    if (line.find(" size 100 mean ") == std::string::npos) continue;
+    p50.push_back(after(line, " 50% "));
+    p99.push_back(after(line, " 99% "));
+    r.round_trips += static_cast<std::uint64_t>(std::max(0.0, after(line, " cnt ")));
+  }
+  if (ping) pclose(ping);
+  if (pong) pclose(pong);
+  r.ran = !p50.empty();
+  r.p50_us = quantile(p50, 0.5);
+  r.p99_us = quantile(p99, 0.5);
+  r.expected = static_cast<std::uint64_t>(kRate_hz * static_cast<double>(p50.size()));
+  return r;
+}
+
 // ---- output -------------------------------------------------------------------------
 
 void print_ratios(const char* what, const Ratios& r) {
@@ -510,7 +556,7 @@ int bench_loop(int argc, char** argv) {
   if (a.has("peer")) return run_peer(a.get("peer"), scene, a.get("peer-of"));
   const double seconds = a.number("seconds", 5.0);
   const auto jitter_ticks = static_cast<std::int64_t>(a.number("jitter-ticks", 100000.0));
-  const int fifo = static_cast<int>(a.number("fifo", 0.0));
+  const int fifo = static_cast<int>(a.number("fifo", 80.0));
   if (seconds <= 0.0 || jitter_ticks < 2 * kBlockTicks) throw UsageError("--seconds must be > 0 and --jitter-ticks at least 500");
 
   // the graph's profile: this thread and the peer are the loop
@@ -523,8 +569,8 @@ int bench_loop(int argc, char** argv) {
   machine.latency_held = profile.cpu_latency_held();
   machine.loop_cpus = profile.loop_cpus();
   machine.fifo = self.fifo;
-  std::fprintf(stderr, "enact bench loop: %s\nabout %.0f s: timer %lld ticks at 5 kHz, 44 kHz %.1f s, round trips ipc and tcp %.1f s each\n", machine.profile.c_str(),
-               static_cast<double>(jitter_ticks) / kRate_hz + 3.0 * seconds, static_cast<long long>(jitter_ticks), seconds, seconds);
+  std::fprintf(stderr, "enact bench loop: %s\nabout %.0f s: timer %lld ticks at 5 kHz, 44 kHz %.1f s, round trips ipc, tcp and ddsperf %.1f s each\n", machine.profile.c_str(),
+               static_cast<double>(jitter_ticks) / kRate_hz + 4.0 * seconds, static_cast<long long>(jitter_ticks), seconds, seconds);
 
   const TimerResult timer = timer_5khz(scene, jitter_ticks, machine.fifo);
   const Rate44 r44 = colocated_44khz(scene, seconds, machine.fifo);
@@ -540,6 +586,7 @@ int bench_loop(int argc, char** argv) {
     ipc_r = ipc.run(seconds, machine.fifo);
     tcp_r = tcp.run(seconds, machine.fifo);
   }
+  const DdsPerf dds = ddsperf(seconds);
   const double steal = machine.steal_pct();
 
   // report
@@ -561,6 +608,12 @@ int bench_loop(int argc, char** argv) {
   print_trip("raw tcp", tcp_r.arm[1]);
   print_ratios("bus / raw tcp", tcp_r.p50);
   std::printf("lost bus messages (seq gaps): %llu\n", static_cast<unsigned long long>(ipc_r.lost + tcp_r.lost));
+  if (dds.ran) {
+    std::printf("peer: Cyclone DDS ddsperf ping/pong, 5 kHz, 100 B: round trip p50 %.2f us, p99 %.2f us (medians of its per-second reports); %llu of %llu pings answered\n",
+                dds.p50_us, dds.p99_us, static_cast<unsigned long long>(dds.round_trips), static_cast<unsigned long long>(dds.expected));
+  } else {
+    std::printf("peer: ddsperf not installed (Debian cyclonedds-tools): no DDS arm\n");
+  }
   std::printf("machine: %u cores, steal %.2f %% during the run, load %s at the start; %s\n", machine.cores, steal, machine.load_start.c_str(), machine.profile.c_str());
   if (a.has("json")) {
     Json j;
@@ -578,6 +631,8 @@ int bench_loop(int argc, char** argv) {
     json_trip(j, "rtt_raw_ipc", ipc_r.arm[1]);
     json_trip(j, "rtt_bus_tcp", tcp_r.arm[0]);
     json_trip(j, "rtt_raw_tcp", tcp_r.arm[1]);
+    j.key("ddsperf").begin_object().field("ran", dds.ran).field("p50_us", dds.p50_us).field("p99_us", dds.p99_us);
+    j.field("round_trips", static_cast<long long>(dds.round_trips)).field("expected", static_cast<long long>(dds.expected)).end_object();
     j.key("machine").begin_object().field("cores", static_cast<long long>(machine.cores)).field("steal_pct", steal).field("load_start", machine.load_start);
     j.field("cpu_latency_held", machine.latency_held).field("loop_cpus", rt::cpu_list(machine.loop_cpus)).field("fifo", machine.fifo);
     j.field("profile", machine.profile).end_object();
