@@ -140,7 +140,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     const int err = system_.pin_thread(other_cpus_);
     pinned_ = err == 0;
     if (pinned_) {
-      notes_.push_back("loop (" + joined(profile_.loop, ", ") + ") and its ZeroMQ I/O threads on CPU " + cpu_list(loop_cpus_) +
+      notes_.push_back("loop (" + joined(profile_.loop, ", ") + ") on CPU " + cpu_list(loop_cpus_) +
                        ", the launcher and the other nodes on CPU " + cpu_list(other_cpus_));
     } else {
       notes_.push_back(refused("pinning to CPU " + cpu_list(other_cpus_), err, "allow this process every CPU of its cpuset (taskset -p, container cpuset)"));
