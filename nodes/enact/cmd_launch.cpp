@@ -44,6 +44,9 @@ options:
                      yet: anyone who reaches the port sees every topic and can send
                      param/set)
 
+A launch file's realtime: entry (every shipped graph has one) pins the loop's processes
+together, holds the CPU latency request and orders SCHED_FIFO before anything starts; what
+is refused is said once and the graph runs anyway (README, "Real-time profile").
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end.
 )";
