@@ -32,6 +32,8 @@ packages=(
   libimgui-dev libstb-dev libsdl2-dev libgl-dev libgl1-mesa-dri libegl-mesa0 xvfb
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # enact bench loop's peer arm: Cyclone DDS's ddsperf ping/pong beside our round trip
+  cyclonedds-tools
   # analysis and plotting scripts (run under /usr/bin/python3)
   python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
 )

@@ -289,7 +289,7 @@ void AttachPoint::publish_graph() {
   msgs::GraphInfo info;
   msgs::Header& h = *info.mutable_header();
   h.set_seq(++graph_seq_);
-  h.set_stamp_ns(monotonic_ns());
+  h.set_stamp_ns(rt::now_ns());
   h.set_source(kSource);
   info.set_graph(graph_);
   for (const Topic& t : topics_) {

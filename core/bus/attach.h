@@ -152,7 +152,7 @@ class AttachSender {
   bool send(const std::string& topic, Msg& msg) {
     msgs::Header& h = *msg.mutable_header();
     h.set_seq(++seq_);
-    h.set_stamp_ns(monotonic_ns());
+    h.set_stamp_ns(rt::now_ns());
     h.set_source(source_);
     return send_bytes(topic, Msg::descriptor()->full_name(), msg.SerializeAsString());
   }

@@ -7,11 +7,10 @@
 #include "core/bus/context.h"
 #include "core/bus/endpoints.h"
 #include "core/config/yaml.h"
+#include "core/rt/clock.h"
 
 namespace enact::bus {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // a bus message has exactly these frames: topic, type, payload
 constexpr int kFrames = 3;
@@ -29,13 +28,6 @@ TopicCounters find_counters(const Map& counters, std::string_view topic) {
 template <class Map>
 std::vector<std::pair<std::string, TopicCounters>> list_counters(const Map& counters) {
   return {counters.begin(), counters.end()};
-}
-
-// milliseconds left until `deadline` (-1: no deadline), never negative
-int remaining_ms(std::optional<Clock::time_point> deadline) {
-  if (!deadline) return -1;
-  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(*deadline - Clock::now()).count();
-  return left > 0 ? static_cast<int>(left) : 0;
 }
 
 }  // namespace
@@ -150,7 +142,7 @@ ByteSubscriber::Read ByteSubscriber::read_one(RawMessage& out, int timeout_ms) {
     try {
       if (zmq::poll(&item, 1, std::chrono::milliseconds(timeout_ms)) == 0) return Read::none;
     } catch (const zmq::error_t& e) {
-      if (e.num() == EINTR) return Read::none;
+      if (e.num() == EINTR) return Read::interrupted;
       throw;
     }
     if (!socket_.recv(out.topic_frame, zmq::recv_flags::dontwait)) return Read::skipped;
@@ -176,12 +168,14 @@ ByteSubscriber::Read ByteSubscriber::read_one(RawMessage& out, int timeout_ms) {
 }
 
 bool ByteSubscriber::receive(RawMessage& out, int timeout_ms) {
-  const std::optional<Clock::time_point> deadline =
-      timeout_ms < 0 ? std::nullopt : std::optional(Clock::now() + std::chrono::milliseconds(timeout_ms));
+  // wait until the deadline itself: milliseconds rounded up, and again if zmq_poll (whose
+  // clock may be a millisecond stale) returns before it
+  const std::int64_t deadline_ns = rt::now_ns() + std::int64_t{timeout_ms} * 1'000'000;
+  const auto wait_ms = [&] { return timeout_ms < 0 ? -1 : rt::ms_until(deadline_ns); };
   Read r = Read::skipped;
-  while ((r = read_one(out, remaining_ms(deadline))) == Read::skipped) {
+  while ((r = read_one(out, wait_ms())) == Read::skipped || (r == Read::none && wait_ms() != 0)) {
   }
-  if (r == Read::none) return false;
+  if (r != Read::ok) return false;
   if (!conflate_) return true;
   // conflation: keep the newest message already waiting, count the older ones as dropped
   TopicCounters& c = counters_.find(out.topic())->second;

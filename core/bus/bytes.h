@@ -161,7 +161,7 @@ class ByteSubscriber {
   zmq::socket_t& socket() { return socket_; }
 
  private:
-  enum class Read { none, skipped, ok };
+  enum class Read { none, interrupted, skipped, ok };
   Read read_one(RawMessage& out, int timeout_ms);
 
   zmq::socket_t socket_;

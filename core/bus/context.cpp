@@ -1,10 +1,38 @@
 #include "core/bus/context.h"
 
+#include <sched.h>
+
+#include <atomic>
+#include <stdexcept>
+
 namespace enact::bus {
+namespace {
+
+IoThreads g_io;
+std::atomic<bool> g_created{false};
+
+zmq::context_t make_context() {
+  zmq::context_t c;
+  // options of the I/O threads apply to threads started after them: before the first socket
+  for (const int cpu : g_io.cpus) zmq_ctx_set(c.handle(), ZMQ_THREAD_AFFINITY_CPU_ADD, cpu);
+  if (g_io.fifo_priority > 0) {
+    zmq_ctx_set(c.handle(), ZMQ_THREAD_SCHED_POLICY, SCHED_FIFO);
+    zmq_ctx_set(c.handle(), ZMQ_THREAD_PRIORITY, g_io.fifo_priority);
+  }
+  g_created.store(true);
+  return c;
+}
+
+}  // namespace
+
+void set_io_threads(const IoThreads& io) {
+  if (g_created.load()) throw std::logic_error("bus: set_io_threads after the context was made; call it before the first socket");
+  g_io = io;
+}
 
 zmq::context_t& context() {
   // a function-local static: created once, on first use, by whichever thread gets here first
-  static zmq::context_t instance;
+  static zmq::context_t instance = make_context();
   return instance;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // The process-wide ZeroMQ context every bus socket is made from. inproc:// endpoints only
 // join sockets of the same context, so there is exactly one per process.
+#include <vector>
+
 #include <zmq.hpp>
 
 namespace enact::bus {
@@ -9,6 +11,17 @@ namespace enact::bus {
 // Not 0: with linger 0, libzmq 4.3 aborts in its I/O thread (session_base.cpp, clean_pipes)
 // when a peer drops while half a multipart message is on the wire (libzmq issue #3442).
 inline constexpr int kPublisherLinger_ms = 100;
+
+// where the context's I/O threads run (they carry every message of the process)
+struct IoThreads {
+  std::vector<int> cpus;  // ZMQ_THREAD_AFFINITY_CPU_ADD each; empty: inherit the creating thread's
+  int fifo_priority = 0;  // ZMQ_THREAD_SCHED_POLICY SCHED_FIFO at ZMQ_THREAD_PRIORITY; 0: unchanged.
+                          // Only a permitted setting: libzmq aborts its I/O thread on a refusal
+};
+
+// sets the I/O threads of the context to come; throws std::logic_error once the context exists
+// (call it before the first socket)
+void set_io_threads(const IoThreads& io);
 
 // the context, created on first use (thread-safe). It is destroyed at exit, which waits
 // until every socket made from it is closed and, for publishers, their linger has passed.

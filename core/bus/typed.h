@@ -3,10 +3,7 @@
 // the stream messages of msgs/ (every one has `Header header = 1`). The publisher fills the
 // header and serialises into a buffer it reuses; the subscriber checks the type name,
 // parses, and counts sequence gaps per publishing node.
-#include <time.h>
-
 #include <algorithm>
-#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <optional>
@@ -16,16 +13,10 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 
 namespace enact::bus {
-
-// now on CLOCK_MONOTONIC, ns: the clock of header.stamp_ns
-inline std::int64_t monotonic_ns() noexcept {
-  timespec t{};
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
-}
 
 // publishes Msg on one topic. One Publisher per topic and node: it owns the topic's sequence.
 template <class Msg>
@@ -48,7 +39,7 @@ class Publisher {
     // header
     msgs::Header& h = *msg.mutable_header();
     h.set_seq(++seq_);
-    if (h.stamp_ns() == 0) h.set_stamp_ns(monotonic_ns());
+    if (h.stamp_ns() == 0) h.set_stamp_ns(rt::now_ns());
     if (h.source() != bytes_.node()) h.set_source(bytes_.node());
     // serialise into the buffer, grown only for a message larger than any before
     const std::size_t size = msg.ByteSizeLong();
@@ -98,14 +89,11 @@ class Subscriber {
 
   // the same into `out`, reusing its memory; false on timeout or signal
   bool receive(Msg& out, int timeout_ms) {
-    using namespace std::chrono;
-    const auto deadline = steady_clock::now() + milliseconds(timeout_ms);
+    const std::int64_t deadline_ns = rt::now_ns() + std::int64_t{timeout_ms} * 1'000'000;
     for (int wait_ms = timeout_ms; bytes_.receive(raw_, wait_ms);) {
       if (accept(raw_, out)) return true;
       // a skipped message does not extend the wait
-      if (timeout_ms >= 0) {
-        wait_ms = static_cast<int>(std::max<std::int64_t>(0, duration_cast<milliseconds>(deadline - steady_clock::now()).count()));
-      }
+      if (timeout_ms >= 0) wait_ms = rt::ms_until(deadline_ns);
     }
     return false;
   }

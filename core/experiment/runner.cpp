@@ -24,6 +24,7 @@
 #include "core/graph/topics.h"
 #include "core/launch/check.h"
 #include "core/launch/launch_file.h"
+#include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
 #include "core/record/mcap.h"
 #include "msgs/task_event.pb.h"
@@ -140,7 +141,11 @@ class TrialRun {
   TrialResult run() {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
-    const launch::LaunchDescription graph = launch::load_launch(spec_.launch, trial_arguments(spec_, trial_, recording_));
+    launch::LaunchDescription graph = launch::load_launch(spec_.launch, trial_arguments(spec_, trial_, recording_));
+    // the real-time profile, before the trial's threads start (they inherit it); said in the
+    // trial's log
+    std::ostringstream realtime_said;
+    const auto realtime = launch::apply_realtime(graph, realtime_said);
     // the trial's graph: watched and adjusted live like any other, by its name
     // (numbered when the same experiment runs twice on this machine)
     graph::SessionOptions session_options;
@@ -158,6 +163,7 @@ class TrialRun {
     int code = 0;
     {
       const OutputTo to_log(log_);
+      std::cerr << realtime_said.str();
       std::thread monitor([&] { watch(out, session.endpoint()); });
       code = session.run(graph, spec_.launch, options, std::cerr);
       finished_.store(true);
@@ -187,7 +193,7 @@ class TrialRun {
     auto announce = [&](msgs::TaskEvent::Kind kind, const std::string& detail) {
       event.Clear();
       event.set_kind(kind);
-      event.set_time_ns(bus::monotonic_ns());
+      event.set_time_ns(rt::now_ns());
       event.set_condition(trial_.condition.label);
       event.set_subject(trial_.subject);
       event.set_trial(static_cast<std::uint32_t>(trial_.index));

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "core/devices/device.h"
+#include "core/rt/clock.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
 #include "core/sim/simulator.h"
@@ -23,7 +24,7 @@ struct Observation {
 };
 
 // reads the monotonic clock (ns); a parameter so tests can drive time
-using Clock = std::int64_t (*)();
+using Clock = rt::ClockFn;
 
 // parameter changes into the tick, and what it applied back out (a ParamPort never has
 // more than sim::kMaxParamsInFlight in flight, so neither queue overflows)

@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <string>
 
+#include "core/bus/context.h"
 #include "core/bus/endpoints.h"
 #include "core/rt/clock.h"
+#include "core/rt/profile.h"
 
 namespace enact::graph {
 namespace {
@@ -99,6 +101,14 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
     t->set_dropped(c.dropped + c.lost);
     t->set_malformed(c.malformed);
   }
+}
+
+void apply_rt_profile(const std::string& node) {
+  const char* text = std::getenv(rt::kProfileEnv);
+  if (!text) return;
+  const rt::NodeProfileReport report = rt::apply_node_profile(rt::NodeProfile::from_env(text));
+  bus::set_io_threads({report.io_cpus, report.io_fifo_priority});
+  say(node, report.summary());
 }
 
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv) {

@@ -40,6 +40,11 @@ void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count,
 // per-topic counters of a node's sockets into its NodeStatus
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);
 
+// a loop process of the graph (launch file `realtime:`): applies the profile the launcher
+// put in ENACT_RT_PROFILE to this thread and to the I/O threads of the bus, and says what
+// it applied. Call it first, before any socket. Nothing when the variable is not set.
+void apply_rt_profile(const std::string& node);
+
 // a node's main: runs `run`, and reports an exception as "<program>: error: ..." with exit 1
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv);
 

@@ -6,6 +6,7 @@
 
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
+#include "core/rt/clock.h"
 
 namespace enact::graph {
 namespace {
@@ -139,7 +140,7 @@ ParamClient::ParamClient(const std::string& endpoint, std::string source) : send
 
 std::uint64_t ParamClient::send(msgs::ParamUpdate update) {
   const std::uint64_t id = next_id_++;
-  const std::int64_t now = bus::monotonic_ns();
+  const std::int64_t now = rt::now_ns();
   update.set_request_id(id);
   sender_.send(kParamSet, update);
   pending_[id] = {std::move(update), now, now};

@@ -110,6 +110,7 @@ struct Loader {
   LaunchDescription out;
   std::set<std::string> names;
   std::vector<std::string> stack;  // the files being read, outermost first
+  std::string realtime_at;  // file:line of the realtime: entry, once read
 
   void executable(const Scope& scope, const Map& m, NodeSpec& n, const std::string& fallback) {
     n.exec = m.has("exec") ? scalar(scope, m.get("exec"), "exec") : fallback;
@@ -171,6 +172,43 @@ struct Loader {
     out.nodes.push_back(n);
   }
 
+  // the real-time profile: `realtime: {loop: [ffd, sim], fifo_priority: 0, cpu_latency: true}`
+  void realtime(const Scope& scope, const YAML::Node& y) {
+    const Map m(y, scope.file, "realtime", {"enabled", "loop", "fifo_priority", "cpu_latency"});
+    const std::string at = scope.file + ":" + std::to_string(m.line());
+    if (!realtime_at.empty()) m.fail("loop", "a second realtime: entry (the first is at " + realtime_at + ")", "keep one realtime: entry per graph");
+    rt::GraphProfile& g = out.realtime;
+    g.enabled = flag(scope, m, "enabled", true);
+    g.cpu_latency = flag(scope, m, "cpu_latency", true);
+    for (const auto& n : m.list("loop")) g.loop.push_back(scalar(scope, n, "loop entry"));
+    if (m.has("fifo_priority")) {
+      const std::string text = scalar(scope, m.get("fifo_priority"), "fifo_priority");
+      std::size_t used = 0;
+      try {
+        g.fifo_priority = std::stoi(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != text.size()) m.fail("fifo_priority", "fifo_priority '" + text + "' is not a whole number", "write 0 (normal scheduling) or a priority, e.g. 80");
+    }
+    try {
+      g.validate();
+    } catch (const config::Error& e) {
+      throw config::Error(at + ": " + e.what());
+    }
+    realtime_at = at;
+  }
+
+  // every loop process of the profile is a node of the graph
+  void check_realtime() const {
+    if (realtime_at.empty()) return;
+    for (const std::string& name : out.realtime.loop) {
+      if (!names.count(name)) {
+        throw config::Error(realtime_at + ": realtime loop names '" + name + "', which is no node of the graph\n  fix: list the nodes of the zero-delay loop, e.g. loop: [ffd, sim]");
+      }
+    }
+  }
+
   void include(const Scope& scope, const YAML::Node& y) {
     const Map m(y, scope.file, "include", {"file", "arg"});
     const std::string file = scalar(scope, m.get("file"), "file");
@@ -193,7 +231,7 @@ struct Loader {
     std::set<std::string> declared;
     const std::vector<YAML::Node> actions = doc.list("launch");
     for (const auto& action : actions) {
-      if (!action.IsMap() || action.size() != 1) config::fail(path, action, "each launch entry is one of arg:, node:, container:, include:", "write e.g. - node: {name: sim, exec: enact-sim}");
+      if (!action.IsMap() || action.size() != 1) config::fail(path, action, "each launch entry is one of arg:, node:, container:, include:, realtime:", "write e.g. - node: {name: sim, exec: enact-sim}");
       const std::string kind = action.begin()->first.Scalar();
       const YAML::Node body = action.begin()->second;
       if (kind == "arg") {
@@ -211,8 +249,10 @@ struct Loader {
         container(scope, body);
       } else if (kind == "include") {
         include(scope, body);
+      } else if (kind == "realtime") {
+        realtime(scope, body);
       } else {
-        config::fail(path, action.begin()->first, "unknown launch entry '" + kind + "'", "use arg, node, container or include");
+        config::fail(path, action.begin()->first, "unknown launch entry '" + kind + "'", "use arg, node, container, include or realtime");
       }
     }
     for (const auto& [name, value] : given) {
@@ -268,8 +308,9 @@ ExecResolver default_resolver() {
 }
 
 LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args, const ExecResolver& resolve) {
-  Loader loader{resolve, {}, {}, {}};
+  Loader loader{resolve, {}, {}, {}, {}};
   loader.file_(path, args, true);
+  loader.check_realtime();
   if (loader.out.nodes.empty()) throw config::Error(path + ": the launch file starts no node\n  fix: add - node: or - container: entries");
   return loader.out;
 }

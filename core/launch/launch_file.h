@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/rt/profile.h"
+
 namespace enact::launch {
 
 struct Param {
@@ -53,6 +55,7 @@ struct ArgSpec {
 struct LaunchDescription {
   std::vector<ArgSpec> args;   // declared by the top file
   std::vector<NodeSpec> nodes; // in start order (includes expanded in place)
+  rt::GraphProfile realtime;   // entry `realtime:` (off when there is none)
 };
 
 // finds an executable by name; returns "" when not found

@@ -1,6 +1,7 @@
 #include "core/rt/clock.h"
 
 #include <cerrno>
+#include <climits>
 #include <ctime>
 
 namespace enact::rt {
@@ -10,10 +11,18 @@ constexpr std::int64_t kNsPerS = 1'000'000'000;
 
 }  // namespace
 
-std::int64_t now_ns() {
+std::int64_t now_ns() noexcept {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
+}
+
+int ms_until(std::int64_t deadline_ns) noexcept {
+  constexpr std::int64_t kNsPerMs = 1'000'000;
+  const std::int64_t left = deadline_ns - now_ns();
+  if (left <= 0) return 0;
+  const std::int64_t ms = (left + kNsPerMs - 1) / kNsPerMs;
+  return ms > INT_MAX ? INT_MAX : static_cast<int>(ms);
 }
 
 void sleep_until_ns(std::int64_t deadline_ns) {

@@ -5,8 +5,16 @@
 
 namespace enact::rt {
 
-// CLOCK_MONOTONIC now, in ns. Allocates nothing, never throws.
-std::int64_t now_ns();
+// CLOCK_MONOTONIC now, in ns: the one clock of enact (loops, header.stamp_ns, the launcher).
+// Allocates nothing, never throws.
+std::int64_t now_ns() noexcept;
+
+// a clock to read instead of now_ns (tests and emulators drive time with their own)
+using ClockFn = std::int64_t (*)();
+
+// milliseconds from now until `deadline_ns`, rounded up (so a wait of that many ms never
+// ends before the deadline), 0 once it has passed. For APIs that take ms (zmq_poll).
+int ms_until(std::int64_t deadline_ns) noexcept;
 
 // sleep until the absolute CLOCK_MONOTONIC time `deadline_ns` (clock_nanosleep, TIMER_ABSTIME);
 // a signal does not cut it short. Returns at once for a time already past.

@@ -11,8 +11,8 @@ namespace enact::rt {
 struct LoopStats {
   LatencyHistogram jitter;   // wake-up lateness: woke - deadline (ns)
   LatencyHistogram latency;  // tick latency: wake-up to the end of the tick's work, e.g. force written (ns)
-  std::uint64_t overruns = 0;
-  std::uint64_t ticks = 0;
+  std::uint64_t overruns = 0;  // deadlines missed (late wake-ups and skipped deadlines)
+  std::uint64_t ticks = 0;     // wake-ups
 };
 
 struct LoopSummary {

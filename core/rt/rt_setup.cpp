@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "core/config/yaml.h"
+#include "core/rt/profile.h"
 
 namespace enact::rt {
 namespace {
@@ -22,15 +23,6 @@ constexpr std::size_t kStackMargin = 64 * 1024;
 
 std::string refused(const std::string& what, int err, const std::string& fix) {
   return what + " refused (" + std::strerror(err) + "); fix: " + fix;
-}
-
-std::string cpu_list(const std::vector<int>& cpus) {
-  std::string out;
-  for (const int c : cpus) {
-    if (!out.empty()) out += ',';
-    out += std::to_string(c);
-  }
-  return out;
 }
 
 bool lock_memory(RtReport& report) {

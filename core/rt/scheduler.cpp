@@ -46,6 +46,7 @@ PeriodicScheduler::PeriodicScheduler(SchedulerParams params) : params_(params) {
   period_whole_ns_ = kPeriodScale / rate_mhz_;
   period_rem_ = kPeriodScale % rate_mhz_;
   period_ns_ = (kPeriodScale + rate_mhz_ / 2) / rate_mhz_;
+  spin_ns_ = params_.sleep_every_tick ? std::min(params_.spin_ns, period_ns_ / 2) : params_.spin_ns;
 }
 
 void PeriodicScheduler::start(std::int64_t first_deadline_ns) {
@@ -81,11 +82,13 @@ std::int64_t PeriodicScheduler::wait() {
   index_ = next_index_;
   deadline_ns_ = deadline_at(index_);
   // sleep to just before the deadline, then spin on the clock to it
-  const std::int64_t sleep_to = deadline_ns_ - params_.spin_ns;
+  const std::int64_t sleep_to = deadline_ns_ - spin_ns_;
   std::int64_t woke = now_ns();
+  last_sleep_late_ns_ = -1;
   if (woke < sleep_to) {
     sleep_until_ns(sleep_to);
     woke = now_ns();
+    last_sleep_late_ns_ = woke - sleep_to;
   }
   while (woke < deadline_ns_) {
     cpu_relax();
@@ -96,9 +99,10 @@ std::int64_t PeriodicScheduler::wait() {
   // woke at or past the following deadline: an overrun; skip to the first deadline ahead
   next_index_ = index_ + 1;
   if (deadline_at(next_index_) <= woke) {
-    ++overruns_;
     next_index_ = first_index_after(woke);
-    skipped_ += static_cast<std::uint64_t>(next_index_ - index_ - 1);
+    const auto skipped = static_cast<std::uint64_t>(next_index_ - index_ - 1);
+    skipped_ += skipped;
+    overruns_ += 1 + skipped;
   }
   return woke;
 }

@@ -8,8 +8,9 @@
 // At 3 kHz the period is 333333.33 ns and deadline 3000 is exactly first + 1 s.
 //
 // Overruns: when a wake-up comes at or after the following deadline (late by a whole period
-// or more), it is counted as an overrun and the deadlines already past are skipped: the next
-// wait() waits for the first deadline still ahead, it never runs missed ticks back to back.
+// or more), the deadlines already past are skipped: the next wait() waits for the first
+// deadline still ahead, it never runs missed ticks back to back. Every missed deadline is an
+// overrun: the late one and each one skipped (a 50 ms stall at 44 kHz is 2200 overruns).
 #include <cstdint>
 
 #include "core/rt/histogram.h"
@@ -19,6 +20,9 @@ namespace enact::rt {
 struct SchedulerParams {
   double rate_hz = 5000.0;       // loop rate, 1..44000 Hz
   std::int64_t spin_ns = 50'000;  // spin on the clock for this long before each deadline (>= 0)
+  // spin at most half a period, so the thread sleeps every tick: a SCHED_FIFO thread that
+  // never sleeps is throttled by the kernel (sched_rt_runtime_us: ~50 ms stalled each second)
+  bool sleep_every_tick = false;
 
   // throws config::Error naming the parameter and the fix
   void validate() const;
@@ -44,10 +48,15 @@ class PeriodicScheduler {
   double rate_hz() const { return params_.rate_hz; }
   // wake-ups so far (calls to wait())
   std::uint64_t ticks() const { return ticks_; }
-  // wake-ups that came a whole period or more late
+  // deadlines missed: wake-ups that came a whole period or more late, plus skipped()
   std::uint64_t overruns() const { return overruns_; }
-  // deadlines skipped because of overruns
+  // deadlines skipped (never woken for) because of late wake-ups
   std::uint64_t skipped() const { return skipped_; }
+  // the spin window in use (spin_ns, capped at half a period with sleep_every_tick)
+  std::int64_t spin_ns() const { return spin_ns_; }
+  // how late the last wait() came out of its sleep (woke - deadline + spin window), before
+  // any spin; -1 when it did not sleep (already inside the spin window)
+  std::int64_t last_sleep_late_ns() const { return last_sleep_late_ns_; }
   // wake-up lateness (woke - deadline) of every tick, ns
   const LatencyHistogram& jitter() const { return jitter_; }
   // the deadline the last wait() woke for, and its index
@@ -66,6 +75,8 @@ class PeriodicScheduler {
   std::int64_t period_whole_ns_ = 0;
   std::int64_t period_rem_ = 0;
   std::int64_t period_ns_ = 0;
+  std::int64_t spin_ns_ = 0;
+  std::int64_t last_sleep_late_ns_ = -1;
 
   bool started_ = false;
   std::int64_t first_ns_ = 0;

@@ -41,10 +41,13 @@ int run(int argc, char** argv) {
     std::fputs(kHelp, stdout);
     return 0;
   }
+  graph::apply_rt_profile(args.name);
   graph::Params& p = args.params;
   rt::SchedulerParams sched;
   sched.rate_hz = p.number("rate_hz", 5000.0);
   sched.spin_ns = static_cast<std::int64_t>(p.number("spin_us", 50.0) * 1e3);
+  // the simulator shares this CPU (the real-time profile): leave it every period's other half
+  sched.sleep_every_tick = true;
   sched.validate();
   const std::string sim_node = p.text("sim_node", "sim");
   const double duration_s = p.number("duration_s", 0.0);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 
 #include "core/bus/typed.h"
@@ -17,6 +18,7 @@
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
+#include "core/rt/profile.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
 #include "core/rt/spsc_queue.h"
@@ -106,6 +108,13 @@ int run(int argc, char** argv) {
   rtp.lock_memory = args.params.flag("lock_memory", false);
   rtp.fifo_priority = args.params.integer("fifo_priority", 0);
   if (const std::string cpus = args.params.text("cpus", ""); !cpus.empty()) rtp.cpus.push_back(std::stoi(cpus));
+  // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
+  // process: the publisher thread and the bus stay with the observers
+  if (const char* profile = std::getenv(rt::kProfileEnv)) {
+    const rt::NodeProfile np = rt::NodeProfile::from_env(profile);
+    if (!np.cpus.empty()) rtp.cpus = np.cpus;
+    if (np.fifo_priority > 0) rtp.fifo_priority = np.fifo_priority;
+  }
   // components, configured (bad input is refused here, before anything moves)
   const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
   graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
@@ -169,7 +178,10 @@ int run(int argc, char** argv) {
   std::thread rt_thread([&] {
     report = rt::apply_rt_setup(rtp);
     rt::prefault_stack();
-    rt::PeriodicScheduler scheduler(sched);
+    // under SCHED_FIFO the loop sleeps every tick, or the kernel throttles it (~50 ms a second)
+    rt::SchedulerParams tick = sched;
+    tick.sleep_every_tick = report.fifo;
+    rt::PeriodicScheduler scheduler(tick);
     const std::int64_t start = rt::now_ns() + 1'000'000;
     const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / scene_rate_hz));
     const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched.rate_hz / shown_rate_hz));

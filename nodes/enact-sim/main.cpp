@@ -43,6 +43,7 @@ int run(int argc, char** argv) {
     std::fputs(kHelp, stdout);
     return 0;
   }
+  graph::apply_rt_profile(args.name);
   graph::Params& p = args.params;
   sim::Simulator simulator;
   simulator.configure(graph::sim_params(p));

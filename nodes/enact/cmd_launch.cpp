@@ -7,6 +7,7 @@
 #include "core/graph/session.h"
 #include "core/launch/check.h"
 #include "core/launch/launch_file.h"
+#include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
 #include "nodes/enact/commands.h"
 
@@ -42,6 +43,9 @@ options:
                      yet: anyone who reaches the port sees every topic and can send
                      param/set)
 
+A launch file's realtime: entry (every shipped graph has one) pins the loop's processes
+together, holds the CPU latency request and orders SCHED_FIFO before anything starts; what
+is refused is said once and the graph runs anyway (README, "Real-time profile").
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end (or by the next launch, if this one was killed).
 )";
@@ -75,7 +79,7 @@ int launch(int argc, char** argv) {
   if (options.duration_s < 0.0 || options.ready_timeout_s <= 0.0) throw UsageError("--duration must be >= 0 and --ready-timeout > 0");
   const std::string name = a.get("name", std::filesystem::path(a.positional[0]).stem().string());
   if (name.empty()) throw UsageError("--name needs a name");
-  const launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
+  launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
   for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
   for (const auto& n : graph.nodes) {
     std::string line;
@@ -101,6 +105,9 @@ int launch(int argc, char** argv) {
     std::printf("check: every node accepts its parameters\n");
     return 0;
   }
+
+  // the real-time profile, before the launcher starts any thread or process (they inherit it)
+  const auto realtime = launch::apply_realtime(graph, std::cerr);
 
   // the graph's session: its folder, attach point and registry entry; observers can find
   // it from now on (a node may wait for them before it is ready)

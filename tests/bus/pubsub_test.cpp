@@ -44,7 +44,7 @@ TEST_P(Transport, DeviceStateRoundTripFillsTheHeader) {
   bus::Publisher<msgs::DeviceState> pub(pub_, "ffd/state");
 
   // three messages; the last one carries its own stamp
-  const std::int64_t before_ns = bus::monotonic_ns();
+  const std::int64_t before_ns = enact::rt::now_ns();
   for (int i = 0; i < 3; ++i) {
     msgs::DeviceState m = sample_state(0.01 * i);
     if (i == 2) m.mutable_header()->set_stamp_ns(777);
@@ -260,6 +260,22 @@ TEST(Bus, ConflationNeedsASingleTopic) {
   bytes.subscribe("a");
   bytes.subscribe("b");
   EXPECT_THROW(bytes.set_conflate(true), std::logic_error);
+}
+
+// a receive with a timeout never gives up before it: 1 ms used to round down to no wait at
+// all (and N ms to about N-1). Only a lower bound is asserted, which load cannot break.
+TEST(Bus, ReceiveWaitsTheWholeTimeout) {
+  bus::ByteSubscriber bytes;
+  bus::Subscriber<msgs::DeviceState> sub(bytes, "ffd/state");
+  for (const int timeout_ms : {1, 2, 5}) {
+    bus::RawMessage raw;
+    const std::int64_t before_ns = enact::rt::now_ns();
+    EXPECT_FALSE(bytes.receive(raw, timeout_ms));
+    EXPECT_GE(enact::rt::now_ns() - before_ns, timeout_ms * 1'000'000LL) << "byte layer, " << timeout_ms << " ms";
+    const std::int64_t typed_before_ns = enact::rt::now_ns();
+    EXPECT_FALSE(sub.receive(timeout_ms));
+    EXPECT_GE(enact::rt::now_ns() - typed_before_ns, timeout_ms * 1'000'000LL) << "typed layer, " << timeout_ms << " ms";
+  }
 }
 
 }  // namespace

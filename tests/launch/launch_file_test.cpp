@@ -398,5 +398,46 @@ TEST_F(LoadLaunch, MissingFileIsRefused) {
   EXPECT_NE(refusal("absent.yaml").find("cannot open"), std::string::npos);
 }
 
+constexpr const char* kRealtime =
+    "launch:\n"
+    "  - arg: {name: fifo, default: '0'}\n"
+    "  - realtime: {loop: [ffd, sim], fifo_priority: $(var fifo)}\n"
+    "  - node: {name: sim, exec: sim}\n"
+    "  - node: {name: ffd, exec: ffd}\n";
+
+TEST_F(LoadLaunch, RealtimeEntryNamesTheLoopAndItsPriority) {
+  write("a.yaml", kRealtime);
+  const LaunchDescription d = load("a.yaml", {{"fifo", "80"}});
+  EXPECT_TRUE(d.realtime.enabled);
+  EXPECT_TRUE(d.realtime.cpu_latency);
+  EXPECT_EQ(d.realtime.loop, (std::vector<std::string>{"ffd", "sim"}));
+  EXPECT_EQ(d.realtime.fifo_priority, 80);
+  // without the entry the profile is off
+  write("b.yaml", kArgs);
+  EXPECT_FALSE(load("b.yaml").realtime.enabled);
+}
+
+TEST_F(LoadLaunch, RealtimeRefusesAnUnknownLoopNodeAndAnUnorderablePriority) {
+  write("a.yaml", kRealtime);
+  expect_refused_at("a.yaml", 3, {{"fifo", "2"}});
+  expect_refused_at("a.yaml", 3, {{"fifo", "high"}});
+  write("b.yaml",
+        "launch:\n"
+        "  - node: {name: sim, exec: sim}\n"
+        "  - realtime: {loop: [ffd, sim]}\n");
+  expect_refused_at("b.yaml", 3);
+  EXPECT_NE(refusal("b.yaml").find("'ffd'"), std::string::npos);
+}
+
+TEST_F(LoadLaunch, ShippedGraphsHoldTheRealtimeProfileByDefault) {
+  for (const char* file : {"bridge.yaml", "bridge_rt.yaml", "experiments/trial.yaml", "experiments/trial_rt.yaml"}) {
+    const LaunchDescription d = load_launch(std::string(ENACT_SOURCE_DIR) + "/launch/" + file, {}, fake_resolve);
+    EXPECT_TRUE(d.realtime.enabled) << file;
+    EXPECT_FALSE(d.realtime.loop.empty()) << file;
+    EXPECT_EQ(d.realtime.fifo_priority, 80) << file;
+    EXPECT_EQ(load_launch(std::string(ENACT_SOURCE_DIR) + "/launch/" + file, {{"fifo_priority", "0"}}, fake_resolve).realtime.fifo_priority, 0) << file;
+  }
+}
+
 }  // namespace
 }  // namespace enact::launch

@@ -89,6 +89,37 @@ TEST(PeriodicScheduler, TwoHundredTicksAtFiveKilohertz) {
   EXPECT_EQ(s.overruns() > 0, s.skipped() > 0);
 }
 
+TEST(PeriodicScheduler, EverySkippedDeadlineCountsAsAnOverrun) {
+  PeriodicScheduler s({.rate_hz = 5000.0});
+  // the first deadline lies ten periods in the past: the wake-up is late and at least the
+  // nine deadlines after it already passed
+  s.start(now_ns() - 10 * s.period_ns());
+  s.wait();
+  EXPECT_EQ(s.ticks(), 1u);
+  EXPECT_GE(s.skipped(), 9u);
+  EXPECT_EQ(s.overruns(), 1 + s.skipped());
+}
+
+TEST(PeriodicScheduler, SleepEveryTickCapsTheSpinAtHalfAPeriod) {
+  // 44 kHz: a 50 us spin window is longer than the period, so the loop would never sleep
+  EXPECT_EQ(PeriodicScheduler({.rate_hz = 44000.0, .spin_ns = 50'000}).spin_ns(), 50'000);
+  const PeriodicScheduler capped({.rate_hz = 44000.0, .spin_ns = 50'000, .sleep_every_tick = true});
+  EXPECT_EQ(capped.spin_ns(), capped.period_ns() / 2);
+  EXPECT_EQ(PeriodicScheduler({.rate_hz = 5000.0, .spin_ns = 50'000, .sleep_every_tick = true}).spin_ns(), 50'000);
+}
+
+TEST(PeriodicScheduler, SleepLatenessIsMeasuredBeforeTheSpin) {
+  PeriodicScheduler s({.rate_hz = 1000.0, .spin_ns = 100'000});
+  s.start(now_ns() + 2'000'000);
+  s.wait();
+  // it slept (the deadline was 2 ms ahead): lateness from the end of the sleep, never negative
+  EXPECT_GE(s.last_sleep_late_ns(), 0);
+  // inside the spin window already: no sleep
+  s.start(now_ns() + 50'000);
+  s.wait();
+  EXPECT_EQ(s.last_sleep_late_ns(), -1);
+}
+
 TEST(PeriodicScheduler, AStallIsAnOverrunAndMissedDeadlinesAreSkipped) {
   PeriodicScheduler s({.rate_hz = 5000.0});
   s.start(now_ns() + 1'000'000);

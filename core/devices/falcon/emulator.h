@@ -24,6 +24,7 @@
 #include "core/devices/falcon/protocol.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/usb/fake.h"
+#include "core/rt/clock.h"
 
 namespace enact::devices::falcon {
 
@@ -32,7 +33,7 @@ struct FalconEmulatorParams {
   bool firmware_running = true;  // false: in the boot loader, as at power-up: the host must upload
   bool homed = true;             // false: the encoders must be homed first
   int handshake_failures = 0;    // check messages answered wrongly before the first right one
-  std::int64_t (*clock)() = nullptr;  // monotonic ns; null: CLOCK_MONOTONIC
+  rt::ClockFn clock = nullptr;  // monotonic ns; null: CLOCK_MONOTONIC
 
   // the "falcon" profile, the hand holding the grip at the workspace centre
   static SimulatedForceParams default_grip();

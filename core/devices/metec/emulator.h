@@ -14,6 +14,7 @@
 #include "core/devices/metec/protocol.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/devices/usb/fake.h"
+#include "core/rt/clock.h"
 
 namespace enact::devices::metec {
 
@@ -21,7 +22,7 @@ struct MetecEmulatorParams {
   int cells = 16;                 // 8 .. 80, a multiple of 8 (whole modules)
   double rise_time_s = 0.024;     // > 0
   std::string identity = "enact Metec emulator";
-  std::int64_t (*clock)() = nullptr;  // monotonic ns; null: CLOCK_MONOTONIC
+  rt::ClockFn clock = nullptr;  // monotonic ns; null: CLOCK_MONOTONIC
 };
 
 class MetecEmulator final : public usb::Emulator {

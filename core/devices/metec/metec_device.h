@@ -30,6 +30,7 @@
 #include "core/devices/usb/io_thread.h"
 #include "core/devices/usb/latest.h"
 #include "core/devices/usb/transport.h"
+#include "core/rt/clock.h"
 
 namespace enact::devices::metec {
 
@@ -42,7 +43,7 @@ struct MetecParams {
   double io_period_s = 0.001;  // (0, 0.05]: how often changed pins are written
   double status_period_s = 0.05;  // (0, 1]: how often the status is polled
   int timeout_ms = 20;         // 1 .. 1000: a control transfer's timeout (a display that stops answering)
-  std::int64_t (*clock)() = nullptr;  // stamps the cells' motion (monotonic ns); null: CLOCK_MONOTONIC
+  rt::ClockFn clock = nullptr;  // stamps the cells' motion (monotonic ns); null: CLOCK_MONOTONIC
 };
 
 class MetecTactileDevice final : public TactileDevice {
