@@ -32,12 +32,16 @@ struct LoggerOptions {
 };
 
 // sequence numbers of one publisher's topic (header.seq: +1 per message): a jump is a
-// loss, a step back a restart of the publisher
+// loss, a step back a restart of the publisher: a new stream whose first message is seq 1,
+// so what came before the one received is lost too
 struct SequenceCheck {
   std::uint64_t last = 0, messages = 0, gaps = 0, restarts = 0;
   void add(std::uint64_t seq) {
     if (messages > 0 && seq > last + 1) gaps += seq - last - 1;
-    if (messages > 0 && seq <= last) ++restarts;
+    if (messages > 0 && seq <= last) {
+      ++restarts;
+      gaps += seq - 1;
+    }
     last = seq;
     ++messages;
   }

@@ -36,6 +36,7 @@ struct Child {
   std::string ready_buffer;
   int status = 0;        // wait status once exited
   std::int64_t respawn_at_ns = 0;
+  int respawns = 0;      // restarts so far
 };
 
 std::string describe(int status) {
@@ -54,10 +55,13 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
   }
   const std::vector<std::string> args = c.spec->argv();
   const pid_t launcher = getpid();
+  const std::string respawn = std::to_string(c.respawns);  // $ENACT_RESPAWN, 0: a first start
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    // the launcher gone (even by SIGKILL): a clean stop, so drivers zero the force and lower
+    // the pins; a node that does not exit within its grace period kills itself (node.h)
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (getppid() != launcher) _exit(127);
     sigprocmask(SIG_UNBLOCK, &blocked, nullptr);
     close(fds[0]);
@@ -65,6 +69,7 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
     if (fds[1] == 3) fcntl(3, F_SETFD, 0);
     else dup2(fds[1], 3);
     setenv("ENACT_READY_FD", "3", 1);
+    setenv("ENACT_RESPAWN", respawn.c_str(), 1);
     for (const Param& e : env) setenv(e.name.c_str(), e.value.c_str(), 1);
     for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> argv;
@@ -167,8 +172,22 @@ struct Graph {
       log << "enact launch: required process '" << c.spec->name << "' is gone, stopping the graph\n";
       return false;
     }
-    if (c.spec->respawn) c.respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(c.spec->respawn_delay_s));
+    if (c.spec->respawn) schedule_respawn(c);
     return true;
+  }
+
+  // the next restart of `c`, after a delay doubled at each restart; none past respawn_max
+  void schedule_respawn(Child& c) {
+    if (c.respawns >= c.spec->respawn_max) {
+      log << "enact launch: '" << c.spec->name << "' was restarted " << c.respawns << " times (respawn_max " << c.spec->respawn_max
+          << "): not restarting it again\n  fix: find why it exits in its output above; or raise respawn_max at " << c.spec->source << "\n";
+      return;
+    }
+    const double delay_s = c.spec->respawn_delay_s * std::pow(2.0, c.respawns);
+    ++c.respawns;
+    c.respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(delay_s));
+    log << "enact launch: restarting '" << c.spec->name << "' in " << delay_s << " s (restart " << c.respawns << " of " << c.spec->respawn_max
+        << ")\n";
   }
 
   // wait for `c` to say ready; false on timeout, exit, or a stop signal (then `signalled`)

@@ -1,7 +1,8 @@
 #pragma once
 // Running a launch description: start the processes in order, wait until each reports
 // ready, supervise them, and stop them in reverse order (list the drivers last: they stop
-// first, zeroing force and lowering pins). No process outlives the launcher.
+// first, zeroing force and lowering pins). No process outlives the launcher: when it dies,
+// even by SIGKILL, each process gets SIGTERM (PR_SET_PDEATHSIG) and stops cleanly.
 //
 // Ready protocol: each process gets ENACT_READY_FD=<fd> in its environment and writes a
 // line "ready\n" to that file descriptor once it is active.

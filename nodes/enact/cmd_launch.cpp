@@ -13,6 +13,7 @@
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
+#include "core/launch/stale_graphs.h"
 #include "core/launch/supervisor.h"
 #include "msgs/param_update.pb.h"
 #include "nodes/enact/commands.h"
@@ -44,7 +45,8 @@ options:
                      param/set)
 
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
-removed at the end.
+removed at the end; folders left by a launcher that was killed are removed by the next one.
+When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops cleanly.
 )";
 
 }  // namespace
@@ -87,8 +89,10 @@ int launch(int argc, char** argv) {
   // the graph's folder and its attach point (observers: viewers, loggers, enact topic); the
   // attach point's thread must not receive the signals the supervisor waits for
   launch::block_supervisor_signals();
-  const graph::TempFolder graph_dir("/tmp/enact-graph-");  // the graph's ipc sockets, removed at the end
+  launch::remove_stale_graph_folders("/tmp", "enact-graph-");  // left by launchers that were killed
+  const graph::TempFolder graph_dir("/tmp/enact-graph-");     // the graph's ipc sockets, removed at the end
   const std::string& dir = graph_dir.path();
+  launch::mark_graph_folder(dir);
   options.env.push_back({"ENACT_GRAPH_DIR", dir});
   bus::AttachOptions attach_options;
   attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
