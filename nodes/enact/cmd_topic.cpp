@@ -11,6 +11,7 @@
 
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
+#include "core/graph/logger.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
@@ -26,7 +27,8 @@ constexpr const char* kHelp = R"(usage: enact topic list [--attach ENDPOINT]
 
 Attach to a running graph (like `ros2 topic`), at any time, without disturbing it:
   list   the graph's topics, their message types and publishers (from graph/topics)
-  echo   print each message of TOPIC (Protobuf text), N of them or until Ctrl-C
+  echo   print each message of TOPIC (Protobuf text), N of them or until Ctrl-C; at the end,
+         on stderr, how many arrived and how many were lost (sequence gaps)
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
 --attach: the graph's attach endpoint (printed by `enact launch`); default: the last graph
 launched on this machine (/tmp/enact-<uid>/attach).
@@ -86,7 +88,7 @@ int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo,
   bus::ByteSubscriber sub;
   sub.connect(endpoint);
   sub.subscribe(topic);
-  std::map<std::string, std::uint64_t> last_seq;
+  std::map<std::string, graph::SequenceCheck> sources;  // per publishing node
   std::uint64_t received = 0, lost = 0, window = 0;
   const std::int64_t start = rt::now_ns();
   std::int64_t next_report = start + 1'000'000'000;
@@ -105,16 +107,18 @@ int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo,
     ++received;
     ++window;
     const auto [source, seq] = header_of(*msg);
-    auto& last = last_seq[source];
-    if (last != 0 && seq > last + 1) lost += seq - last - 1;
-    last = seq;
+    graph::SequenceCheck& check = sources[source];
+    lost -= check.gaps;
+    check.add(seq);
+    lost += check.gaps;
     if (echo) {
       std::printf("--- %s\n%s", topic.c_str(), msg->DebugString().c_str());
       std::fflush(stdout);
     }
   }
-  if (!echo) std::printf("%s: %llu messages in %.1f s, %llu lost in gaps\n", topic.c_str(), static_cast<unsigned long long>(received),
-                         static_cast<double>(rt::now_ns() - start) * 1e-9, static_cast<unsigned long long>(lost));
+  // the summary: on stdout for hz, on stderr for echo (its stdout is the messages)
+  std::fprintf(echo ? stderr : stdout, "%s: %llu messages in %.1f s, %llu lost in gaps\n", topic.c_str(), static_cast<unsigned long long>(received),
+               static_cast<double>(rt::now_ns() - start) * 1e-9, static_cast<unsigned long long>(lost));
   return 0;
 }
 

@@ -286,7 +286,8 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   });
   EXPECT_TRUE(tripped) << "no ffd/state with DEVICE_FAULT_WATCHDOG within 2 s of stopping the simulator";
   std::printf("[ timing ] watchdog bit seen %.3f s after SIGSTOP\n", seconds_since(stopped));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // stalled well past the tactile driver's watchdog (0.25 s) too
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
 
   // resume it: within 2 s, samples taken after that are healthy again
   const std::int64_t cont_ns = bus::monotonic_ns();
