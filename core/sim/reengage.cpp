@@ -25,8 +25,10 @@ physics::Vec3 Reengagement::position(const Simulator& sim, std::int64_t time_ns,
   }
   const std::int64_t since_ns = time_ns - from_ns_;
   if (since_ns >= duration_ns_) return device_m;
-  const double left = since_ns <= 0 ? 1.0 : 1.0 - static_cast<double>(since_ns) / static_cast<double>(duration_ns_);
-  return device_m + offset_m_ * left;
+  // a smooth step (zero speed at both ends): the body enters the objects without a speed of
+  // its own, so the contacts' damping adds no step to the force
+  const double u = since_ns <= 0 ? 0.0 : static_cast<double>(since_ns) / static_cast<double>(duration_ns_);
+  return device_m + offset_m_ * (1.0 - u * u * (3.0 - 2.0 * u));
 }
 
 physics::Vec3 resync_offset(const physics::Model& model, const physics::State& state, const physics::Vec3& device_m) {

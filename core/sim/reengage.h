@@ -4,8 +4,8 @@
 // may have pushed the device deep into an object, and stepping there at once would answer
 // with a jolt (hundreds of N). Instead, the first step after the interruption places the
 // body just out of every object along the contact normals (the contacts' memory of the
-// faces they entered through is kept), and that offset shrinks linearly to zero over
-// duration_s: the force grows from zero back to the model's. Allocates nothing after
+// faces they entered through is kept), and that offset shrinks smoothly (zero speed at both
+// ends) to zero over duration_s: the force grows from zero back to the model's. Allocates nothing after
 // construction; never throws.
 #include <cstdint>
 
@@ -24,7 +24,7 @@ class Reengagement {
 
   // the position to give Simulator::step for the device at device_m at time_ns: the
   // device's own, plus an offset that keeps the body's points out of the objects at the
-  // first step after interrupt() and shrinks to zero over duration_s
+  // first step after interrupt() and shrinks smoothly to zero over duration_s
   physics::Vec3 position(const Simulator& sim, std::int64_t time_ns, const physics::Vec3& device_m);
 
   // re-synchronisations so far, and the largest offset they needed (m)

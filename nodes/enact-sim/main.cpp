@@ -31,16 +31,14 @@ parameters:
   scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
   tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
   ffd_node=ffd  scene_rate_hz=60
-  reengage_s=0.1 (after an interruption of the force path: its start, a watchdog episode of
-    the driver, samples more than 10 ms apart, the body starts just out of every object and
-    returns to the device over this time: the force comes back from zero, never as a jolt)
+  reengage_s=0.1 (after an interruption of the force path: its start, or a watchdog episode
+    of the driver, the body starts just out of every object and returns to the device over
+    this time: the force comes back from zero, never as a jolt)
   observers=0 (wait up to 10 s for this many observers of ffd/force before answering)
 )";
 
 // how often parameter requests are looked for while states flow
 constexpr std::int64_t kParamPoll_ns = 10'000'000;
-// samples further apart than this: the force path was interrupted (the driver's watchdog time)
-constexpr std::int64_t kInterruption_ns = 10'000'000;
 
 // the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
 int respawn_count() {
@@ -94,16 +92,22 @@ int run(int argc, char** argv) {
   simulator.activate(0);
   reengage.interrupt();
   graph::report_ready();
-  if (const int respawn = respawn_count(); respawn > 0) {
-    // a new simulator: physics and task start over, said and recorded
-    const std::string detail = "simulator restarted (respawn " + std::to_string(respawn) + "): physics and task start over";
-    graph::say(args.name, detail);
+  // a new simulator: physics and task start over, said now and recorded (a task event, once
+  // the attach point has subscribed again, or after a second without)
+  const int respawn = respawn_count();
+  bool restart_event_due = respawn > 0;
+  const std::int64_t restart_ns = rt::now_ns();
+  const std::string restart_detail = "simulator restarted (respawn " + std::to_string(respawn) + "): physics and task start over";
+  if (restart_event_due) graph::say(args.name, restart_detail);
+  auto publish_restart = [&] {
+    if (!restart_event_due || (out.subscriber_count(graph::kTaskEvent) == 0 && rt::now_ns() < restart_ns + 1'000'000'000)) return;
+    restart_event_due = false;
     event.set_kind(msgs::TaskEvent::TRIAL_START);
-    event.set_time_ns(rt::now_ns());
+    event.set_time_ns(restart_ns);
     event.set_condition(simulator.computer_model().name);
-    event.set_detail(detail);
+    event.set_detail(restart_detail);
     event_pub.publish(event);
-  }
+  };
   // parameter changes, between two steps
   auto apply_params = [&] {
     while (const auto change = params.next()) params.applied(simulator.apply(*change, last_step_ns, rt::now_ns()));
@@ -119,10 +123,9 @@ int run(int argc, char** argv) {
       next_scene = next_status = received;
     }
     // step on this sample and answer it at once; after an interruption (the driver's
-    // watchdog, a gap) from a body re-synchronised with the device
-    const std::int64_t step_ns = state.header().stamp_ns() - first_ns;
-    if ((state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0 || step_ns - last_step_ns > kInterruption_ns) reengage.interrupt();
-    last_step_ns = step_ns;
+    // watchdog cut the force) from a body re-synchronised with the device
+    if ((state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0) reengage.interrupt();
+    last_step_ns = state.header().stamp_ns() - first_ns;
     const sim::StepOutput& o = simulator.step(last_step_ns, reengage.position(simulator, last_step_ns, graph::get(state.position())));
     graph::fill(command, state.header().seq(), o.force_n, o.fault);
     force_pub.publish(command);
@@ -132,6 +135,7 @@ int run(int argc, char** argv) {
     if (received >= next_params) {
       next_params = received + kParamPoll_ns;
       apply_params();
+      publish_restart();
     }
     if (o.frame_due) {
       graph::fill(frame, body.rows, body.cols, o.frame);
