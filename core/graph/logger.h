@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/disconnect.h"
 #include "core/record/writer.h"
 #include "core/launch/launch_file.h"
 #include "msgs/common.pb.h"
@@ -67,8 +68,11 @@ class Logger {
   // finds the graph (waits up to wait_s for its GraphInfo), subscribes, opens the first
   // file. Throws config::Error when no graph answers or a topic asked for is not in it.
   void attach();
-  // receives and writes until `stop` returns true; calls `progress` about once a second
+  // receives and writes until `stop` returns true or the graph is gone (its attach point's
+  // connection closed: the launcher ended, or was killed); calls `progress` about once a second
   void run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress = {});
+  // whether run() ended because the graph was gone
+  bool graph_gone() const { return graph_gone_; }
   // writes the statistics metadata and closes the file (complete and indexed)
   void close();
 
@@ -91,6 +95,8 @@ class Logger {
   LoggerOptions options_;
   std::string endpoint_;
   bus::ByteSubscriber sub_;
+  std::unique_ptr<bus::DisconnectWatch> watch_;  // on sub_, from attach()
+  bool graph_gone_ = false;
   msgs::GraphInfo graph_;
   std::unique_ptr<record::Writer> writer_;
   std::map<std::string, std::uint16_t> schemas_;   // per file

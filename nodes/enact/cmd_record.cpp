@@ -30,7 +30,8 @@ constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --
 
 Attach to a running graph (the last one started here, or --attach ENDPOINT, also on another
 machine) and keep every message of its topics in an MCAP file, until Ctrl-C / SIGTERM (or
---duration): the file is then complete and indexed. A kill -9 loses at most the last chunk
+--duration), or until the graph is gone (its launcher ended or was killed): the file is
+then complete and indexed. A kill -9 loses at most the last chunk
 (--chunk-duration, 1 s by default); `enact recover` rebuilds the rest. Sequence gaps are
 counted per topic and reported at the end.
 
@@ -189,6 +190,7 @@ int record(int argc, char** argv) {
              [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
   logger.close();
   if (tty) std::fputs("\n", stderr);
+  if (logger.graph_gone()) std::fputs("enact record: the graph is gone (its attach point closed the connection); file closed\n", stderr);
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());

@@ -108,16 +108,33 @@ TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
 }
 
 // the launcher killed by SIGKILL: every node stops cleanly (SIGTERM from the kernel), the
-// FFD driver zeroing the force and the tactile driver lowering the pins
+// FFD driver zeroing the force and the tactile driver lowering the pins; an attached
+// recorder closes its file and exits
 TEST(Faults, KilledLauncherZeroesTheForceAndLowersThePins) {
   ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
   TempDir dir;
-  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0);
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
+  ASSERT_TRUE(launcher.wait_log("started ffd", kReadyTimeout_s)) << launcher.log();
+  const pid_t recorder =
+      spawn({ENACT_CLI, "record", "-o", dir.file("run.mcap"), "--attach", launcher.endpoint()}, dir.file("rec.out"), dir.file("rec.err"));
   ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
   const pid_t sim = launcher.pid_of("sim"), tactile = launcher.pid_of("tactile"), ffd = launcher.pid_of("ffd");
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   ASSERT_EQ(kill(launcher.pid(), SIGKILL), 0);
   ASSERT_TRUE(launcher.wait_exit(5.0));
+  // the recorder notices and closes a complete file
+  const auto give_up = after(10.0);
+  bool recorder_exited = false;
+  while (!(recorder_exited = waitpid(recorder, nullptr, WNOHANG) == recorder) && Clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!recorder_exited) {
+    kill(recorder, SIGKILL);
+    waitpid(recorder, nullptr, 0);
+  }
+  EXPECT_TRUE(recorder_exited) << "enact record still runs 10 s after the launcher was killed";
+  EXPECT_NE(read_file(dir.file("rec.err")).find("the graph is gone"), std::string::npos) << read_file(dir.file("rec.err"));
+  EXPECT_TRUE(record::Reader(dir.file("run.mcap")).complete());
   const auto end = after(10.0);
   while (Clock::now() < end && !(process_gone(sim) && process_gone(tactile) && process_gone(ffd))) {
     while (waitpid(-1, nullptr, WNOHANG) > 0) {
