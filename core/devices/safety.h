@@ -11,9 +11,10 @@
 //   episode, a failed read of the device: each read that fails sends zero), the commands are
 //   scaled from zero at the first write after it up to one reengage_s later, so the force
 //   comes back gently.
-// - slew limit, the last line: the force sent to the inner device never changes by more than
-//   the profile's max_force_step_n_per_ms within a millisecond (proportionally less within a
-//   shorter interval; counted). Only deactivate() zeroes at once.
+// - slew limit, the last line: between two forces sent to the inner device, the force
+//   changes by at most the profile's max_force_step_n_per_ms times the time between them,
+//   counted as at most a millisecond (so a 5 kHz loop moves 2 N per tick at 10 N/ms; a write
+//   after a silence moves one millisecond's worth). Counted. Only deactivate() zeroes at once.
 // - deactivate(): writes zero to the inner device (at the latest time seen, 0 if none), then
 //   deactivates it.
 // The fault bits in a sample are the inner device's plus the wrapper's for the force acting

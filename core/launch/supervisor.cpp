@@ -37,6 +37,7 @@ struct Child {
   int status = 0;        // wait status once exited
   std::int64_t respawn_at_ns = 0;
   int respawns = 0;      // restarts so far
+  bool hung = false;     // stopped because it hung: a failure, whatever its exit status
 };
 
 std::string describe(int status) {
@@ -137,6 +138,7 @@ struct Graph {
     if (c.pid <= 0) return;
     const pid_t pid = c.pid;
     kill(-pid, SIGTERM);
+    kill(-pid, SIGCONT);  // a stopped process (SIGSTOP, a hang) can then stop cleanly
     const std::int64_t deadline = now_ns() + to_ns(timeout_s);
     int status = 0;
     while (now_ns() < deadline) {
@@ -161,6 +163,19 @@ struct Graph {
     for (Child& c : children) {
       if (c.ready_fd >= 0) close(c.ready_fd);
       c.ready_fd = -1;
+    }
+  }
+
+  // stops the running processes named in `names` (they hang), adding them to `exited`
+  void stop_hung(const std::vector<std::string>& names, double timeout_s, std::vector<Child*>& exited) {
+    for (const std::string& name : names) {
+      for (Child& c : children) {
+        if (c.spec->name != name || c.pid <= 0) continue;
+        log << "enact launch: '" << name << "' (" << c.spec->source << ") hangs: no node/status for a while, stopping it\n";
+        stop(c, timeout_s);
+        c.hung = true;
+        exited.push_back(&c);
+      }
     }
   }
 
@@ -292,11 +307,13 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       }
     }
     std::vector<Child*> exited;
+    if (options.hung_nodes) g.stop_hung(options.hung_nodes(), options.stop_timeout_s, exited);
     g.reap(exited);
     for (Child* c : exited) {
       // a required process that finished its job (exit 0, e.g. a replay at its end) ends
       // the graph successfully; a crash or an error fails it
-      if (!g.handle_exit(*c)) return finish(WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
+      if (!g.handle_exit(*c)) return finish(!c->hung && WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
+      c->hung = false;
     }
   }
 }

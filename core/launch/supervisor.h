@@ -8,6 +8,7 @@
 // line "ready\n" to that file descriptor once it is active.
 #include <functional>
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 #include "core/launch/launch_file.h"
@@ -21,6 +22,10 @@ struct SupervisorOptions {
   std::vector<Param> env;         // set in every process's environment (before its own env)
   // called once every process is ready (e.g. to print where observers attach)
   std::function<void()> on_ready;
+  // polled while the graph runs (about every 50 ms): the names of processes that hang (e.g.
+  // graph::StatusWatch: no node/status for 3 s). Each is stopped (SIGTERM, then SIGKILL) and
+  // handled as if it had exited: a required one stops the graph, a respawning one restarts.
+  std::function<std::vector<std::string>()> hung_nodes;
 };
 
 // block SIGINT, SIGTERM and SIGCHLD in the calling thread; call it before starting any

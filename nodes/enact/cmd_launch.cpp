@@ -10,11 +10,13 @@
 #include "core/bus/attach.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
+#include "core/graph/status_watch.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/stale_graphs.h"
 #include "core/launch/supervisor.h"
+#include "core/rt/clock.h"
 #include "msgs/param_update.pb.h"
 #include "nodes/enact/commands.h"
 
@@ -46,7 +48,8 @@ options:
 
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end; folders left by a launcher that was killed are removed by the next one.
-When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops cleanly.
+When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops cleanly. A node
+whose node/status stops for 3 s while the others report hangs: it is stopped, as for an exit.
 )";
 
 }  // namespace
@@ -116,6 +119,9 @@ int launch(int argc, char** argv) {
   std::filesystem::create_directories(std::filesystem::path(graph::attach_file()).parent_path(), ec);
   std::ofstream(graph::attach_file()) << attach.endpoint() << "\n";
   options.on_ready = [&] { std::cerr << "enact launch: observers attach at " << attach.endpoint() << "\n"; };
+  // a node whose node/status stops is handled as if it had exited
+  graph::StatusWatch statuses(attach.endpoint());
+  options.hung_nodes = [&] { return statuses.hung(rt::now_ns()); };
   const int code = launch::supervise(graph, options, std::cerr);
   attach.stop();
   return code;

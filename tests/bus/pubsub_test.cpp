@@ -126,9 +126,10 @@ TEST_P(Transport, LateJoinerGetsLaterMessagesInOrder) {
 }
 
 TEST_P(Transport, StoppedSubscriberLosesAloneAndNeverHoldsBackTheOthers) {
-  // a publisher of ~1 kB messages (a long node name in header.source) with short queues, a
-  // subscriber that stops reading (a stopped observer) and one that keeps up (the loop partner)
-  bus::BytePublisher bytes(enact::test::bind_endpoint(GetParam(), dir_), {.node = std::string(1000, 'n'), .send_hwm = 100});
+  // a publisher of ~1 kB messages (a long node name in header.source), a subscriber that
+  // stops reading (a stopped observer) and one that keeps up (the loop partner); the queues
+  // hold 2000 messages: 40 ms for the I/O thread of a busy machine to keep up
+  bus::BytePublisher bytes(enact::test::bind_endpoint(GetParam(), dir_), {.node = std::string(1000, 'n'), .send_hwm = 2000});
   bus::Publisher<msgs::DeviceState> pub(bytes, "ffd/state");
   bus::ByteSubscriber slow_bytes, fast_bytes;
   slow_bytes.set_receive_hwm(10);

@@ -209,8 +209,8 @@ TEST(Safety, BadParamsAreRefusedWithAFix) {
   }
 }
 
-// the largest force step sent to the inner device, as a fraction of what the ERGOS limit
-// (5 N/ms) allows over the time since the previous write (at most 1 ms); writes from time 0
+// the largest force step sent to the inner device, as a fraction of what the limit allows
+// over the time since the previous write (at most 1 ms; the first: 1 ms)
 double largest_step_fraction(const std::vector<Call>& log, double limit_n_per_ms) {
   double largest = 0.0;
   const Call* previous = nullptr;
@@ -228,20 +228,20 @@ double largest_step_fraction(const std::vector<Call>& log, double limit_n_per_ms
 TEST(Safety, SlewLimitBoundsEveryStepOfTheForce) {
   Fixture f({.reengage_s = 0.0}, true);
   const double limit = f.inner->profile().max_force_step_n_per_ms;
-  ASSERT_EQ(limit, 5.0);
-  // 0 to the 200 N peak at once, commanded at 5 kHz: a millisecond's 5 N at the first write
-  // (nothing was sent before), then 1 N per 0.2 ms, the peak after 39 ms
+  ASSERT_EQ(limit, 10.0);
+  // 0 to the 200 N peak at once, commanded at 5 kHz: a millisecond's 10 N at the first write
+  // (nothing was sent before), then 2 N per 0.2 ms, the peak after 19 ms
   std::int64_t t = kT0;
   for (int i = 0; i < 250; ++i, t += kMs / 5) f.safe->write(t, {0.0, 0.0, -200.0});
   EXPECT_LE(largest_step_fraction(f.log, limit), 1.0 + 1e-9);
-  EXPECT_NEAR(f.log[0].force_n.z, -5.0, 1e-9);
-  EXPECT_NEAR(f.log[5].force_n.z, -10.0, 1e-9);  // 1 ms later
+  EXPECT_NEAR(f.log[0].force_n.z, -10.0, 1e-9);
+  EXPECT_NEAR(f.log[5].force_n.z, -20.0, 1e-9);  // 1 ms later
   EXPECT_EQ(f.last_write(), (Vec3{0.0, 0.0, -200.0}));
   EXPECT_GT(f.safe->slew_limited(), 0u);
   // the reverse after a silence of 8 ms (no watchdog yet): one millisecond's step, no more
   t += 8 * kMs;
   f.safe->write(t, {0.0, 0.0, 200.0});
-  EXPECT_NEAR(f.last_write().z, -195.0, 1e-9);
+  EXPECT_NEAR(f.last_write().z, -190.0, 1e-9);
   // switching off zeroes at once
   f.safe->deactivate();
   EXPECT_EQ(f.safe->sent_force_n(), Vec3{});
