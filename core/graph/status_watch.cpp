@@ -12,6 +12,12 @@ StatusWatch::StatusWatch(const std::string& attach_endpoint, double silence_s)
 }
 
 std::vector<std::string> StatusWatch::hung(std::int64_t now_ns) {
+  // not asked for a while: this process was held up (SIGSTOP, swapped out), and what it
+  // missed meanwhile says nothing about the nodes. Every silence starts over
+  if (now_ns - last_call_ns_ > silence_ns_ / 4) {
+    for (auto& [node, last_ns] : last_ns_) last_ns = now_ns;
+  }
+  last_call_ns_ = now_ns;
   while (statuses_.receive(status_, 0)) {
     last_ns_[status_.node()] = now_ns;
     latest_ns_ = now_ns;

@@ -92,6 +92,9 @@ TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
               resumed->watchdog_longest_s());
   EXPECT_GT(window_s, kStop_s);
   EXPECT_LT(resumed->watchdog_longest_s(), kStop_s / 3) << "the loop stopped answering while the launcher was stopped";
+  // and the launcher, resumed, does not take the statuses it missed for hung nodes
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  EXPECT_EQ(launcher.log().find("hangs"), std::string::npos) << launcher.log();
 
   // the observer lost what the stopped attach point could not hold, and counts exactly that
   ASSERT_GE(seen.states.size(), 2u);
