@@ -1,5 +1,7 @@
 #include "core/bus/attach.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -181,6 +183,8 @@ void AttachPoint::run() {
       if (graph_now) {
         publish_graph();
         next_graph = Clock::now() + std::chrono::milliseconds(graph_period_ms_);
+        // what the queues of a slow observer took goes back to the system once drained
+        malloc_trim(0);
       }
     }
   } catch (const std::exception& e) {

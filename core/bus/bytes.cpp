@@ -39,9 +39,11 @@ BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions optio
     throw config::Error("publisher '" + endpoint + "': send_hwm must be >= 1, got " + std::to_string(options.send_hwm) +
                         "\n  fix: give the number of messages queued per subscriber, e.g. 1000");
   }
-  // never block, never drop silently: a full queue makes send() fail, and we count it
+  // never block, and never let one subscriber hold back the others: a subscriber whose
+  // queue is full loses the message alone (ZeroMQ's default XPUB behaviour, no
+  // ZMQ_XPUB_NODROP); it sees the jump in header.seq and counts it as a gap
   socket_.set(zmq::sockopt::sndhwm, options.send_hwm);
-  socket_.set(zmq::sockopt::xpub_nodrop, true);
+  socket_.set(zmq::sockopt::xpub_nodrop, options.refuse_when_full);
   // every subscriber's subscribe and unsubscribe notice, not just the first and last: counted
   socket_.set(zmq::sockopt::xpub_verboser, true);
   try {
@@ -57,8 +59,8 @@ bool BytePublisher::send(std::string_view topic, std::string_view type, const vo
   auto it = counters_.find(topic);
   if (it == counters_.end()) it = counters_.emplace(std::string(topic), TopicCounters{}).first;
   TopicCounters& c = it->second;
-  // three frames, none blocking. A full queue refuses the first frame (EAGAIN, nothing sent);
-  // once it is accepted the others are too (the high-water mark counts whole messages)
+  // three frames, none blocking; a subscriber whose queue is full at the first frame gets
+  // none of them (the high-water mark counts whole messages). Only a socket error refuses
   constexpr auto more = zmq::send_flags::dontwait | zmq::send_flags::sndmore;
   try {
     if (!socket_.send(zmq::const_buffer(topic.data(), topic.size()), more)) {

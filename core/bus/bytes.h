@@ -21,10 +21,11 @@
 namespace enact::bus {
 
 // traffic on one topic, cumulative. A publisher fills sent and dropped; a subscriber fills
-// received, malformed, dropped (conflation), gaps and lost.
+// received, malformed, dropped (conflation), gaps and lost. A subscriber whose queue is full
+// loses messages alone, without the publisher knowing: it counts them in gaps and lost.
 struct TopicCounters {
   std::uint64_t sent = 0;       // messages the socket accepted
-  std::uint64_t dropped = 0;    // publisher: refused, a subscriber's queue was full;
+  std::uint64_t dropped = 0;    // publisher: refused by the socket (an error; never a full queue);
                                 // subscriber: skipped by conflation (a newer one was waiting)
   std::uint64_t received = 0;   // well-formed messages handed to the caller
   std::uint64_t malformed = 0;  // messages refused: frame count, type name, or parse failure
@@ -34,7 +35,11 @@ struct TopicCounters {
 
 struct PublisherOptions {
   std::string node;     // name of the publishing node: typed publishers write it in header.source
-  int send_hwm = 1000;  // messages queued per subscriber before send() refuses (and counts a drop)
+  int send_hwm = 1000;  // messages queued per subscriber; past it, that subscriber loses messages
+  // flow control, for benchmarks only: send() refuses a message (counted as dropped) while
+  // any subscriber's queue is full, so one stopped subscriber stops every other
+  // (ZMQ_XPUB_NODROP). Never for a graph's nodes: an observer could stall the loop.
+  bool refuse_when_full = false;
 };
 
 // a publisher bound to one endpoint; any number of subscribers connect to it
@@ -52,11 +57,11 @@ class BytePublisher {
   // the node name given in the options
   const std::string& node() const { return node_; }
 
-  // sends one bus message without ever blocking. false when a subscriber of `topic` has a
-  // full queue: the message goes to nobody and counts as dropped (ZMQ_XPUB_NODROP: a slow
-  // subscriber makes every subscriber of that topic lose it; see README, "Slow subscribers").
-  // With no subscriber the message is discarded and still counts as sent. The first message
-  // on a new topic allocates its counters.
+  // sends one bus message without ever blocking. Each subscriber of `topic` gets it, except
+  // one whose queue is full: that one alone loses it (and sees a gap in header.seq), so a
+  // stopped subscriber never holds back the others (see README, "Delivery"). false when the
+  // socket refuses it, or with refuse_when_full a queue is full (counted as dropped). With no subscriber the message is discarded
+  // and still counts as sent. The first message on a new topic allocates its counters.
   bool send(std::string_view topic, std::string_view type, const void* data, std::size_t size) noexcept;
 
   // whether some subscriber's subscription matches `topic` (reads pending subscription notices)

@@ -123,14 +123,16 @@ class Subscriber {
     std::uint64_t last_seq = 0;
   };
 
-  // a jump past last_seq + 1 is a gap; a first message (late join), a smaller seq (the
-  // publisher restarted) or seq 0 (not filled) are not. A conflating subscriber skips on
-  // purpose: its skips are counted as dropped, not as gaps.
+  // a jump past last_seq + 1 is a gap; so is a smaller seq past 1 (the publisher restarted:
+  // a new stream, whose messages before this one were lost). A first message (late join) or
+  // seq 0 (not filled) are not. A conflating subscriber skips on purpose: its skips are
+  // counted as dropped, not as gaps.
   void track(const msgs::Header& h) {
     if (h.seq() == 0) return;
     for (SourceSeq& s : sources_) {
       if (s.source != h.source()) continue;
-      if (h.seq() > s.last_seq + 1 && !bytes_.conflating()) bytes_.count_gap(topic_, h.seq() - s.last_seq - 1);
+      const std::uint64_t expected = h.seq() > s.last_seq ? s.last_seq + 1 : 1;
+      if (h.seq() > expected && !bytes_.conflating()) bytes_.count_gap(topic_, h.seq() - expected);
       s.last_seq = h.seq();
       return;
     }

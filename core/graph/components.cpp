@@ -87,7 +87,7 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows,
 const std::vector<std::string> kSimParams{"scene", "rate_hz", "model", "tactile_period_s", "tactile_mode", "force",
                                           "min_fall_s", "min_recovery_s", "end_progress"};
 const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "subject", "subject_seed", "noise_seed", "start_m",
-                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m", "watchdog_s", "ramp_s", "transport", "serial",
+                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m", "watchdog_s", "ramp_s", "reengage_s", "transport", "serial",
                                             "firmware", "homing_timeout_s", "max_force_n"};
 const std::vector<std::string> kTactileParams{"device", "rows", "cols", "rise_time_s", "transport", "serial", "first_cell"};
 
@@ -119,6 +119,7 @@ std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   devices::SafetyParams s;
   s.watchdog_s = p.number("watchdog_s", s.watchdog_s);
   s.ramp_s = p.number("ramp_s", s.ramp_s);
+  s.reengage_s = p.number("reengage_s", s.reengage_s);
   auto device_ptr = std::make_unique<devices::SafeForceDevice>(std::move(inner), s);
   device_ptr->configure();
   return device_ptr;

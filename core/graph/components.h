@@ -17,7 +17,7 @@ namespace enact::graph {
 sim::SimParams sim_params(const Params& p);
 extern const std::vector<std::string> kSimParams;
 
-// force device: device (simulated, falcon), watchdog_s, ramp_s; simulated: profile (ergos,
+// force device: device (simulated, falcon), watchdog_s, ramp_s, reengage_s; simulated: profile (ergos,
 // falcon), hand_path or subject (a virtual subject's file) with subject_seed and noise_seed,
 // start_m, hand_stiffness_n_per_m, hand_damping_n_s_per_m; falcon:
 // transport (usb, emulator), serial, firmware, homing_timeout_s, max_force_n, and with the

@@ -71,6 +71,7 @@ void Logger::attach() {
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
   sub_.set_receive_hwm(1'000'000);
+  watch_ = std::make_unique<bus::DisconnectWatch>(sub_.socket());
   sub_.connect(endpoint_);
   sub_.subscribe(std::string(bus::kGraphTopic));
   const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(options_.wait_s * 1e9);
@@ -183,8 +184,12 @@ void Logger::run(const std::function<bool()>& stop, const std::function<void(con
   bus::RawMessage m;
   std::int64_t next_progress = rt::now_ns() + 1'000'000'000;
   while (!stop()) {
-    // drain what is queued, then wait a little
+    // drain what is queued, then wait a little; a graph gone sends nothing more
     for (int i = 0; i < 10000 && sub_.receive(m, i == 0 ? 50 : 0); ++i) take(m, rt::now_ns());
+    if (watch_ && watch_->disconnected()) {
+      graph_gone_ = true;
+      break;
+    }
     const std::int64_t now = rt::now_ns();
     writer_->flush_if_due(now);
     const bool too_big = options_.split_size_mb > 0.0 && static_cast<double>(writer_->bytes_written()) >= options_.split_size_mb * 1e6;

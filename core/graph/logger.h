@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/disconnect.h"
 #include "core/record/writer.h"
 #include "core/launch/launch_file.h"
 #include "msgs/common.pb.h"
@@ -32,12 +33,16 @@ struct LoggerOptions {
 };
 
 // sequence numbers of one publisher's topic (header.seq: +1 per message): a jump is a
-// loss, a step back a restart of the publisher
+// loss, a step back a restart of the publisher: a new stream whose first message is seq 1,
+// so what came before the one received is lost too
 struct SequenceCheck {
   std::uint64_t last = 0, messages = 0, gaps = 0, restarts = 0;
   void add(std::uint64_t seq) {
     if (messages > 0 && seq > last + 1) gaps += seq - last - 1;
-    if (messages > 0 && seq <= last) ++restarts;
+    if (messages > 0 && seq <= last) {
+      ++restarts;
+      gaps += seq - 1;
+    }
     last = seq;
     ++messages;
   }
@@ -66,8 +71,11 @@ class Logger {
   // finds the graph (waits up to wait_s for its GraphInfo), subscribes, opens the first
   // file. Throws config::Error when no graph answers or a topic asked for is not in it.
   void attach();
-  // receives and writes until `stop` returns true; calls `progress` about once a second
+  // receives and writes until `stop` returns true or the graph is gone (its attach point's
+  // connection closed: the launcher ended, or was killed); calls `progress` about once a second
   void run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress = {});
+  // whether run() ended because the graph was gone
+  bool graph_gone() const { return graph_gone_; }
   // writes the statistics metadata and closes the file (complete and indexed)
   void close();
 
@@ -90,6 +98,8 @@ class Logger {
   LoggerOptions options_;
   std::string endpoint_;
   bus::ByteSubscriber sub_;
+  std::unique_ptr<bus::DisconnectWatch> watch_;  // on sub_, from attach()
+  bool graph_gone_ = false;
   msgs::GraphInfo graph_;
   std::unique_ptr<record::Writer> writer_;
   std::map<std::string, std::uint16_t> schemas_;   // per file

@@ -19,7 +19,10 @@ namespace enact::graph {
 namespace {
 
 std::atomic<bool> g_stop{false};
-void on_stop(int) { g_stop.store(true); }
+void on_stop(int) {
+  // the first request arms the grace period: SIGALRM's default action ends the process
+  if (!g_stop.exchange(true)) alarm(kStopGrace_s);
+}
 
 // one line to the launcher on the ready pipe, if there is one
 void tell_launcher(const std::string& line) {

@@ -16,7 +16,11 @@ std::string graph_dir();
 // where node `name` publishes: ipc://<graph_dir>/<name>.pub
 std::string node_endpoint(const std::string& name);
 
-// SIGINT and SIGTERM set a flag instead of killing the process
+// seconds a node may take to stop after the first SIGINT/SIGTERM before it is killed
+// (SIGALRM): a node stuck in its shutdown never outlives its launcher for long
+inline constexpr unsigned kStopGrace_s = 5;
+
+// SIGINT and SIGTERM set a flag instead of killing the process, and arm the grace period
 void install_stop_handlers();
 bool stop_requested();
 

@@ -130,6 +130,7 @@ struct Loader {
     n.respawn = flag(scope, m, "respawn", false);
     if (n.required && n.respawn) m.fail("respawn", "node '" + n.name + "' is both required and respawned", "choose one: a required node's exit stops the graph");
     if (m.has("respawn_delay")) n.respawn_delay_s = m.positive("respawn_delay", 1.0, true);
+    if (m.has("respawn_max")) n.respawn_max = m.integer("respawn_max", 3, 0, 1000);
     n.env = pairs(scope, m, "env");
     if (m.has("args")) {
       const YAML::Node a = m.get("args");
@@ -146,7 +147,7 @@ struct Loader {
   }
 
   void node(const Scope& scope, const YAML::Node& y) {
-    const Map m(y, scope.file, "node", {"name", "exec", "param", "param_file", "args", "env", "required", "respawn", "respawn_delay"});
+    const Map m(y, scope.file, "node", {"name", "exec", "param", "param_file", "args", "env", "required", "respawn", "respawn_delay", "respawn_max"});
     NodeSpec n;
     common(scope, m, n);
     executable(scope, m, n, "");
@@ -155,7 +156,7 @@ struct Loader {
   }
 
   void container(const Scope& scope, const YAML::Node& y) {
-    const Map m(y, scope.file, "container", {"name", "exec", "param", "param_file", "component", "args", "env", "required", "respawn", "respawn_delay"});
+    const Map m(y, scope.file, "container", {"name", "exec", "param", "param_file", "component", "args", "env", "required", "respawn", "respawn_delay", "respawn_max"});
     NodeSpec n;
     common(scope, m, n);
     executable(scope, m, n, "enact-rt");

@@ -36,7 +36,8 @@ struct NodeSpec {
   std::vector<Param> env;
   bool required = false;   // its exit stops the graph (non-zero)
   bool respawn = false;    // restarted after it exits (when not required)
-  double respawn_delay_s = 1.0;
+  double respawn_delay_s = 1.0;  // before the first restart; doubled before each next one
+  int respawn_max = 3;           // restarts allowed; past them it stays down (said once)
   bool container = false;
   std::vector<ComponentSpec> components;
   std::string source;      // launch file and line, for messages

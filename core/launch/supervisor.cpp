@@ -37,6 +37,8 @@ struct Child {
   double wait_s = 0.0;         // what it said it waits for (extends its ready timeout)
   int status = 0;        // wait status once exited
   std::int64_t respawn_at_ns = 0;
+  int respawns = 0;      // restarts so far
+  bool hung = false;     // stopped because it hung: a failure, whatever its exit status
 };
 
 std::string describe(int status) {
@@ -55,10 +57,13 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
   }
   const std::vector<std::string> args = c.spec->argv();
   const pid_t launcher = getpid();
+  const std::string respawn = std::to_string(c.respawns);  // $ENACT_RESPAWN, 0: a first start
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    // the launcher gone (even by SIGKILL): a clean stop, so drivers zero the force and lower
+    // the pins; a node that does not exit within its grace period kills itself (node.h)
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (getppid() != launcher) _exit(127);
     sigprocmask(SIG_UNBLOCK, &blocked, nullptr);
     close(fds[0]);
@@ -66,6 +71,7 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
     if (fds[1] == 3) fcntl(3, F_SETFD, 0);
     else dup2(fds[1], 3);
     setenv("ENACT_READY_FD", "3", 1);
+    setenv("ENACT_RESPAWN", respawn.c_str(), 1);
     for (const Param& e : env) setenv(e.name.c_str(), e.value.c_str(), 1);
     for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> argv;
@@ -147,6 +153,7 @@ struct Graph {
     if (c.pid <= 0) return;
     const pid_t pid = c.pid;
     kill(-pid, SIGTERM);
+    kill(-pid, SIGCONT);  // a stopped process (SIGSTOP, a hang) can then stop cleanly
     const std::int64_t deadline = now_ns() + to_ns(timeout_s);
     int status = 0;
     while (now_ns() < deadline) {
@@ -176,6 +183,19 @@ struct Graph {
     }
   }
 
+  // stops the running processes named in `names` (they hang), adding them to `exited`
+  void stop_hung(const std::vector<std::string>& names, double timeout_s, std::vector<Child*>& exited) {
+    for (const std::string& name : names) {
+      for (Child& c : children) {
+        if (c.spec->name != name || c.pid <= 0) continue;
+        log << "enact launch: '" << name << "' (" << c.spec->source << ") hangs: no node/status for a while, stopping it\n";
+        stop(c, timeout_s);
+        c.hung = true;
+        exited.push_back(&c);
+      }
+    }
+  }
+
   // a process exited: log it; a required one stops the graph (false), a respawning one is
   // scheduled again
   bool handle_exit(Child& c) {
@@ -184,8 +204,22 @@ struct Graph {
       log << "enact launch: required process '" << c.spec->name << "' is gone, stopping the graph\n";
       return false;
     }
-    if (c.spec->respawn) c.respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(c.spec->respawn_delay_s));
+    if (c.spec->respawn) schedule_respawn(c);
     return true;
+  }
+
+  // the next restart of `c`, after a delay doubled at each restart; none past respawn_max
+  void schedule_respawn(Child& c) {
+    if (c.respawns >= c.spec->respawn_max) {
+      log << "enact launch: '" << c.spec->name << "' was restarted " << c.respawns << " times (respawn_max " << c.spec->respawn_max
+          << "): not restarting it again\n  fix: find why it exits in its output above; or raise respawn_max at " << c.spec->source << "\n";
+      return;
+    }
+    const double delay_s = c.spec->respawn_delay_s * std::pow(2.0, c.respawns);
+    ++c.respawns;
+    c.respawn_at_ns = now_ns() + std::max<std::int64_t>(1, to_ns(delay_s));
+    log << "enact launch: restarting '" << c.spec->name << "' in " << delay_s << " s (restart " << c.respawns << " of " << c.spec->respawn_max
+        << ")\n";
   }
 
   // wait for `c` to say ready; false on timeout, exit, or a stop signal (then `signalled`)
@@ -304,11 +338,13 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       }
     }
     std::vector<Child*> exited;
+    if (options.hung_nodes) g.stop_hung(options.hung_nodes(), options.stop_timeout_s, exited);
     g.reap(exited);
     for (Child* c : exited) {
       // a required process that finished its job (exit 0, e.g. a replay at its end) ends
       // the graph successfully; a crash or an error fails it
-      if (!g.handle_exit(*c)) return finish(WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
+      if (!g.handle_exit(*c)) return finish(!c->hung && WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
+      c->hung = false;
     }
   }
 }

@@ -1,7 +1,8 @@
 #pragma once
 // Running a launch description: start the processes in order, wait until each reports
 // ready, supervise them, and stop them in reverse order (list the drivers last: they stop
-// first, zeroing force and lowering pins). No process outlives the launcher.
+// first, zeroing force and lowering pins). No process outlives the launcher: when it dies,
+// even by SIGKILL, each process gets SIGTERM (PR_SET_PDEATHSIG) and stops cleanly.
 //
 // Ready protocol: each process gets ENACT_READY_FD=<fd> in its environment and writes a
 // line "ready\n" to that file descriptor once it is active. Before it, it may write:
@@ -10,8 +11,8 @@
 //                        its ready timeout is extended by S from then
 #include <atomic>
 #include <functional>
-#include <string>
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 #include "core/launch/launch_file.h"
@@ -29,6 +30,10 @@ struct SupervisorOptions {
   std::function<void(const NodeSpec& node, const std::string& topic, const std::string& type)> on_topic;
   // set from any thread: the graph stops in order, as on SIGTERM (checked every 50 ms)
   const std::atomic<bool>* stop = nullptr;
+  // polled while the graph runs (about every 50 ms): the names of processes that hang (e.g.
+  // graph::StatusWatch: no node/status for 3 s). Each is stopped (SIGTERM, then SIGKILL) and
+  // handled as if it had exited: a required one stops the graph, a respawning one restarts.
+  std::function<std::vector<std::string>()> hung_nodes;
 };
 
 // block SIGINT, SIGTERM and SIGCHLD in the calling thread; call it before starting any

@@ -8,10 +8,12 @@
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
 #include "core/devices/hand.h"
+#include "core/devices/safety.h"
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
+#include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 #include "core/rt/rt_setup.h"
@@ -31,9 +33,18 @@ parameters:
   rate_hz=5000  sim_node=sim  spin_us=50  duration_s=0  fifo_priority=0  lock_memory=false
   observers=0 (wait up to 10 s for this many observers of ffd/state, e.g. a logger, too)
   tactile_node=tactile (a virtual subject holding the device feels its tactile/shown)
-  device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
+  device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s reengage_s
 Stops on SIGINT/SIGTERM: zero force first.
 )";
+
+// what the safety layer did, and the force it left the device with
+std::string safety_summary(devices::ForceDevice& device) {
+  const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(&device);
+  if (!safe) return "no safety layer";
+  const bool zero = safe->sent_force_n() == physics::Vec3{};
+  return "force steps held to the profile's limit: " + std::to_string(safe->slew_limited()) + ", re-engagements: " +
+         std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
+}
 
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "ffd");
@@ -94,6 +105,7 @@ int run(int argc, char** argv) {
   msgs::ForceCommand command;
   msgs::NodeStatus status;
   std::uint64_t late = 0, missing = 0;
+  graph::WatchdogLog watchdog(args.name, "no force answer: force ramped to zero");
   device->activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
   const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
@@ -110,6 +122,7 @@ int run(int argc, char** argv) {
       ++pins_felt;
     }
     device->read(now, sample);
+    watchdog.update(devices::has(sample.faults, devices::DeviceFault::watchdog), now);
     state.mutable_header()->set_stamp_ns(0);
     graph::fill(state, sample);
     state_pub.publish(state);
@@ -133,6 +146,7 @@ int run(int argc, char** argv) {
       rt::take_timing(scheduler, stats);
       graph::fill(status, args.name, rt::summarize(stats, sched.rate_hz), missing + late, missing ? "samples without a force answer in time" : "");
       graph::add_counters(status, out, &in);
+      watchdog.fill(status);
       status.mutable_header()->set_stamp_ns(0);
       status_pub.publish(status);
     }
@@ -141,6 +155,7 @@ int run(int argc, char** argv) {
   rt::take_timing(scheduler, stats);
   graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(missing) +
                             ", late answers: " + std::to_string(late) + ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
+  graph::say(args.name, watchdog.summary() + "; " + safety_summary(*device));
   if (feels_pins) graph::say(args.name, "the virtual subject felt " + std::to_string(pins_felt) + " pin states from " + tactile_node + " (tactile/shown).");
   return 0;
 }

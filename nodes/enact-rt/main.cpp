@@ -49,7 +49,7 @@ container parameters:
                         recording from the first tick) before the loop starts
 component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
   sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
-  ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s
+  ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s reengage_s
   tactile:  device rows cols rise_time_s
 )";
 

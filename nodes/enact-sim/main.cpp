@@ -2,6 +2,7 @@
 // answers at once with the ForceCommand carrying the sequence number it answers; it also
 // publishes the down-sampled tactile frames, the scene (decimated), task events and status.
 #include <cstdio>
+#include <cstdlib>
 
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
@@ -13,6 +14,7 @@
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
+#include "core/sim/reengage.h"
 
 namespace {
 
@@ -31,11 +33,20 @@ parameters:
   scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
   tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
   ffd_node=ffd  scene_rate_hz=60
+  reengage_s=0.1 (after an interruption of the force path: its start, or a watchdog episode
+    of the driver, the body starts just out of every object and returns to the device over
+    this time: the force comes back from zero, never as a jolt)
   observers=0 (wait up to 60 s for this many observers of ffd/force before answering)
 )";
 
 // how often parameter requests are looked for while states flow
 constexpr std::int64_t kParamPoll_ns = 10'000'000;
+
+// the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
+int respawn_count() {
+  const char* n = std::getenv("ENACT_RESPAWN");
+  return n ? std::atoi(n) : 0;
+}
 
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "sim");
@@ -50,8 +61,9 @@ int run(int argc, char** argv) {
   const std::string ffd_node = p.text("ffd_node", "ffd");
   const double scene_rate_hz = p.number("scene_rate_hz", 60.0);
   const int observers = p.integer("observers", 0);
+  sim::Reengagement reengage(p.number("reengage_s", 0.1));
   std::vector<std::string> known = graph::kSimParams;
-  known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers"});
+  known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers", "reengage_s"});
   p.refuse_unread(known);
   if (args.check) return 0;
 
@@ -84,7 +96,24 @@ int run(int argc, char** argv) {
   // observers asked for (a logger recording a replay from its first step) listen first
   graph::wait_for_subscribers(out, graph::kForceCommand, observers, args.name, "observer (logger)");
   simulator.activate(0);
+  reengage.interrupt();
   graph::report_ready();
+  // a new simulator: physics and task start over, said now and recorded (a task event, once
+  // the attach point has subscribed again, or after a second without)
+  const int respawn = respawn_count();
+  bool restart_event_due = respawn > 0;
+  const std::int64_t restart_ns = rt::now_ns();
+  const std::string restart_detail = "simulator restarted (respawn " + std::to_string(respawn) + "): physics and task start over";
+  if (restart_event_due) graph::say(args.name, restart_detail);
+  auto publish_restart = [&] {
+    if (!restart_event_due || (out.subscriber_count(graph::kTaskEvent) == 0 && rt::now_ns() < restart_ns + 1'000'000'000)) return;
+    restart_event_due = false;
+    event.set_kind(msgs::TaskEvent::TRIAL_START);
+    event.set_time_ns(restart_ns);
+    event.set_condition(simulator.computer_model().name);
+    event.set_detail(restart_detail);
+    event_pub.publish(event);
+  };
   // parameter changes, between two steps
   auto apply_params = [&] {
     while (const auto change = params.next()) {
@@ -104,9 +133,11 @@ int run(int argc, char** argv) {
       first_ns = state.header().stamp_ns();
       next_scene = next_status = received;
     }
-    // step on this sample and answer it at once
+    // step on this sample and answer it at once; after an interruption (the driver's
+    // watchdog cut the force) from a body re-synchronised with the device
+    if ((state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0) reengage.interrupt();
     last_step_ns = state.header().stamp_ns() - first_ns;
-    const sim::StepOutput& o = simulator.step(last_step_ns, graph::get(state.position()));
+    const sim::StepOutput& o = simulator.step(last_step_ns, reengage.position(simulator, last_step_ns, graph::get(state.position())));
     graph::fill(command, state.header().seq(), o.force_n, o.fault);
     force_pub.publish(command);
     stats.latency.record(rt::now_ns() - received);
@@ -118,6 +149,7 @@ int run(int argc, char** argv) {
     if (received >= next_params) {
       next_params = received + kParamPoll_ns;
       apply_params();
+      publish_restart();
     }
     if (o.frame_due) {
       graph::fill(frame, body.rows, body.cols, o.frame);
@@ -143,7 +175,8 @@ int run(int argc, char** argv) {
   const task::Metrics m = simulator.metrics();
   graph::say(args.name, std::to_string(steps) + " steps; receive-to-answer " + rt::format(rt::summarize(stats, simulator.model().rate_hz)) +
                             " Task: falls " + std::to_string(m.falls) + ", progress " + std::to_string(m.progress) + (m.completed ? " (completed)" : "") +
-                            "; device states lost (seq gaps): " + std::to_string(states.counters().lost) + ".");
+                            "; device states lost (seq gaps): " + std::to_string(states.counters().lost) + "; re-synchronised with the device " +
+                            std::to_string(reengage.count()) + " times (largest offset " + std::to_string(reengage.largest_offset_m() * 1e3) + " mm).");
   return 0;
 }
 

@@ -1,6 +1,7 @@
 // enact-tactile: the tactile display driver of a distributed graph. It applies each
 // TactileFrame to the pins and publishes what they physically show (after the cells' rise
-// time) on tactile/shown. On stop it lowers every pin.
+// time) on tactile/shown. On stop it lowers every pin, and when frames stop coming for
+// longer than watchdog_s (the simulator hangs or died) too, until they come again.
 #include <cstdio>
 
 #include "core/bus/typed.h"
@@ -9,6 +10,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
+#include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
 
 namespace {
@@ -18,10 +20,11 @@ using namespace enact;
 constexpr const char* kHelp = R"(usage: enact-tactile [--name NAME] --param NAME=VALUE...
 
 The tactile display driver of a distributed graph: applies tactile/frame, publishes
-tactile/shown at shown_rate_hz and node/status at 1 Hz; lowers every pin on stop.
+tactile/shown at shown_rate_hz and node/status at 1 Hz; lowers every pin on stop, and
+while no frame came for longer than watchdog_s (each episode said and counted).
 
 parameters:
-  sim_node=sim  shown_rate_hz=100  device rows cols rise_time_s
+  sim_node=sim  shown_rate_hz=100  watchdog_s=0.25  device rows cols rise_time_s
 )";
 
 int run(int argc, char** argv) {
@@ -35,8 +38,10 @@ int run(int argc, char** argv) {
   const std::string sim_node = p.text("sim_node", "sim");
   const double shown_rate_hz = p.number("shown_rate_hz", 100.0);
   if (shown_rate_hz <= 0.0) throw config::Error(args.name + ": shown_rate_hz must be > 0\n  fix: e.g. shown_rate_hz=100");
+  const double watchdog_s = p.number("watchdog_s", 0.25);
+  if (!(watchdog_s > 0.0)) throw config::Error(args.name + ": watchdog_s must be > 0\n  fix: a few frame periods, e.g. watchdog_s=0.25");
   std::vector<std::string> known = graph::kTactileParams;
-  known.insert(known.end(), {"sim_node", "shown_rate_hz"});
+  known.insert(known.end(), {"sim_node", "shown_rate_hz", "watchdog_s"});
   p.refuse_unread(known);
   if (args.check) return 0;
 
@@ -56,18 +61,27 @@ int run(int argc, char** argv) {
   msgs::NodeStatus status;
   std::uint64_t frame_seq = 0, applied = 0;
   const std::int64_t period = static_cast<std::int64_t>(1e9 / shown_rate_hz);
+  const std::int64_t watchdog_ns = static_cast<std::int64_t>(watchdog_s * 1e9);
+  graph::WatchdogLog watchdog(args.name, "no tactile/frame: pins lowered");
   device->activate();
-  std::int64_t next_shown = rt::now_ns(), next_status = next_shown + 1'000'000'000;
+  std::int64_t next_shown = rt::now_ns(), next_status = next_shown + 1'000'000'000, last_frame_ns = -1;
   graph::report_ready();
   while (!graph::stop_requested()) {
     if (graph::wait_readable(in.socket(), next_shown) && frames.receive(frame, 0)) {
       std::uint32_t bits = 0;
       for (int i = 0; i < std::min(pins, frame.level_size()); ++i) bits |= frame.level(i) > 0.5f ? 1u << i : 0u;
-      device->write(rt::now_ns(), bits);
+      last_frame_ns = rt::now_ns();
+      watchdog.update(false, last_frame_ns);
+      device->write(last_frame_ns, bits);
       frame_seq = frame.header().seq();
       ++applied;
     }
     const std::int64_t now = rt::now_ns();
+    // frames stopped (after the first): every pin down until the next one
+    if (last_frame_ns >= 0 && !watchdog.tripped() && now - last_frame_ns > watchdog_ns) {
+      watchdog.update(true, now);
+      device->write(now, 0u);
+    }
     if (now < next_shown) continue;
     next_shown += period;
     device->shown(now, levels, pins);
@@ -78,12 +92,14 @@ int run(int argc, char** argv) {
       next_status += 1'000'000'000;
       graph::fill(status, args.name, rt::LoopSummary{.rate_hz = shown_rate_hz}, 0, "");
       graph::add_counters(status, out, &in);
+      watchdog.update(watchdog.tripped(), now);
+      watchdog.fill(status);
       status_pub.publish(status);
     }
   }
   device->deactivate();  // every pin down
   graph::say(args.name, std::to_string(applied) + " frames applied; frames lost (seq gaps): " + std::to_string(frames.counters().lost) +
-                            "; pins lowered.");
+                            "; " + watchdog.summary() + "; pins lowered.");
   return 0;
 }
 

@@ -111,7 +111,7 @@ struct LoggerRun {
 // as it can) for `seconds` through an attach point; the logger records them
 LoggerRun run_logger(const std::string& dir, double rate, double seconds, int index) {
   const std::string endpoint = bus::ipc_endpoint(dir, "bench" + std::to_string(index));
-  bus::BytePublisher out(endpoint, {.node = "ffd", .send_hwm = 100000});
+  bus::BytePublisher out(endpoint, {.node = "ffd", .send_hwm = 100000, .refuse_when_full = true});
   bus::Publisher<msgs::DeviceState> states(out, "ffd/state");
   bus::Publisher<msgs::ForceCommand> forces(out, "ffd/force");
   bus::AttachPoint attach("bench");

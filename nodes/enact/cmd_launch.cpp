@@ -5,10 +5,12 @@
 #include <filesystem>
 
 #include "core/graph/session.h"
+#include "core/graph/status_watch.h"
 #include "core/launch/check.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
+#include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
@@ -48,6 +50,8 @@ together, holds the CPU latency request and orders SCHED_FIFO before anything st
 is refused is said once and the graph runs anyway (README, "Real-time profile").
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end (or by the next launch, if this one was killed).
+When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops cleanly. A node
+whose node/status stops for 3 s while the others report hangs: it is stopped, as for an exit.
 )";
 
 }  // namespace
@@ -117,6 +121,9 @@ int launch(int argc, char** argv) {
   session_options.numbered = !a.has("name");
   graph::GraphSession session(name, a.positional[0], session_options);
   std::cerr << "enact launch: graph " << session.name() << ": observers attach at " << session.endpoint() << std::endl;
+  // a node whose node/status stops is handled as if it had exited
+  graph::StatusWatch statuses(session.endpoint());
+  options.hung_nodes = [&] { return statuses.hung(rt::now_ns()); };
   options.on_ready = [&] { std::cerr << "enact launch: graph " << session.name() << " ready; observers attach at " << session.endpoint() << std::endl; };
   return session.run(graph, a.positional[0], options, std::cerr);
 }

@@ -207,7 +207,11 @@ int record(int argc, char** argv) {
              [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
   logger.close();
   if (tty) std::fputs("\n", stderr);
-  if (graph_end.ended(rt::now_ns())) std::fprintf(stderr, "enact record: graph %s ended\n", target.name.c_str());
+  if (graph_end.ended(rt::now_ns())) {
+    std::fprintf(stderr, "enact record: graph %s ended\n", target.name.c_str());
+  } else if (logger.graph_gone()) {
+    std::fputs("enact record: the graph is gone (its attach point closed the connection); file closed\n", stderr);
+  }
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());

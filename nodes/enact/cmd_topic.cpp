@@ -26,7 +26,8 @@ constexpr const char* kHelp = R"(usage: enact topic list [--graph NAME | --attac
 Attach to a running graph (like `ros2 topic`), at any time, without disturbing it:
   list   the graph's topics, their message types and publishers (from graph/topics)
   echo   print each message of TOPIC (Protobuf text), N of them (--once: one) or until
-         Ctrl-C; a state topic (task/state) gives its current message at once
+         Ctrl-C; a state topic (task/state) gives its current message at once; at the end,
+         on stderr, how many arrived and how many were lost (sequence gaps)
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
 options:
 )";
@@ -117,8 +118,9 @@ int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo,
       std::fflush(stdout);
     }
   }
-  if (!echo) std::printf("%s: %llu messages in %.1f s, %llu lost in gaps\n", topic.c_str(), static_cast<unsigned long long>(received),
-                         static_cast<double>(rt::now_ns() - start) * 1e-9, static_cast<unsigned long long>(lost_in(seqs)));
+  // the summary: on stdout for hz, on stderr for echo (its stdout is the messages)
+  std::fprintf(echo ? stderr : stdout, "%s: %llu messages in %.1f s, %llu lost in gaps\n", topic.c_str(), static_cast<unsigned long long>(received),
+               static_cast<double>(rt::now_ns() - start) * 1e-9, static_cast<unsigned long long>(lost_in(seqs)));
   return 0;
 }
 

@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -31,7 +33,11 @@ struct Call {
 
 class RecordingDevice final : public ForceDevice {
  public:
-  explicit RecordingDevice(std::vector<Call>& log) : log_(log), profile_(*haptics::find_device_profile("ergos")) {}
+  // the ERGOS profile; `step_limit_n_per_ms` 0 keeps its force step limit, else replaces it
+  explicit RecordingDevice(std::vector<Call>& log, double step_limit_n_per_ms = 0.0)
+      : log_(log), profile_(*haptics::find_device_profile("ergos")) {
+    if (step_limit_n_per_ms > 0.0) profile_.max_force_step_n_per_ms = step_limit_n_per_ms;
+  }
   void configure() override { log_.push_back({Call::configure, 0, {}}); }
   void activate() override { log_.push_back({Call::activate, 0, {}}); }
   bool read(std::int64_t now_ns, ForceSample& out) noexcept override {
@@ -56,8 +62,10 @@ struct Fixture {
   RecordingDevice* inner = nullptr;
   std::unique_ptr<SafeForceDevice> safe;
 
-  explicit Fixture(SafetyParams params = {}) {
-    auto device = std::make_unique<RecordingDevice>(log);
+  // by default neither the re-engagement ramp nor the slew limit act (the tests of the
+  // clamp, NaN and watchdog see the commands unshaped); the profile's limit with `real_limit`
+  explicit Fixture(SafetyParams params = {.reengage_s = 0.0}, bool real_limit = false) {
+    auto device = std::make_unique<RecordingDevice>(log, real_limit ? 0.0 : 1e12);
     inner = device.get();
     safe = std::make_unique<SafeForceDevice>(std::move(device), params);
     safe->configure();
@@ -155,7 +163,7 @@ TEST(Safety, WatchdogWaitsForTheFirstCommand) {
 }
 
 TEST(Safety, ZeroRampCutsAtOnce) {
-  Fixture f({.watchdog_s = 0.002, .ramp_s = 0.0});
+  Fixture f({.watchdog_s = 0.002, .ramp_s = 0.0, .reengage_s = 0.0});
   f.safe->write(kT0, {10.0, 0.0, 0.0});
   f.read(kT0 + 2 * kMs);
   EXPECT_EQ(f.last_write(), (Vec3{10.0, 0.0, 0.0}));
@@ -187,7 +195,7 @@ TEST(Safety, DeviceErrorIsPassedOn) {
 }
 
 TEST(Safety, BadParamsAreRefusedWithAFix) {
-  const SafetyParams bad[] = {{.watchdog_s = 0.0}, {.watchdog_s = std::nan("")}, {.ramp_s = -0.001}};
+  const SafetyParams bad[] = {{.watchdog_s = 0.0}, {.watchdog_s = std::nan("")}, {.ramp_s = -0.001}, {.reengage_s = -0.1}};
   for (const auto& p : bad) {
     std::vector<Call> log;
     SafeForceDevice safe(std::make_unique<RecordingDevice>(log), p);
@@ -199,6 +207,107 @@ TEST(Safety, BadParamsAreRefusedWithAFix) {
     }
     EXPECT_TRUE(log.empty());  // refused before the device is opened
   }
+}
+
+// the largest force step sent to the inner device, as a fraction of what the limit allows
+// over the time since the previous write (at most 1 ms; the first: 1 ms)
+double largest_step_fraction(const std::vector<Call>& log, double limit_n_per_ms) {
+  double largest = 0.0;
+  const Call* previous = nullptr;
+  for (const Call& c : log) {
+    if (c.kind != Call::write) continue;
+    const std::int64_t dt_ns = previous ? std::min(c.time_ns - previous->time_ns, kMs) : kMs;
+    const Vec3 before = previous ? previous->force_n : Vec3{};
+    const double allowed_n = limit_n_per_ms * static_cast<double>(dt_ns) / static_cast<double>(kMs);
+    largest = std::max(largest, norm(c.force_n - before) / allowed_n);
+    previous = &c;
+  }
+  return largest;
+}
+
+TEST(Safety, SlewLimitBoundsEveryStepOfTheForce) {
+  Fixture f({.reengage_s = 0.0}, true);
+  const double limit = f.inner->profile().max_force_step_n_per_ms;
+  ASSERT_EQ(limit, 10.0);
+  // 0 to the 200 N peak at once, commanded at 5 kHz: a millisecond's 10 N at the first write
+  // (nothing was sent before), then 2 N per 0.2 ms, the peak after 19 ms
+  std::int64_t t = kT0;
+  for (int i = 0; i < 250; ++i, t += kMs / 5) f.safe->write(t, {0.0, 0.0, -200.0});
+  EXPECT_LE(largest_step_fraction(f.log, limit), 1.0 + 1e-9);
+  EXPECT_NEAR(f.log[0].force_n.z, -10.0, 1e-9);
+  EXPECT_NEAR(f.log[5].force_n.z, -20.0, 1e-9);  // 1 ms later
+  EXPECT_EQ(f.last_write(), (Vec3{0.0, 0.0, -200.0}));
+  EXPECT_GT(f.safe->slew_limited(), 0u);
+  // the reverse after a silence of 8 ms (no watchdog yet): one millisecond's step, no more
+  t += 8 * kMs;
+  f.safe->write(t, {0.0, 0.0, 200.0});
+  EXPECT_NEAR(f.last_write().z, -190.0, 1e-9);
+  // switching off zeroes at once
+  f.safe->deactivate();
+  EXPECT_EQ(f.safe->sent_force_n(), Vec3{});
+}
+
+// the re-engagement after one kind of interruption: a constant command every 0.2 ms from t,
+// which the force approaches from zero over reengage_s (100 ms); returns the time after t
+// at which the force is at half the command
+void expect_gentle_return(Fixture& f, std::int64_t t, const Vec3& command, const char* kind) {
+  const std::size_t from = f.log.size();
+  for (int i = 0; i <= 600; ++i) {
+    f.safe->write(t + i * (kMs / 5), command);
+    f.read(t + i * (kMs / 5) + 1);
+  }
+  std::vector<Call> writes;
+  for (std::size_t i = from; i < f.log.size(); ++i) {
+    if (f.log[i].kind == Call::write) writes.push_back(f.log[i]);
+  }
+  ASSERT_EQ(writes.size(), 601u) << kind;
+  EXPECT_EQ(writes[0].force_n, Vec3{}) << kind << ": the first force after the interruption";
+  EXPECT_LT(norm(writes[250].force_n - command * 0.5), 1e-9) << kind << ": half way (50 ms)";
+  EXPECT_EQ(writes[500].force_n, command) << kind << ": all of it after 100 ms";
+}
+
+TEST(Safety, ForceReturnsGentlyAfterEveryInterruption) {
+  Fixture f(SafetyParams{}, true);  // watchdog 10 ms, ramp 5 ms, re-engagement 100 ms
+  const Vec3 command{0.0, 12.0, -24.0};
+  // activation
+  expect_gentle_return(f, kT0, command, "activation");
+  EXPECT_EQ(f.safe->reengagements(), 1u);
+  // a watchdog episode: 50 ms without a command (the force ramps down, at the profile's
+  // limit at most), then commands again
+  std::int64_t t = f.log.back().time_ns;
+  for (int i = 0; i < 250; ++i) f.read(t += kMs / 5);
+  ASSERT_EQ(f.safe->watchdog_trips(), 1u);
+  ASSERT_EQ(f.safe->sent_force_n(), Vec3{});
+  expect_gentle_return(f, t + kMs, command, "watchdog episode");
+  // failed reads of the device for 10 ms (a USB error: the force goes to zero at the
+  // profile's limit), then it reads well again
+  t = f.log.back().time_ns;
+  f.inner->fail = true;
+  for (int i = 0; i < 50; ++i) f.read(t += kMs / 5);
+  ASSERT_EQ(f.safe->sent_force_n(), Vec3{});
+  f.inner->fail = false;
+  expect_gentle_return(f, t + kMs, command, "device error");
+  EXPECT_EQ(f.safe->reengagements(), 3u);
+  // and nowhere a step beyond the profile's limit
+  EXPECT_LE(largest_step_fraction(f.log, f.inner->profile().max_force_step_n_per_ms), 1.0 + 1e-9);
+}
+
+TEST(Safety, NoFaultSequenceStepsTheForceBeyondTheLimit) {
+  // random commands (up to 10 times the peak, NaN now and then), silences that trip the
+  // watchdog, device errors, at random intervals from 10 us to 30 ms
+  Fixture f(SafetyParams{}, true);
+  std::mt19937 rng(18);
+  std::uniform_real_distribution<double> force(-2000.0, 2000.0), u(0.0, 1.0);
+  std::int64_t t = kT0;
+  for (int i = 0; i < 20'000; ++i) {
+    t += static_cast<std::int64_t>(10'000 + u(rng) * (u(rng) < 0.02 ? 30 * kMs : kMs));
+    f.inner->fail = u(rng) < 0.01;
+    f.read(t);
+    if (u(rng) < 0.9) f.safe->write(t, u(rng) < 0.01 ? Vec3{std::nan(""), 0.0, 0.0} : Vec3{force(rng), force(rng), force(rng)});
+  }
+  EXPECT_GT(f.safe->watchdog_trips(), 0u);
+  EXPECT_GT(f.safe->slew_limited(), 0u);
+  EXPECT_LE(largest_step_fraction(f.log, f.inner->profile().max_force_step_n_per_ms), 1.0 + 1e-9);
 }
 
 // over the simulated device: a loop with clamps, NaN and a watchdog episode allocates nothing

@@ -39,7 +39,8 @@ struct Rig {
     f.start_m = {-0.0074246, -0.0222739, 0.013};
     auto inner = std::make_unique<devices::SimulatedForceDevice>(f);
     device = inner.get();
-    force = std::make_unique<devices::SafeForceDevice>(std::move(inner));
+    // no ramp back at the start: the force of every tick is the model's
+    force = std::make_unique<devices::SafeForceDevice>(std::move(inner), devices::SafetyParams{.reengage_s = 0.0});
     force->configure();
     tactile.configure();
     loop = std::make_unique<ColocatedLoop>(simulator, *force, tactile, &fake_clock);

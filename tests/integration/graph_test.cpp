@@ -271,10 +271,9 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   });
   ASSERT_GE(healthy, 200u) << "no healthy ffd/state before the stall";
 
-  // stall the simulator: within 2 s, samples taken after the stall carry the watchdog bit.
-  // (Once the stopped simulator's queues are full, the driver's ffd/state is dropped for every
-  // subscriber, the attach point included: ZMQ_XPUB_NODROP, core/bus/README.md. The samples
-  // of the first ~0.5 s get through, and the watchdog trips after 10 ms.)
+  // stall the simulator: within 2 s, samples taken after the stall carry the watchdog bit
+  // (the watchdog trips after 10 ms; the stopped simulator loses the driver's ffd/state
+  // alone, the attach point still gets it: core/bus/README.md, "Delivery")
   Continue guard{sim};
   const std::int64_t stop_ns = rt::now_ns();
   ASSERT_EQ(kill(sim, SIGSTOP), 0);
@@ -287,7 +286,8 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   });
   EXPECT_TRUE(tripped) << "no ffd/state with DEVICE_FAULT_WATCHDOG within 2 s of stopping the simulator";
   std::printf("[ timing ] watchdog bit seen %.3f s after SIGSTOP\n", seconds_since(stopped));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // stalled well past the tactile driver's watchdog (0.25 s) too
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
 
   // resume it: within 2 s, samples taken after that are healthy again
   const std::int64_t cont_ns = rt::now_ns();
@@ -302,6 +302,14 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   EXPECT_TRUE(cleared) << "the watchdog bit did not clear within 2 s of resuming the simulator";
   std::printf("[ timing ] watchdog bit cleared %.3f s after SIGCONT\n", seconds_since(continued));
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+  // both drivers said when their watchdog began and ended (the tactile driver lowered the
+  // pins: no frame for 0.25 s), and counted it in their summaries
+  const std::string log = launcher.log();
+  for (const char* line : {"ffd: watchdog: episode 1 began", "tactile: watchdog: episode 1 began, no tactile/frame: pins lowered",
+                           "tactile: watchdog: episode 1 ended after"}) {
+    EXPECT_NE(log.find(line), std::string::npos) << line << "\n" << log;
+  }
+  EXPECT_NE(log.find("watchdog episode"), std::string::npos) << log;
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
 

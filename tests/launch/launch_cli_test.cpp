@@ -202,6 +202,18 @@ TEST_F(Launch, RespawnRestartsANodeThatExits) {
   EXPECT_GE(lines_of(read_file(f("starts"))).size(), 2u) << r.err;
 }
 
+// restarts stop at respawn_max, each after twice the previous delay, and the launcher says so
+TEST_F(Launch, RespawnStopsAtRespawnMaxWithBackoff) {
+  const std::string script = "echo start >> " + f("starts") + "\n" + kReady + "\nexit 3";
+  const RunResult r = launch(sh_node("flaky", script, "respawn: true\nrespawn_delay: 0.05\nrespawn_max: 2"), "--duration 1.5");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(exists(f("starts"))) << r.err;
+  EXPECT_EQ(lines_of(read_file(f("starts"))).size(), 3u) << r.err;
+  EXPECT_TRUE(has(r.err, "restarting 'flaky' in 0.05 s (restart 1 of 2)")) << r.err;
+  EXPECT_TRUE(has(r.err, "restarting 'flaky' in 0.1 s (restart 2 of 2)")) << r.err;
+  EXPECT_TRUE(has(r.err, "was restarted 2 times (respawn_max 2): not restarting it again")) << r.err;
+}
+
 // a node that writes "ready" and exits at once was ready: it is respawned, not a failed start
 TEST_F(Launch, RespawnOfANodeThatExitsRightAfterReady) {
   const std::string script = "echo start >> " + f("starts") + "\n" + kReady + "\nexit 0";
@@ -301,6 +313,17 @@ TEST_F(Launch, AKilledLaunchersEntryAndFolderAreCleanedByTheNext) {
   EXPECT_TRUE(has(list.out, "no graph running")) << list.out;
   EXPECT_FALSE(exists(folder));
   EXPECT_TRUE(std::filesystem::is_empty(f("registry")));
+}
+
+// a launcher killed by SIGKILL cannot stop its graph: each node gets SIGTERM from the kernel
+// (its parent-death signal), so a driver stops cleanly (zero force, pins down)
+TEST_F(Launch, KilledLauncherStopsItsChildrenCleanly) {
+  const std::string trapper = "trap 'echo term > " + f("term") + "; exit 0' TERM\n" + kReady + "\nwhile :; do sleep 0.05; done";
+  Launcher launcher(dir_, launch_file(sh_node("driver", trapper)));
+  ASSERT_TRUE(launcher.wait_for_log("graph ready", 10.0)) << launcher.log();
+  kill(launcher.pid(), SIGKILL);
+  launcher.wait_exit(5.0);
+  EXPECT_TRUE(eventually([&] { return exists(f("term")); }, 2.0)) << "the node never got SIGTERM";
 }
 
 TEST_F(Launch, SigintStopsTheGraphCleanly) {

@@ -164,6 +164,8 @@ msgs::NodeStatus node_status() {
   topic->set_malformed(1);
   m.set_faults(1);
   m.set_last_fault("model unstable: reset");
+  m.set_watchdog_episodes(2);
+  m.set_watchdog_longest_s(0.25);
   return m;
 }
 

@@ -2,7 +2,7 @@
 // Last words to the hardware when the driver process dies: the process that owns a device
 // must zero it on its own way out. A backend registers an emergency stop (a function and a
 // context) while it holds a device; a handler of the fatal signals (SIGSEGV, SIGBUS, SIGILL,
-// SIGFPE, SIGABRT: a crash, an uncaught exception, an abort) runs every registered stop,
+// SIGFPE, SIGABRT, SIGALRM: a crash, an uncaught exception, an abort, a stop past its grace period) runs every registered stop,
 // then lets the signal take its course (the previous handler, or the default action: the
 // process still dies with that signal). An exit() that skips the backends' destructors runs
 // them too (atexit). Stops must be async-signal-safe: atomics and the transports'

@@ -1,0 +1,323 @@
+// Faults on the distributed graph (launch/bridge.yaml at 5 kHz, simulated devices), as a
+// lab would meet them: a stopped launcher (Ctrl-Z, a debugger), a killed launcher. The loop
+// must not notice an observer's trouble, and the force and the pins must end safe.
+//
+// Machine assumptions: 2 noisy shared cores; bounds are generous, the figures are printed.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <string>
+
+#include "core/record/reader.h"
+#include "core/rt/clock.h"
+#include "tests/integration/integration_util.h"
+
+namespace enact::test {
+namespace {
+
+constexpr double kReadyTimeout_s = 20.0;
+constexpr double kRate_hz = 5000.0;  // bridge.yaml's
+
+// SIGCONT on scope exit: a failed assertion must not leave a process stopped
+struct Continue {
+  pid_t pid;
+  ~Continue() { kill(pid, SIGCONT); }
+};
+
+// whether child `pid` exits within timeout_s (reaped); if not, it is killed (and reaped)
+bool exits_within(pid_t pid, double timeout_s) {
+  const auto give_up = after(timeout_s);
+  while (Clock::now() < give_up) {
+    if (waitpid(pid, nullptr, WNOHANG) == pid) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return false;
+}
+
+// the first node/status of `node` stamped after after_ns, within timeout_s
+std::optional<msgs::NodeStatus> status_after(Observer& obs, Observed& seen, const std::string& node, std::int64_t after_ns, double timeout_s) {
+  std::optional<msgs::NodeStatus> found;
+  obs.observe(timeout_s, seen, [&](std::string_view topic) {
+    if (topic != "node/status") return true;
+    const msgs::NodeStatus& s = seen.statuses.back();
+    if (s.node() == node && s.header().stamp_ns() > after_ns) found = s;
+    return !found;
+  });
+  return found;
+}
+
+// the launcher, and with it the attach point, stopped for 3 s: the loop goes on answering
+// (the attach point's copy of the traffic is lost alone, and counted by the observer)
+TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
+  constexpr double kStop_s = 3.0;
+  TempDir dir;
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  Observer obs(launcher.endpoint());
+  obs.states.emplace(obs.bytes(), "ffd/state");
+  obs.statuses.emplace(obs.bytes(), "node/status");
+  Observed seen;
+  // `enact topic echo` attached too: it reports its losses when it exits
+  const pid_t echo = spawn({ENACT_CLI, "topic", "echo", "ffd/state", "--count", "20000", "--attach", launcher.endpoint()}, dir.file("echo.out"),
+                           dir.file("echo.err"));
+  // the driver's cumulative count of samples without an answer in time, before
+  const auto before = status_after(obs, seen, "ffd", 0, 5.0);
+  ASSERT_TRUE(before) << "no node/status from ffd";
+
+  // stop the launcher (its attach point thread and its ZeroMQ I/O thread with it)
+  {
+    Continue guard{launcher.pid()};
+    ASSERT_EQ(kill(launcher.pid(), SIGSTOP), 0);
+    std::this_thread::sleep_for(std::chrono::duration<double>(kStop_s));
+  }
+  const std::int64_t resumed_ns = rt::now_ns();
+  const auto resumed = status_after(obs, seen, "ffd", resumed_ns, 5.0);
+  ASSERT_TRUE(resumed) << "no node/status from ffd after the launcher resumed\n" << launcher.log();
+
+  // the loop went on: no watchdog episode (no answer for 10 ms) lasted anywhere near the
+  // stop (a blocked loop has one of 3 s; a busy machine alone, some of up to ~0.2 s). The
+  // samples left without an answer in time are printed: a busy machine misses many
+  const double window_s = static_cast<double>(resumed->header().stamp_ns() - before->header().stamp_ns()) * 1e-9;
+  const double samples = window_s * kRate_hz;
+  const std::uint64_t unanswered = resumed->faults() - before->faults();
+  std::printf("[ measure ] launcher stopped %.1f s: %llu of %.0f samples without an answer in time; watchdog episodes %llu, longest %.3f s\n",
+              kStop_s, static_cast<unsigned long long>(unanswered), samples, static_cast<unsigned long long>(resumed->watchdog_episodes()),
+              resumed->watchdog_longest_s());
+  EXPECT_GT(window_s, kStop_s);
+  EXPECT_LT(resumed->watchdog_longest_s(), kStop_s / 3) << "the loop stopped answering while the launcher was stopped";
+  // and the launcher, resumed, does not take the statuses it missed for hung nodes
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  EXPECT_EQ(launcher.log().find("hangs"), std::string::npos) << launcher.log();
+
+  // the observer lost what the stopped attach point could not hold, and counts exactly that
+  ASSERT_GE(seen.states.size(), 2u);
+  const bus::TopicCounters c = obs.states->counters();
+  const std::uint64_t span = seen.states.back().header().seq() - seen.states.front().header().seq() + 1;
+  std::printf("[ measure ] observer: ffd/state %llu received, %llu lost in %llu gaps, seq span %llu\n", static_cast<unsigned long long>(c.received),
+              static_cast<unsigned long long>(c.lost), static_cast<unsigned long long>(c.gaps), static_cast<unsigned long long>(span));
+  EXPECT_GT(c.lost, 0u) << "nothing lost: the launcher was not stopped long enough to test anything";
+  EXPECT_EQ(c.received + c.lost, span);
+
+  // so does the echo, on exit
+  ASSERT_TRUE(exits_within(echo, 20.0)) << "enact topic echo --count 20000 did not finish";
+  const std::string echo_err = read_file(dir.file("echo.err"));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(echo_err, m, std::regex("ffd/state: 20000 messages in [0-9.]+ s, ([0-9]+) lost in gaps"))) << echo_err;
+  std::printf("[ measure ] enact topic echo: %s lost\n", m[1].str().c_str());
+  EXPECT_GT(std::stoull(m[1].str()), 0u);
+  EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+}
+
+// the launcher killed by SIGKILL: every node stops cleanly (SIGTERM from the kernel), the
+// FFD driver zeroing the force and the tactile driver lowering the pins; an attached
+// recorder closes its file and exits
+TEST(Faults, KilledLauncherZeroesTheForceAndLowersThePins) {
+  ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  TempDir dir;
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
+  ASSERT_TRUE(launcher.wait_log("started ffd", kReadyTimeout_s)) << launcher.log();
+  const pid_t recorder =
+      spawn({ENACT_CLI, "record", "-o", dir.file("run.mcap"), "--attach", launcher.endpoint()}, dir.file("rec.out"), dir.file("rec.err"));
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  const pid_t sim = launcher.pid_of("sim"), tactile = launcher.pid_of("tactile"), ffd = launcher.pid_of("ffd");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(kill(launcher.pid(), SIGKILL), 0);
+  ASSERT_TRUE(launcher.wait_exit(5.0));
+  // the recorder notices and closes a complete file
+  EXPECT_TRUE(exits_within(recorder, 10.0)) << "enact record still runs 10 s after the launcher was killed";
+  EXPECT_NE(read_file(dir.file("rec.err")).find("the graph is gone"), std::string::npos) << read_file(dir.file("rec.err"));
+  EXPECT_TRUE(record::Reader(dir.file("run.mcap")).complete());
+  const auto end = after(10.0);
+  while (Clock::now() < end && !(process_gone(sim) && process_gone(tactile) && process_gone(ffd))) {
+    while (waitpid(-1, nullptr, WNOHANG) > 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  prctl(PR_SET_CHILD_SUBREAPER, 0);
+  EXPECT_TRUE(process_gone(sim) && process_gone(tactile) && process_gone(ffd)) << launcher.log();
+  // the nodes' own last words (they share the launcher's stderr)
+  const std::string log = launcher.log();
+  EXPECT_NE(log.find("watchdog episode"), std::string::npos) << log;
+  EXPECT_NE(log.find("force at exit: zeroed before the device was switched off"), std::string::npos) << log;
+  EXPECT_NE(log.find("pins lowered."), std::string::npos) << log;
+  EXPECT_NE(log.find("sim: "), std::string::npos) << log;
+}
+
+// what a recording holds of ffd/state: how many, the first seq, the gaps, the last stamp,
+// and the stamp of the first sample after `after_ns` with the watchdog bit (0: none)
+struct StateRecord {
+  std::uint64_t states = 0, first_seq = 0, gaps = 0;
+  std::int64_t last_stamp_ns = 0, first_watchdog_ns = 0;
+};
+StateRecord read_states(const std::string& path, std::int64_t after_ns) {
+  record::Reader r(path);
+  StateRecord out;
+  std::uint64_t last = 0;
+  msgs::DeviceState state;
+  r.for_each([&](const record::Message& m) {
+    if (m.topic != "ffd/state" || !state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) return true;
+    if (out.states++ == 0) out.first_seq = state.header().seq();
+    else if (state.header().seq() > last + 1) out.gaps += state.header().seq() - last - 1;
+    last = state.header().seq();
+    out.last_stamp_ns = state.header().stamp_ns();
+    if (out.first_watchdog_ns == 0 && state.header().stamp_ns() > after_ns && (state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0) {
+      out.first_watchdog_ns = state.header().stamp_ns();
+    }
+    return true;
+  });
+  return out;
+}
+
+// kill -9 of each node in turn during a recorded run: the launcher says which node died and
+// stops the graph; the drivers left zero the force and lower the pins; the recording has
+// everything before the kill
+TEST(Faults, KillNineOfEachNodeDuringARecordedRun) {
+  for (const std::string victim : {"sim", "tactile", "ffd"}) {
+    SCOPED_TRACE(victim);
+    TempDir dir;
+    const std::string file = dir.file("run.mcap");
+    Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
+    ASSERT_TRUE(launcher.wait_log("started ffd", kReadyTimeout_s)) << launcher.log();
+    const pid_t recorder = spawn({ENACT_CLI, "record", "-o", file, "--attach", launcher.endpoint()}, dir.file("rec.out"), dir.file("rec.err"));
+    ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    const pid_t pid = launcher.pid_of(victim);
+    ASSERT_GT(pid, 0) << launcher.log();
+    const std::int64_t kill_ns = rt::now_ns();
+    ASSERT_EQ(kill(pid, SIGKILL), 0);
+    const std::optional<int> code = launcher.wait_exit(10.0);
+    ASSERT_TRUE(code) << "the graph still runs 10 s after " << victim << " was killed\n" << launcher.log();
+    EXPECT_EQ(*code, 1);
+    kill(recorder, SIGINT);
+    waitpid(recorder, nullptr, 0);
+
+    // the launcher said who died and what it did
+    const std::string log = launcher.log();
+    EXPECT_NE(log.find("'" + victim + "' (" ), std::string::npos) << log;
+    EXPECT_NE(log.find("was killed by signal Killed"), std::string::npos) << log;
+    EXPECT_NE(log.find("required process '" + victim + "' is gone, stopping the graph"), std::string::npos) << log;
+    // the drivers that were left stopped safely
+    if (victim != "ffd") {
+      EXPECT_NE(log.find("force at exit: zeroed before the device was switched off"), std::string::npos) << log;
+    }
+    if (victim != "tactile") {
+      EXPECT_NE(log.find("pins lowered."), std::string::npos) << log;
+    }
+    // the recording: every sample from the first to the end, none lost
+    const StateRecord r = read_states(file, kill_ns);
+    std::printf("[ measure ] kill -9 %s: %llu ffd/state recorded (first seq %llu, %llu lost), the last %.1f ms after the kill; watchdog bit %s\n",
+                victim.c_str(), static_cast<unsigned long long>(r.states), static_cast<unsigned long long>(r.first_seq),
+                static_cast<unsigned long long>(r.gaps), static_cast<double>(r.last_stamp_ns - kill_ns) * 1e-6,
+                r.first_watchdog_ns ? (std::to_string(static_cast<double>(r.first_watchdog_ns - kill_ns) * 1e-6) + " ms after the kill").c_str() : "not seen");
+    EXPECT_EQ(r.first_seq, 1u);
+    EXPECT_EQ(r.gaps, 0u);
+    EXPECT_GT(r.states, 1000u);  // 1.5 s at 5 kHz, less what a busy machine misses
+    // up to the kill (within a few ticks), and the driver did not run on for long after it
+    EXPECT_GT(r.last_stamp_ns, kill_ns - 100'000'000) << "the recording ends well before the kill";
+    EXPECT_LT(r.last_stamp_ns, kill_ns + 1'000'000'000) << "the driver ran on for more than 1 s";
+  }
+}
+
+// a node that hangs (SIGSTOP: its node/status stops) is stopped like one that exited: the
+// tactile driver is required, so the graph stops, the FFD driver zeroing the force
+TEST(Faults, HungNodeIsHandledAsAnExit) {
+  TempDir dir;
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // every node reported
+  const pid_t tactile = launcher.pid_of("tactile");
+  Continue guard{tactile};
+  ASSERT_EQ(kill(tactile, SIGSTOP), 0);
+  const auto stopped = Clock::now();
+  ASSERT_TRUE(launcher.wait_log("'tactile'", 15.0)) << launcher.log();
+  const std::optional<int> code = launcher.wait_exit(15.0);
+  std::printf("[ measure ] hung tactile driver: the launcher stopped the graph %.1f s after SIGSTOP\n", seconds_since(stopped));
+  ASSERT_TRUE(code) << launcher.log();
+  EXPECT_EQ(*code, 1);
+  const std::string log = launcher.log();
+  EXPECT_NE(log.find("hangs: no node/status for a while, stopping it"), std::string::npos) << log;
+  EXPECT_NE(log.find("required process 'tactile' is gone, stopping the graph"), std::string::npos) << log;
+  EXPECT_NE(log.find("force at exit: zeroed before the device was switched off"), std::string::npos) << log;
+  // continued after SIGTERM, it stopped cleanly too
+  EXPECT_NE(log.find("pins lowered."), std::string::npos) << log;
+}
+
+// bridge.yaml with the simulator respawned instead of required
+std::string respawning_bridge(const TempDir& dir) {
+  std::string text = read_file(source_path("launch/bridge.yaml"));
+  const std::string sim_required = "exec: enact-sim\n      required: true";
+  const std::size_t at = text.find(sim_required);
+  if (at == std::string::npos) throw std::runtime_error("launch/bridge.yaml: the simulator is not listed as expected");
+  text.replace(at, sim_required.size(), "exec: enact-sim\n      respawn: true\n      respawn_delay: 0.2");
+  // its relative paths ($(dirname)) still point into launch/
+  const std::string dirname = "$(dirname)";
+  for (std::size_t p = 0; (p = text.find(dirname, p)) != std::string::npos;) text.replace(p, dirname.size(), source_path("launch"));
+  const std::string path = dir.file("bridge_respawn.yaml");
+  write_file(path, text);
+  return path;
+}
+
+// the simulator killed and respawned under a driver that keeps running: it says so (log
+// and task event), its new stream's losses are counted, and its force starts from zero
+TEST(Faults, RespawnedSimulatorSaysSoAndItsForceStartsFromZero) {
+  TempDir dir;
+  Launcher launcher(dir, respawning_bridge(dir), 60.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  Observer obs(launcher.endpoint());
+  obs.forces.emplace(obs.bytes(), "ffd/force");
+  obs.events.emplace(obs.bytes(), "task/event");
+  Observed seen;
+  obs.observe(1.0, seen);
+  ASSERT_FALSE(seen.forces.empty());
+  const std::size_t old_forces = seen.forces.size();
+  ASSERT_EQ(kill(launcher.pid_of("sim"), SIGKILL), 0);
+  // the new simulator's trial start
+  bool restarted = false;
+  obs.observe(10.0, seen, [&](std::string_view topic) {
+    restarted = restarted || (topic == "task/event" && seen.events.back().kind() == msgs::TaskEvent::TRIAL_START &&
+                              seen.events.back().detail().find("simulator restarted (respawn 1)") != std::string::npos);
+    return !restarted || seen.forces.size() < old_forces + 2000;
+  });
+  obs.observe(0.5, seen);
+  EXPECT_TRUE(restarted) << "no task/event saying the simulator restarted\n" << launcher.log();
+  const std::string log = launcher.log();
+  EXPECT_NE(log.find("restarting 'sim' in 0.2 s (restart 1 of 3)"), std::string::npos) << log;
+  EXPECT_NE(log.find("sim: simulator restarted (respawn 1): physics and task start over"), std::string::npos) << log;
+
+  // the new stream: every message of it counted, received or lost (it starts again at seq 1)
+  std::size_t first_new = old_forces;
+  while (first_new < seen.forces.size() && seen.forces[first_new].header().seq() > seen.forces[first_new - 1].header().seq()) ++first_new;
+  ASSERT_LT(first_new + 1000, seen.forces.size()) << "too few answers of the new simulator observed";
+  const bus::TopicCounters c = obs.forces->counters();
+  const std::uint64_t old_span = seen.forces[first_new - 1].header().seq() - seen.forces.front().header().seq() + 1;
+  const std::uint64_t new_span = seen.forces.back().header().seq();
+  EXPECT_EQ(c.received + c.lost, old_span + new_span) << "messages of the new stream missing from the count";
+  // the force of the new simulator starts from zero (the body re-synchronised with the device
+  // the hand pushed on while the force was cut). What follows is the coupled motion of hand,
+  // device and model, re-synchronised again each time the driver's watchdog trips on a busy
+  // machine: its largest rise is printed, and the driver's safety layer holds the device to
+  // the profile's limit (tests/devices/safety_test.cpp); the smoothness of the
+  // re-synchronisation itself is tested in tests/sim/reengage_test.cpp
+  const auto magnitude = [](const msgs::Vec3& f) { return std::hypot(f.x(), f.y(), f.z()); };
+  double largest_rise_n = 0.0;
+  for (std::size_t i = first_new + 1; i < first_new + 1000; ++i) {
+    if (seen.forces[i].header().seq() != seen.forces[i - 1].header().seq() + 1) continue;
+    largest_rise_n = std::max(largest_rise_n, magnitude(seen.forces[i].force()) - magnitude(seen.forces[i - 1].force()));
+  }
+  const double first_n = magnitude(seen.forces[first_new].force());
+  std::printf("[ measure ] respawned simulator: first answer %.3f N (seq %llu), largest rise over its next 1000 answers %.3f N\n", first_n,
+              static_cast<unsigned long long>(seen.forces[first_new].header().seq()), largest_rise_n);
+  EXPECT_LT(first_n, 1.0);
+  EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+}
+
+}  // namespace
+}  // namespace enact::test
