@@ -8,10 +8,14 @@ std::vector<DeviceProfile> profiles() {
       // ERGOS 3-DoF joystick as used by Khatchatourov et al. (2009): workspace 60 x 60 x 25 mm,
       // 200 N peak / 60 N continuous, 1.8 m/s, 60 m/s^2 peak, 1 um sensing resolution.
       // Moving mass and physical damping are not published: assumed values, to identify.
-      {"ergos", {-0.030, -0.030, 0.0}, {0.030, 0.030, 0.025}, 200.0, 60.0, 1.8, 60.0, 1e-6, 0.2, 6.0},
+      // Force step limit: not published either; assumed 5 N/ms (the 200 N peak no sooner than
+      // 40 ms from rest), about 3 times the fastest rise of the bridge scene's contacts
+      // (6000 N/m at a brisk 0.3 m/s: 1.8 N/ms), so the limit never shapes a normal contact.
+      {"ergos", {-0.030, -0.030, 0.0}, {0.030, 0.030, 0.025}, 200.0, 60.0, 1.8, 60.0, 1e-6, 0.2, 6.0, 5.0},
       // Novint Falcon-like: about 10 cm cube, about 9 N peak, 400 dpi (~64 um) resolution
-      // (manufacturer's figures); speed, mass and damping assumed.
-      {"falcon", {-0.05, -0.05, -0.05}, {0.05, 0.05, 0.05}, 9.0, 4.0, 1.0, 30.0, 6.4e-5, 0.15, 0.5},
+      // (manufacturer's figures); speed, mass, damping and the force step limit assumed (1 N/ms:
+      // the peak no sooner than 9 ms from rest).
+      {"falcon", {-0.05, -0.05, -0.05}, {0.05, 0.05, 0.05}, 9.0, 4.0, 1.0, 30.0, 6.4e-5, 0.15, 0.5, 1.0},
   };
 }
 

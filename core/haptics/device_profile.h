@@ -20,6 +20,9 @@ struct DeviceProfile {
   double resolution_m = 0.0;
   double moving_mass_kg = 0.0;       // assumed; identify your device
   double damping_n_s_per_m = 0.0;    // physical damping b (passivity bound); assumed
+  // the largest change of the commanded force allowed within one millisecond (any shorter
+  // interval: proportionally less): the safety layer's last-line slew limit; assumed
+  double max_force_step_n_per_ms = 0.0;
 };
 
 std::optional<DeviceProfile> find_device_profile(const std::string& name);

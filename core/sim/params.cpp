@@ -42,11 +42,6 @@ std::optional<double> number_of(const ParamValue& v) {
   return d;
 }
 
-bool is_body_point(const physics::Model& m, int point) {
-  const physics::Point& p = m.points[point];
-  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
-}
-
 // the first contact pair of the body (-1 when it has none)
 int first_body_contact(const physics::Model& m) {
   for (std::size_t i = 0; i < m.contacts.size(); ++i) {
@@ -56,6 +51,11 @@ int first_body_contact(const physics::Model& m) {
 }
 
 }  // namespace
+
+bool is_body_point(const physics::Model& m, int point) {
+  const physics::Point& p = m.points[point];
+  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+}
 
 const std::vector<std::string>& param_names() {
   static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "reset", "reposition", "trial"};

@@ -81,7 +81,7 @@ int run(int argc, char** argv) {
   graph::report_ready();
   // parameter changes, between two steps
   auto apply_params = [&] {
-    while (const auto change = params.next()) params.applied(simulator.apply(*change, last_step_ns, rt::now_ns()));
+    while (const auto change = params.next()) params.applied(simulator.apply(*change, rt::now_ns()));
   };
   while (!graph::stop_requested()) {
     if (!states.receive(state, 100)) {
