@@ -96,7 +96,7 @@ void Simulator::activate(std::int64_t start_ns) {
   tactile_.reset();
   task_.reset(start_ns);
   trial_running_ = true;
-  restart_trial_ = false;
+  trial_change_ = TrialChange::none;
   steps_ = 0;
   reentering_ = capture_ = false;
   offset_left_ = offset_total_ = 0;
@@ -132,17 +132,14 @@ ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
       // model, pins and task from the start: a new trial
       physics::reset(model_, state_);
       tactile_.reset();
-      restart_trial_ = true;
+      trial_change_ = TrialChange::start;
       break;
     case ParamKind::reposition:
       // the body is about to jump back to the start: forget the faces it entered through
       physics::reset(model_, state_);
       break;
-    case ParamKind::trial_start: restart_trial_ = true; break;
-    case ParamKind::trial_stop:
-      trial_running_ = false;
-      restart_trial_ = false;
-      break;
+    case ParamKind::trial_start: trial_change_ = TrialChange::start; break;
+    case ParamKind::trial_stop: trial_change_ = TrialChange::stop; break;
   }
   if (law) {
     reenter_contacts(c.kind == ParamKind::reset || c.kind == ParamKind::reposition);
@@ -236,10 +233,9 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
     return out_;
   }
   // a trial a change started begins at the first step that uses it
-  if (restart_trial_) {
+  if (trial_change_ == TrialChange::start) {
     task_.reset(time_ns);
     trial_running_ = true;
-    restart_trial_ = false;
   }
   const std::uint64_t faults = state_.faults;
   state_.proxy_position_m[0] = device_position_m;
@@ -271,6 +267,9 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
     out_.progress = path_.project(centre.x, centre.y).fraction;
     out_.event = trial_running_ ? task_.update(time_ns, out_.on_top, out_.progress) : task::TaskEvent{};
   }
+  // a trial a change stopped ends with the first step that uses it
+  if (trial_change_ == TrialChange::stop) trial_running_ = false;
+  trial_change_ = TrialChange::none;
   return out_;
 }
 

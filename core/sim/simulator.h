@@ -76,6 +76,8 @@ class Simulator {
   const task::Polyline& path() const { return path_; }
   int grid_masses() const;
   const StepOutput& output() const { return out_; }
+  // steps since activate (ParamApplied::step counts the same way)
+  std::uint64_t steps() const { return steps_; }
 
  private:
   SimParams params_;
@@ -96,7 +98,9 @@ class Simulator {
 
   std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
   bool trial_running_ = true;
-  bool restart_trial_ = false;  // a change asked for a new trial: it begins at the next step
+  // a trial a change started (or reset) begins at the next step; one it stopped ends with it
+  enum class TrialChange : std::uint8_t { none, start, stop };
+  TrialChange trial_change_ = TrialChange::none;
   std::uint64_t steps_ = 0;     // steps since activate
   StepOutput out_;
   // no jolt: the body's points and contact pairs, each point's elastic force as the device

@@ -225,6 +225,7 @@ int run(int argc, char** argv) {
   auto publish = [&](const graph::Observation& o) {
     graph::fill(state_msg, o.sample);
     state_pub.publish(state_msg);
+    params.stepped(o.seq, state_msg.header().seq(), state_msg.header().stamp_ns());
     graph::fill(force_msg, state_msg.header().seq(), o.step.force_n, o.step.fault);
     force_msg.mutable_header()->set_stamp_ns(o.force_ns);
     force_pub.publish(force_msg);

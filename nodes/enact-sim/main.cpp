@@ -99,6 +99,7 @@ int run(int argc, char** argv) {
     graph::fill(command, state.header().seq(), o.force_n, o.fault);
     force_pub.publish(command);
     stats.latency.record(rt::now_ns() - received);
+    params.stepped(simulator.steps(), state.header().seq(), state.header().stamp_ns());
     ++steps;
     // answered: now is between two steps
     if (received >= next_params) {

@@ -208,7 +208,9 @@ TEST(SimulatorApply, TrialStopFreezesTheTaskAndStartBeginsANewOne) {
   Rig rig(p);
   ParamPlanner planner(rig.sim);
   for (int i = 0; i < 10; ++i) rig.step(kPressed);
+  // the trial ends with the next step
   rig.apply(planner, "trial", text("stop"));
+  rig.step(kPressed);
   EXPECT_FALSE(rig.sim.trial_running());
   for (int i = 0; i < 200; ++i) EXPECT_EQ(rig.step(kAbove).event.kind, task::TaskEventKind::none);
   EXPECT_EQ(rig.sim.metrics().falls, 0);
@@ -218,7 +220,7 @@ TEST(SimulatorApply, TrialStopFreezesTheTaskAndStartBeginsANewOne) {
   for (int i = 0; i < 200; ++i) falls += rig.step(kAbove).event.kind == task::TaskEventKind::fall_start;
   EXPECT_TRUE(rig.sim.trial_running());
   EXPECT_EQ(falls, 1);
-  // the new trial began at the start command, 210 steps in: it lasted 200 steps
+  // the new trial began at the start command, 211 steps in: it lasted 200 steps
   EXPECT_NEAR(rig.sim.metrics().time_total_s, 199 * 2e-4, 1e-9);
 }
 
