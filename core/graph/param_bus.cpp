@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "core/config/number.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
 
@@ -29,9 +30,7 @@ sim::ParamValue value_of(const msgs::ParamUpdate& m) {
 }
 
 void set_value(msgs::ParamUpdate& m, const std::string& value) {
-  char* end = nullptr;
-  const double number = std::strtod(value.c_str(), &end);
-  if (!value.empty() && *end == '\0') m.set_number(number);
+  if (const auto number = config::parse_number(value)) m.set_number(*number);
   else if (value == "true" || value == "false") m.set_flag(value == "true");
   else m.set_text(value);
 }

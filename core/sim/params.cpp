@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/config/number.h"
 #include "core/config/yaml.h"
 #include "core/haptics/device_profile.h"
 #include "core/physics/stability.h"
@@ -35,11 +36,7 @@ ParamPlan accept(ParamKind kind, std::uint64_t request_id, double value = 0.0) {
 // a number given as a number, or as text that is one
 std::optional<double> number_of(const ParamValue& v) {
   if (v.number) return v.number;
-  if (!v.text) return std::nullopt;
-  char* end = nullptr;
-  const double d = std::strtod(v.text->c_str(), &end);
-  if (end == v.text->c_str() || *end != '\0') return std::nullopt;
-  return d;
+  return v.text ? config::parse_number(*v.text) : std::nullopt;
 }
 
 // the first contact pair of the body (-1 when it has none)

@@ -109,7 +109,7 @@ int run(int argc, char** argv) {
   rt::RtParams rtp;
   rtp.lock_memory = args.params.flag("lock_memory", false);
   rtp.fifo_priority = args.params.integer("fifo_priority", 0);
-  if (const std::string cpus = args.params.text("cpus", ""); !cpus.empty()) rtp.cpus.push_back(std::stoi(cpus));
+  if (!args.params.text("cpus", "").empty()) rtp.cpus.push_back(args.params.integer("cpus", 0));
   // components, configured (bad input is refused here, before anything moves)
   const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
   graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
