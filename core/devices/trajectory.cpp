@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/config/format.h"
+#include "core/config/number.h"
 #include "core/config/yaml.h"
 
 namespace enact::devices {
@@ -48,10 +49,10 @@ Trajectory load_trajectory(const std::string& path) {
     std::string cell;
     for (int i = 0; i < 4; ++i) {
       if (!std::getline(ss, cell, ',')) bad_row(path, line, "expected 4 columns");
-      char* end = nullptr;
-      v[i] = std::strtod(cell.c_str(), &end);
-      if (end == cell.c_str()) bad_row(path, line, "'" + cell + "' is not a number");
-      if (!std::isfinite(v[i])) bad_row(path, line, "'" + cell + "' is not finite (NaN or Inf)");
+      const auto number = config::parse_number(cell, true);
+      if (!number) bad_row(path, line, "'" + cell + "' is not a number");
+      if (!std::isfinite(*number)) bad_row(path, line, "'" + cell + "' is not finite (NaN or Inf)");
+      v[i] = *number;
     }
     if (!tr.t_s.empty() && v[0] <= tr.t_s.back()) bad_row(path, line, "time " + row.substr(0, row.find(',')) + " does not increase");
     tr.t_s.push_back(v[0]);

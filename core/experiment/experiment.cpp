@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/config/number.h"
 #include "core/config/yaml.h"
 #include "core/devices/random.h"
 #include "core/devices/virtual_subject.h"
@@ -187,7 +188,7 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
     const std::string& id = spec.subjects[s];
     const bool number = std::all_of(id.begin(), id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
     char padded[16];
-    std::snprintf(padded, sizeof padded, "%0*d", width, number ? std::stoi(id) : 0);
+    std::snprintf(padded, sizeof padded, "%0*lld", width, number ? config::parse_integer(id).value_or(0) : 0LL);
     const std::string subject_stem = "s" + (number ? std::string(padded) : safe(id));
     const std::uint64_t subject_stream = devices::derive_seed(spec.seed, 2 * s + 1);
     const std::vector<std::size_t> order = condition_order(spec.order, spec.conditions.size(), s, spec.seed);

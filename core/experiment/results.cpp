@@ -52,8 +52,11 @@ RecordedTrial read_trial(const std::string& mcap_path) {
   graph::SequenceCheck seq;
   msgs::DeviceState state;
   msgs::TaskEvent event;
-  std::vector<std::pair<std::int64_t, msgs::TaskEvent::Kind>> events;
+  std::vector<std::pair<std::string, msgs::TaskEvent>> events;  // with their publisher
+  std::string sim;  // the simulator: the publisher of ffd/force
   reader.for_each([&](const record::Message& m) {
+    const auto pub = m.channel->metadata.find("publisher");
+    const std::string publisher = pub == m.channel->metadata.end() ? "" : pub->second;
     if (m.topic == graph::kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       if (out.states == 0) {
         out.first_state_seq = state.header().seq();
@@ -64,31 +67,43 @@ RecordedTrial read_trial(const std::string& mcap_path) {
       last_ns = state.header().stamp_ns();
       ++out.states;
     } else if (m.topic == graph::kTaskEvent && event.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      events.emplace_back(event.time_ns(), event.kind());
+      events.emplace_back(publisher, event);
+    } else if (m.topic == graph::kForceCommand) {
+      sim = publisher;
     }
     return true;
   });
   if (out.states == 0) throw config::Error(mcap_path + ": holds no device state (ffd/state)\n  fix: record the trial's graph with its logger");
   // the simulator's events, in the order it reported them; the runner's own (trial start,
-  // reset, condition) carry no metric. A fall that begins or ends on the very step that
-  // completes the bridge is not reported (BridgeTask keeps it): then falls can be one short.
-  for (const auto& [time_ns, kind] : events) {
-    if (end_ns >= 0) break;
-    if (kind == msgs::TaskEvent::FALL_START) {
+  // reset, condition) carry no metric. A live `sim.trial start` or `sim.reset` begins a new
+  // trial there, `sim.trial stop` ends it (not completed). A fall that begins or ends on the
+  // very step that completes the bridge is not reported (BridgeTask keeps it): then falls
+  // can be one short.
+  std::int64_t start_ns = first_ns;
+  for (const auto& [publisher, e] : events) {
+    const bool restart = e.kind() == msgs::TaskEvent::TRIAL_START || (e.kind() == msgs::TaskEvent::RESET && e.detail() == "reset");
+    if (publisher == sim && restart) {
+      out.metrics = {};
+      start_ns = e.time_ns();
+      end_ns = fall_ns = -1;
+      out_ns = 0;
+    }
+    if (end_ns >= 0) continue;
+    if (e.kind() == msgs::TaskEvent::FALL_START) {
       ++out.metrics.falls;
-      fall_ns = time_ns;
-    } else if (kind == msgs::TaskEvent::FALL_END && fall_ns >= 0) {
-      out_ns += time_ns - fall_ns;
+      fall_ns = e.time_ns();
+    } else if (e.kind() == msgs::TaskEvent::FALL_END && fall_ns >= 0) {
+      out_ns += e.time_ns() - fall_ns;
       fall_ns = -1;
-    } else if (kind == msgs::TaskEvent::TRIAL_END) {
-      end_ns = time_ns;
-      out.metrics.completed = true;
+    } else if (e.kind() == msgs::TaskEvent::TRIAL_END) {
+      end_ns = e.time_ns();
+      out.metrics.completed = e.detail() != "stopped";
     }
   }
   // a fall still open counts up to the end: the completion, or the last device state
   const std::int64_t stop_ns = end_ns >= 0 ? end_ns : last_ns;
   if (fall_ns >= 0) out_ns += stop_ns - fall_ns;
-  out.metrics.time_total_s = seconds(stop_ns - first_ns);
+  out.metrics.time_total_s = seconds(stop_ns - start_ns);
   out.metrics.time_out_s = seconds(out_ns);
   out.metrics.ratio = out.metrics.time_total_s > 0.0 ? out.metrics.time_out_s / out.metrics.time_total_s : 0.0;
   out.duration_s = seconds(last_ns - first_ns);

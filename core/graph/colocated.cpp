@@ -26,7 +26,7 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   if (start_ns_ < 0) start_ns_ = now_ns;
   // parameter changes, between the last step and this one
   sim::ParamChange change;
-  while (changes_ && changes_->try_pop(change)) applied_->try_push(sim_.apply(change, now_ns - start_ns_, now_ns));
+  while (changes_ && changes_->try_pop(change)) applied_->try_push(sim_.apply(change, now_ns));
   // read the device, step the model on that sample, write the force, in one tick
   force_.read(now_ns, obs_.sample);
   obs_.step = sim_.step(now_ns - start_ns_, obs_.sample.position_m);

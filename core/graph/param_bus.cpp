@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "core/config/number.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
@@ -30,9 +31,7 @@ sim::ParamValue value_of(const msgs::ParamUpdate& m) {
 }
 
 void set_value(msgs::ParamUpdate& m, const std::string& value) {
-  char* end = nullptr;
-  const double number = std::strtod(value.c_str(), &end);
-  if (!value.empty() && *end == '\0') m.set_number(number);
+  if (const auto number = config::parse_number(value)) m.set_number(*number);
   else if (value == "true" || value == "false") m.set_flag(value == "true");
   else m.set_text(value);
 }
@@ -69,10 +68,25 @@ std::optional<sim::ParamChange> ParamPort::next() {
     if (repeated) continue;
     const sim::ParamPlan plan = planner_.plan(request_.name().substr(prefix_.size()), value_of(request_), id);
     if (!plan.accepted) {
-      ack(id, false, plan.reason);
+      refuse(id, plan.reason);
       continue;
     }
-    in_flight_[id] = plan.change.kind == sim::ParamKind::model ? planner_.computer_model().name : "";
+    // the ack names the value applied
+    InFlight& f = in_flight_[id];
+    f.model = plan.change.kind == sim::ParamKind::model ? planner_.computer_model().name : "";
+    f.ack.set_request_id(id);
+    f.ack.set_applied(true);
+    f.ack.set_name(request_.name());
+    switch (plan.change.kind) {
+      case sim::ParamKind::threshold:
+      case sim::ParamKind::stiffness:
+      case sim::ParamKind::damping: f.ack.set_number(plan.change.value); break;
+      case sim::ParamKind::model: f.ack.set_text(request_.text()); break;
+      case sim::ParamKind::trial_start: f.ack.set_text("start"); break;
+      case sim::ParamKind::trial_stop: f.ack.set_text("stop"); break;
+      case sim::ParamKind::reset:
+      case sim::ParamKind::reposition: break;
+    }
     return plan.change;
   }
   return std::nullopt;
@@ -80,39 +94,35 @@ std::optional<sim::ParamChange> ParamPort::next() {
 
 void ParamPort::applied(const sim::ParamApplied& a) {
   const auto it = in_flight_.find(a.request_id);
-  if (it != in_flight_.end()) {
-    if (a.kind == sim::ParamKind::model) names_.emplace_back(a.time_ns, it->second);
-    if (names_.size() > kNamesKept) names_.pop_front();
-    in_flight_.erase(it);
-  }
-  ack(a.request_id, true, "");
-  // commands are task events too
-  msgs::TaskEvent e;
+  if (it == in_flight_.end()) return;
+  InFlight& f = it->second;
+  if (a.kind == sim::ParamKind::model) names_.emplace_back(a.time_ns, f.model);
+  if (names_.size() > kNamesKept) names_.pop_front();
+  f.step = a.step;
+  // commands are task events too, at the step that first uses them
   switch (a.kind) {
     case sim::ParamKind::model:
-      e.set_kind(msgs::TaskEvent::CONDITION);
-      e.set_detail("computer model " + model_name());
+      f.event.set_kind(msgs::TaskEvent::CONDITION);
+      f.event.set_detail("computer model " + model_name());
       break;
     case sim::ParamKind::reset:
-      e.set_kind(msgs::TaskEvent::RESET);
-      e.set_detail("reset");
+      f.event.set_kind(msgs::TaskEvent::RESET);
+      f.event.set_detail("reset");
       break;
     case sim::ParamKind::reposition:
-      e.set_kind(msgs::TaskEvent::RESET);
-      e.set_detail("repositioned at the start");
+      f.event.set_kind(msgs::TaskEvent::RESET);
+      f.event.set_detail("repositioned at the start");
       break;
-    case sim::ParamKind::trial_start: e.set_kind(msgs::TaskEvent::TRIAL_START); break;
+    case sim::ParamKind::trial_start: f.event.set_kind(msgs::TaskEvent::TRIAL_START); break;
     case sim::ParamKind::trial_stop:
-      e.set_kind(msgs::TaskEvent::TRIAL_END);
-      e.set_detail("stopped");
+      f.event.set_kind(msgs::TaskEvent::TRIAL_END);
+      f.event.set_detail("stopped");
       break;
     case sim::ParamKind::threshold:
     case sim::ParamKind::stiffness:
     case sim::ParamKind::damping: return;
   }
-  e.set_time_ns(a.time_ns);
-  e.set_condition(model_name());
-  events_.publish(e);
+  f.event.set_condition(model_name());
 }
 
 const std::string& ParamPort::model_name_at(std::int64_t time_ns) const {
@@ -122,11 +132,33 @@ const std::string& ParamPort::model_name_at(std::int64_t time_ns) const {
   return names_.front().second;
 }
 
-void ParamPort::ack(std::uint64_t request_id, bool applied, const std::string& reason) {
+void ParamPort::stepped(std::uint64_t step, std::uint64_t state_seq, std::int64_t state_ns) {
+  for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+    InFlight& f = it->second;
+    if (f.step == 0 || f.step > step) {
+      ++it;
+      continue;
+    }
+    f.ack.set_state_seq(state_seq);
+    publish(std::move(f.ack));
+    if (f.event.kind() != msgs::TaskEvent::KIND_UNSPECIFIED) {
+      f.event.set_time_ns(state_ns);
+      events_.publish(f.event);
+    }
+    it = in_flight_.erase(it);
+  }
+}
+
+void ParamPort::refuse(std::uint64_t request_id, const std::string& reason) {
   msgs::ParamAck a;
   a.set_request_id(request_id);
-  a.set_applied(applied);
+  a.set_applied(false);
   a.set_reason(reason);
+  a.set_name(request_.name());
+  publish(std::move(a));
+}
+
+void ParamPort::publish(msgs::ParamAck a) {
   acks_.publish(a);
   answered_.push_back(std::move(a));
   if (answered_.size() > kAnswersKept) answered_.pop_front();

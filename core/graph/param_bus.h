@@ -42,12 +42,17 @@ class ParamPort {
 
   // the next accepted change to apply (non-blocking; nullopt when none is waiting, or when
   // sim::kMaxParamsInFlight changes are not applied yet: a loop's queue of that capacity never
-  // overflows). Refused requests are acked here; a repeated request (same request_id) is
+  // overflows). Refused requests are acked here (applied ones by stepped()); a repeated request (same request_id) is
   // not planned again: its ack is sent again once known.
   std::optional<sim::ParamChange> next();
 
-  // the loop applied `a`: ack it (applied) and publish its task event
+  // the loop applied `a`: its ack and task event wait for the step that first uses it
   void applied(const sim::ParamApplied& a);
+  // the simulator's step `step` (ParamApplied::step's count) ran on the device state
+  // `state_seq` stamped `state_ns`: ack the applied changes it was the first to use with that
+  // seq, and publish their task events at that time (cheap when none waits: call it after
+  // every step)
+  void stepped(std::uint64_t step, std::uint64_t state_seq, std::int64_t state_ns);
 
   // the computer model's name as of the last applied change
   const std::string& model_name() const { return names_.back().second; }
@@ -59,7 +64,7 @@ class ParamPort {
   const bus::ByteSubscriber& subscriber() const { return in_bytes_; }
 
  private:
-  void ack(std::uint64_t request_id, bool applied, const std::string& reason);
+  void refuse(std::uint64_t request_id, const std::string& reason);
 
   sim::ParamPlanner planner_;
   std::string prefix_;
@@ -69,8 +74,16 @@ class ParamPort {
   bus::Publisher<msgs::TaskEvent>& events_;
   msgs::ParamUpdate request_;
   std::deque<std::pair<std::int64_t, std::string>> names_;  // the model's name from a time on
-  std::map<std::uint64_t, std::string> in_flight_;  // request id -> model name it sets ("" if none)
-  std::deque<msgs::ParamAck> answered_;              // the last answers, for repeated requests
+  struct InFlight {
+    std::string model;     // the model name it sets ("" if none)
+    msgs::ParamAck ack;    // its ack, but for the step
+    msgs::TaskEvent event; // its task event, but for the time (kind UNKNOWN: none)
+    std::uint64_t step = 0;  // applied: the step that first uses it (0: not applied yet)
+  };
+  void publish(msgs::ParamAck a);
+
+  std::map<std::uint64_t, InFlight> in_flight_;  // by request id
+  std::deque<msgs::ParamAck> answered_;          // the last answers, for repeated requests
 };
 
 // the answer to one request, as the sender sees it

@@ -2,10 +2,12 @@
 
 #include <unistd.h>
 
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 
+#include "core/config/number.h"
 #include "core/config/yaml.h"
 
 namespace enact::graph {
@@ -38,10 +40,9 @@ std::string Params::text(const std::string& name, const std::string& fallback) c
 double Params::number(const std::string& name, double fallback) const {
   const std::string* v = find(name);
   if (!v) return fallback;
-  char* end = nullptr;
-  const double d = std::strtod(v->c_str(), &end);
-  if (v->empty() || *end != '\0' || !std::isfinite(d)) bad(name, "must be a finite number, got '" + *v + "'", "write e.g. " + name + "=0.01 (SI units)");
-  return d;
+  const auto d = config::parse_number(*v);
+  if (!d) bad(name, "must be a finite number, got '" + *v + "'", "write e.g. " + name + "=0.01 (SI units)");
+  return *d;
 }
 
 int Params::integer(const std::string& name, int fallback) const {
@@ -65,10 +66,9 @@ physics::Vec3 Params::vec3(const std::string& name, const physics::Vec3& fallbac
   std::stringstream ss(*v);
   std::string cell;
   for (double& c : xyz) {
-    char* end = nullptr;
-    if (!std::getline(ss, cell, ',')) bad(name, "must be x,y,z, got '" + *v + "'", "write e.g. " + name + "=0,0,0.013 (m)");
-    c = std::strtod(cell.c_str(), &end);
-    if (cell.empty() || *end != '\0' || !std::isfinite(c)) bad(name, "must be x,y,z, got '" + *v + "'", "write e.g. " + name + "=0,0,0.013 (m)");
+    const auto d = std::getline(ss, cell, ',') ? config::parse_number(cell) : std::nullopt;
+    if (!d) bad(name, "must be x,y,z, got '" + *v + "'", "write e.g. " + name + "=0,0,0.013 (m)");
+    c = *d;
   }
   return {xyz[0], xyz[1], xyz[2]};
 }
@@ -125,9 +125,9 @@ NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name)
 void report_ready() {
   const char* fd = std::getenv("ENACT_READY_FD");
   if (!fd) return;
-  const int n = std::atoi(fd);
-  if (write(n, "ready\n", 6) != 6) return;
-  close(n);
+  const auto n = config::parse_integer(fd);
+  if (!n || *n < 0 || *n > INT_MAX || write(static_cast<int>(*n), "ready\n", 6) != 6) return;
+  close(static_cast<int>(*n));
 }
 
 }  // namespace enact::graph

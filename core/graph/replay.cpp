@@ -2,19 +2,23 @@
 
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
+#include "core/graph/param_bus.h"
 #include "core/graph/params.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
+#include "msgs/param_update.pb.h"
 #include "msgs/tactile_frame.pb.h"
 
 namespace enact::graph {
@@ -30,6 +34,21 @@ struct Force {
   physics::Vec3 force_n;
   bool zero;
 };
+
+// a live change as acknowledged: applied before the step on the state `state_seq`
+struct Change {
+  std::uint64_t state_seq;
+  std::string publisher, param;
+  sim::ParamValue value;
+};
+
+Change change_of(const msgs::ParamAck& a, std::string publisher) {
+  Change c{a.state_seq(), std::move(publisher), a.name().substr(a.name().rfind('.') + 1), {}};
+  if (a.value_case() == msgs::ParamAck::kNumber) c.value.number = a.number();
+  if (a.value_case() == msgs::ParamAck::kText) c.value.text = a.text();
+  if (c.param == "reset" || c.param == "reposition") c.value.flag = true;
+  return c;
+}
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -68,8 +87,15 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   msgs::DeviceState state;
   msgs::ForceCommand command;
   msgs::TactileFrame frame;
+  msgs::ParamAck ack;
+  std::vector<Change> changes;
+  std::set<std::uint64_t> acked;  // request ids (a repeated request is acked again)
   r.for_each([&](const record::Message& m) {
     const auto pub = m.channel->metadata.find("publisher");
+    if (m.topic == kParamAck && ack.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) && ack.applied() && ack.state_seq() != 0 &&
+        acked.insert(ack.request_id()).second) {
+      changes.push_back(change_of(ack, pub == m.channel->metadata.end() ? "" : pub->second));
+    }
     if (m.topic == kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position())});
     } else if (m.topic == kForceCommand && command.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
@@ -113,6 +139,14 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   out.rate_hz = sim.model().rate_hz;
   out.first_state_seq = states.front().seq;
 
+  // the simulator's live changes, in the order it applied them, each before the step that
+  // first used it
+  std::erase_if(changes, [&](const Change& c) { return c.publisher != sim_publisher; });
+  std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.state_seq < b.state_seq; });
+  sim::ParamPlanner planner(sim);
+  std::size_t next_change = 0;
+  out.changes = changes.size();
+
   // step on every recorded state, as the recorded simulator did; compare as we go
   const physics::Proxy& body = sim.model().proxies[0];
   const std::int64_t t0 = states.front().stamp_ns;
@@ -121,6 +155,12 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
     if (!out.divergence) out.divergence = Divergence{step, seq, topic, std::move(field), std::move(rec), std::move(rep)};
   };
   for (const State& s : states) {
+    for (; next_change < changes.size() && changes[next_change].state_seq <= s.seq; ++next_change) {
+      const Change& c = changes[next_change];
+      const sim::ParamPlan plan = planner.plan(c.param, c.value, next_change + 1);
+      if (plan.accepted) sim.apply(plan.change, 0);
+      else diverge(out.steps, s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
+    }
     const sim::StepOutput& o = sim.step(s.stamp_ns - t0, s.position_m);
     const auto f = forces.find(s.seq);
     if (f == forces.end()) {

@@ -3,8 +3,10 @@
 // device states (ffd/state) step a fresh simulator configured as the recorded one was (its
 // parameters from the recording's metadata, its scene and computer-model files from the
 // attachments), and its forces and tactile frames are compared with the recorded ffd/force
-// and tactile/frame, bit for bit. A regression check for the physics, and the way to
-// recompute a trial's metrics from its recording alone.
+// and tactile/frame, bit for bit. The live parameter changes the simulator acknowledged
+// (param/ack: the value applied and the state whose step first used it) are re-applied
+// before that step. A regression check for the physics, and the way to recompute a trial's
+// metrics from its recording alone.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -34,6 +36,7 @@ struct ResimResult {
   std::uint64_t first_state_seq = 0;   // 1 when the recording holds the graph's first tick
   std::uint64_t forces_compared = 0, frames_compared = 0;
   std::uint64_t forces_missing = 0;    // states the recording holds no answer to
+  std::uint64_t changes = 0;           // live parameter changes re-applied (param/ack)
   std::optional<Divergence> divergence;
   task::Metrics metrics;               // the bridge task's metrics of the replay
 };

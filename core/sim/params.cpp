@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/config/number.h"
 #include "core/config/yaml.h"
 #include "core/haptics/device_profile.h"
 #include "core/physics/stability.h"
@@ -35,16 +36,7 @@ ParamPlan accept(ParamKind kind, std::uint64_t request_id, double value = 0.0) {
 // a number given as a number, or as text that is one
 std::optional<double> number_of(const ParamValue& v) {
   if (v.number) return v.number;
-  if (!v.text) return std::nullopt;
-  char* end = nullptr;
-  const double d = std::strtod(v.text->c_str(), &end);
-  if (end == v.text->c_str() || *end != '\0') return std::nullopt;
-  return d;
-}
-
-bool is_body_point(const physics::Model& m, int point) {
-  const physics::Point& p = m.points[point];
-  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+  return v.text ? config::parse_number(*v.text) : std::nullopt;
 }
 
 // the first contact pair of the body (-1 when it has none)
@@ -56,6 +48,11 @@ int first_body_contact(const physics::Model& m) {
 }
 
 }  // namespace
+
+bool is_body_point(const physics::Model& m, int point) {
+  const physics::Point& p = m.points[point];
+  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+}
 
 const std::vector<std::string>& param_names() {
   static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "reset", "reposition", "trial"};

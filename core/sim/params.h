@@ -66,6 +66,7 @@ struct ParamApplied {
   std::uint64_t request_id = 0;
   ParamKind kind = ParamKind::reset;
   std::int64_t time_ns = 0;  // when it was applied, on the node's monotonic clock
+  std::uint64_t step = 0;    // the simulator's step that first uses it (1 = the first after activate)
 };
 
 // the accepted names, without the node prefix, in the order of the header comment
@@ -111,6 +112,9 @@ class ParamPlanner {
 // the passivity demand K T/2 + B of the exploratory body with every body point feeding the
 // device and every body contact pair at the given stiffness and damping (N s/m)
 double body_passivity_demand(physics::Model model, double stiffness_n_per_m, double damping_n_s_per_m);
+
+// a point of the exploratory body (proxy 0's): the points live changes act on
+bool is_body_point(const physics::Model& model, int point);
 
 // sets stiffness and damping of every contact pair of proxy 0's points; allocates nothing
 void set_body_contacts(physics::Model& model, std::optional<double> stiffness_n_per_m, std::optional<double> damping_n_s_per_m);

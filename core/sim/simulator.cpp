@@ -1,8 +1,12 @@
 #include "core/sim/simulator.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/config/yaml.h"
+#include "core/haptics/device_profile.h"
 #include "core/physics/scene.h"
 
 namespace enact::sim {
@@ -10,6 +14,26 @@ namespace {
 
 // a contact normal this close to vertical is the top surface
 constexpr double kTopNormalZ = 0.7;
+
+// the fastest a re-entry depth rises back to the model's threshold: the surface pushes the
+// body back out this gently (the bridge: 17 points at 6000 N/m, at most 5 N/ms)
+constexpr double kReentrySpeed_m_per_s = 0.05;
+
+// whether a change alters the force law of the body (pins-only and trial changes do not)
+bool changes_force_law(const ParamChange& c, const haptics::ComputerModel& cm) {
+  switch (c.kind) {
+    case ParamKind::model:
+      return c.model.force_grid_mask != cm.force_grid_mask || c.model.force_center != cm.force_center || c.model.threshold_m != cm.threshold_m;
+    case ParamKind::threshold: return c.value != cm.threshold_m;
+    case ParamKind::stiffness:
+    case ParamKind::damping:
+    case ParamKind::reset:
+    case ParamKind::reposition: return true;
+    case ParamKind::trial_start:
+    case ParamKind::trial_stop: return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -45,16 +69,37 @@ void Simulator::configure(const SimParams& params) {
       if (c.object == surface && model_.points[c.point].kind == physics::PointKind::kinematic) top_pairs_.push_back(static_cast<int>(i));
     }
   }
+  if (!std::isfinite(params.change_ramp_s) || params.change_ramp_s < 0.0) {
+    throw config::Error("change_ramp_s " + std::to_string(params.change_ramp_s) + " is out of range\n  fix: give a time >= 0 s, e.g. 0.05");
+  }
+  // no jolt: the body's points and contact pairs, scratch space, the device's force step limit
+  body_points_.clear();
+  body_pairs_.clear();
+  for (std::size_t i = 0; i < model_.points.size(); ++i) {
+    if (is_body_point(model_, static_cast<int>(i))) body_points_.push_back(static_cast<int>(i));
+  }
+  for (std::size_t c = 0; c < model_.contacts.size(); ++c) {
+    if (is_body_point(model_, model_.contacts[c].point)) body_pairs_.push_back(static_cast<int>(c));
+  }
+  felt_n_.assign(model_.points.size(), 0.0);
+  deepest_pair_.assign(model_.points.size(), -1);
+  const auto profile = haptics::find_device_profile(model_.device_profile);
+  max_step_n_ = profile && profile->max_force_step_n_per_ms > 0.0 ? profile->max_force_step_n_per_ms * model_.dt_s * 1e3 : 0.0;
   state_ = physics::make_state(model_);
   lifecycle_ = Lifecycle::inactive;
 }
 
 void Simulator::activate(std::int64_t start_ns) {
   if (lifecycle_ == Lifecycle::unconfigured) throw std::logic_error("Simulator::activate before configure");
+  haptics::apply(cm_, model_);  // no threshold left from a re-entry
   physics::reset(model_, state_);
   tactile_.reset();
   task_.reset(start_ns);
   trial_running_ = true;
+  trial_change_ = TrialChange::none;
+  steps_ = 0;
+  reentering_ = capture_ = false;
+  offset_left_ = offset_total_ = 0;
   out_ = {};
   lifecycle_ = Lifecycle::active;
 }
@@ -69,7 +114,9 @@ void Simulator::set_computer_model(const haptics::ComputerModel& cm) {
   haptics::apply(cm_, model_);
 }
 
-ParamApplied Simulator::apply(const ParamChange& c, std::int64_t time_ns, std::int64_t now_ns) {
+ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
+  const bool law = changes_force_law(c, cm_);
+  if (law) keep_felt_forces();
   switch (c.kind) {
     case ParamKind::model:
       assign(cm_, c.model);
@@ -85,20 +132,99 @@ ParamApplied Simulator::apply(const ParamChange& c, std::int64_t time_ns, std::i
       // model, pins and task from the start: a new trial
       physics::reset(model_, state_);
       tactile_.reset();
-      task_.reset(time_ns);
-      trial_running_ = true;
+      trial_change_ = TrialChange::start;
       break;
     case ParamKind::reposition:
       // the body is about to jump back to the start: forget the faces it entered through
       physics::reset(model_, state_);
       break;
-    case ParamKind::trial_start:
-      task_.reset(time_ns);
-      trial_running_ = true;
-      break;
-    case ParamKind::trial_stop: trial_running_ = false; break;
+    case ParamKind::trial_start: trial_change_ = TrialChange::start; break;
+    case ParamKind::trial_stop: trial_change_ = TrialChange::stop; break;
   }
-  return {c.request_id, c.kind, now_ns};
+  if (law) {
+    reenter_contacts(c.kind == ParamKind::reset || c.kind == ParamKind::reposition);
+    capture_ = true;
+  }
+  return {c.request_id, c.kind, now_ns, steps_ + 1};
+}
+
+void Simulator::find_deepest() {
+  for (const int p : body_points_) deepest_pair_[p] = -1;
+  for (const int c : body_pairs_) {
+    const physics::ContactState& cs = state_.contacts[c];
+    int& deepest = deepest_pair_[model_.contacts[c].point];
+    if (cs.active && (deepest < 0 || cs.depth_m > state_.contacts[deepest].depth_m)) deepest = c;
+  }
+}
+
+void Simulator::keep_felt_forces() {
+  // the elastic force each point gave the device at the last step (its deepest contact)
+  find_deepest();
+  for (const int p : body_points_) {
+    const int c = deepest_pair_[p];
+    const physics::Point& point = model_.points[p];
+    felt_n_[p] = c < 0 || !point.feeds_device ? 0.0 : model_.contacts[c].stiffness_n_per_m * std::max(0.0, state_.contacts[c].depth_m - point.contact_threshold_m);
+  }
+}
+
+void Simulator::reenter_contacts(bool from_scratch) {
+  // each point in contact counts the new law from the depth where it keeps its felt force
+  // (from where it is if it gave none); contacts cleared: from where the next step finds them
+  reentering_ = false;
+  // rising back at most as fast as the device's force step limit allows, every point pushing
+  double stiffness_n_per_m = 0.0;
+  for (const int p : body_points_) {
+    double k = 0.0;
+    for (const int c : body_pairs_) k = model_.contacts[c].point == p ? std::max(k, model_.contacts[c].stiffness_n_per_m) : k;
+    stiffness_n_per_m += k;
+  }
+  reentry_step_m_ = kReentrySpeed_m_per_s * model_.dt_s;
+  if (max_step_n_ > 0.0 && stiffness_n_per_m > 0.0) reentry_step_m_ = std::min(reentry_step_m_, max_step_n_ / stiffness_n_per_m);
+  for (const int p : body_points_) {
+    const int c = deepest_pair_[p];
+    double depth_m = cm_.threshold_m;
+    if (from_scratch) {
+      depth_m = std::numeric_limits<double>::infinity();
+    } else if (c >= 0) {
+      const double k = model_.contacts[c].stiffness_n_per_m;
+      depth_m = state_.contacts[c].depth_m - (felt_n_[p] > 0.0 && k > 0.0 ? felt_n_[p] / k : 0.0);
+    }
+    model_.points[p].contact_threshold_m = std::max(cm_.threshold_m, depth_m);
+    reentering_ = reentering_ || model_.points[p].contact_threshold_m > cm_.threshold_m;
+  }
+}
+
+void Simulator::follow_reentry() {
+  // a re-entry depth follows its point back out, never in, down to the model's threshold
+  find_deepest();
+  reentering_ = false;
+  for (const int p : body_points_) {
+    const int c = deepest_pair_[p];
+    double& threshold_m = model_.points[p].contact_threshold_m;
+    threshold_m = std::max(cm_.threshold_m, std::min(threshold_m - reentry_step_m_, c < 0 ? 0.0 : state_.contacts[c].depth_m));
+    reentering_ = reentering_ || threshold_m > cm_.threshold_m;
+  }
+}
+
+physics::Vec3 Simulator::blend(const physics::Vec3& model_force_n) {
+  const bool changing = capture_ || offset_left_ > 0 || reentering_;
+  if (capture_) {
+    // from what the device felt before the change to the new law's force, over the ramp
+    capture_ = false;
+    from_n_ = out_.force_n;
+    offset_total_ = offset_left_ = static_cast<std::int64_t>(std::max(1.0, std::ceil(params_.change_ramp_s * model_.rate_hz)));
+  }
+  physics::Vec3 force_n = model_force_n;
+  if (offset_left_ > 0) {
+    const double share = static_cast<double>(offset_left_) / static_cast<double>(offset_total_);
+    --offset_left_;
+    force_n = model_force_n * (1.0 - share) + from_n_ * share;
+  }
+  // while a change settles, the force never steps by more than the device profile allows
+  const physics::Vec3 step_n = force_n - out_.force_n;
+  const double size_n = physics::norm(step_n);
+  if (changing && max_step_n_ > 0.0 && size_n > max_step_n_) force_n = out_.force_n + step_n * (max_step_n_ / size_n);
+  return force_n;
 }
 
 const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& device_position_m) {
@@ -106,11 +232,23 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
     out_ = {};
     return out_;
   }
+  // a trial a change started begins at the first step that uses it
+  if (trial_change_ == TrialChange::start) {
+    task_.reset(time_ns);
+    trial_running_ = true;
+  }
   const std::uint64_t faults = state_.faults;
   state_.proxy_position_m[0] = device_position_m;
   physics::step(model_, state_);
+  ++steps_;
   out_.fault = state_.faults != faults;
-  out_.force_n = state_.proxy_force_n[0];
+  if (out_.fault) {
+    // a fault's zero force is not blended
+    capture_ = false;
+    offset_left_ = 0;
+  }
+  out_.force_n = out_.fault ? state_.proxy_force_n[0] : blend(state_.proxy_force_n[0]);
+  if (reentering_) follow_reentry();
   // pins and contacts from the same contacts as the force
   const physics::Proxy& body = model_.proxies[0];
   out_.contacts = 0;
@@ -129,6 +267,9 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
     out_.progress = path_.project(centre.x, centre.y).fraction;
     out_.event = trial_running_ ? task_.update(time_ns, out_.on_top, out_.progress) : task::TaskEvent{};
   }
+  // a trial a change stopped ends with the first step that uses it
+  if (trial_change_ == TrialChange::stop) trial_running_ = false;
+  trial_change_ = TrialChange::none;
   return out_;
 }
 

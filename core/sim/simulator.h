@@ -26,6 +26,9 @@ struct SimParams {
   haptics::TactileParams tactile;  // pin frame down-sampling
   task::TaskParams task;           // fall rule and completion
   bool force = false;              // run a scene that fails the stability check anyway
+  // live changes never jolt: the force felt before a change blends into the new setting's over
+  // this long (longer when the device profile's max_force_step_n_per_ms needs it)
+  double change_ramp_s = 0.05;
 };
 
 struct StepOutput {
@@ -53,10 +56,13 @@ class Simulator {
 
   // between steps: switch the computer model
   void set_computer_model(const haptics::ComputerModel& cm);
-  // between steps: apply a change checked by a ParamPlanner (params.h); `time_ns` is on the
-  // clock of step() (a trial started now begins there), `now_ns` is copied into the result.
-  // Allocates nothing, never throws.
-  ParamApplied apply(const ParamChange& change, std::int64_t time_ns, std::int64_t now_ns);
+  // between steps: apply a change checked by a ParamPlanner (params.h); the next step is the
+  // first to use it (a trial started or reset now begins at that step's time); `now_ns` is
+  // copied into the result. A change of the force law (model, threshold, stiffness, damping,
+  // reset, reposition) never jolts (README, "Live changes never jolt"): each mass in contact
+  // keeps the force it had and feels the new law only for what it moves from there, and the
+  // rest blends away over change_ramp_s. Allocates nothing, never throws.
+  ParamApplied apply(const ParamChange& change, std::int64_t now_ns);
 
   Lifecycle lifecycle() const { return lifecycle_; }
   const physics::Model& model() const { return model_; }
@@ -70,6 +76,8 @@ class Simulator {
   const task::Polyline& path() const { return path_; }
   int grid_masses() const;
   const StepOutput& output() const { return out_; }
+  // steps since activate (ParamApplied::step counts the same way)
+  std::uint64_t steps() const { return steps_; }
 
  private:
   SimParams params_;
@@ -81,9 +89,31 @@ class Simulator {
   haptics::TactileDownsampler tactile_;
   task::BridgeTask task_;
   task::Polyline path_;
+  // a change of the force law, before and after it is made (no jolt)
+  void find_deepest();
+  void keep_felt_forces();
+  void reenter_contacts(bool from_scratch);
+  void follow_reentry();
+  physics::Vec3 blend(const physics::Vec3& model_force_n);
+
   std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
   bool trial_running_ = true;
+  // a trial a change started (or reset) begins at the next step; one it stopped ends with it
+  enum class TrialChange : std::uint8_t { none, start, stop };
+  TrialChange trial_change_ = TrialChange::none;
+  std::uint64_t steps_ = 0;     // steps since activate
   StepOutput out_;
+  // no jolt: the body's points and contact pairs, each point's elastic force as the device
+  // felt it before a change, whether some point counts its force from a re-entry depth, and
+  // the force felt before the change, blending into the new law's (share: left / total steps)
+  std::vector<int> body_points_, body_pairs_;
+  std::vector<double> felt_n_;
+  std::vector<int> deepest_pair_;  // each body point's deepest active contact pair (-1: none)
+  bool reentering_ = false, capture_ = false;
+  physics::Vec3 from_n_;
+  std::int64_t offset_left_ = 0, offset_total_ = 0;
+  double max_step_n_ = 0.0;     // the device profile's force step limit per step (0: none)
+  double reentry_step_m_ = 0.0; // how far a re-entry depth rises back per step
 };
 
 }  // namespace enact::sim

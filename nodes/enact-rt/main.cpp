@@ -107,7 +107,7 @@ int run(int argc, char** argv) {
   rt::RtParams rtp;
   rtp.lock_memory = args.params.flag("lock_memory", false);
   rtp.fifo_priority = args.params.integer("fifo_priority", 0);
-  if (const std::string cpus = args.params.text("cpus", ""); !cpus.empty()) rtp.cpus.push_back(std::stoi(cpus));
+  if (!args.params.text("cpus", "").empty()) rtp.cpus.push_back(args.params.integer("cpus", 0));
   // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
   // process: the publisher thread and the bus stay with the observers
   if (const char* profile = std::getenv(rt::kProfileEnv)) {
@@ -238,6 +238,7 @@ int run(int argc, char** argv) {
   auto publish = [&](const graph::Observation& o) {
     graph::fill(state_msg, o.sample);
     state_pub.publish(state_msg);
+    params.stepped(o.seq, state_msg.header().seq(), state_msg.header().stamp_ns());
     graph::fill(force_msg, state_msg.header().seq(), o.step.force_n, o.step.fault);
     force_msg.mutable_header()->set_stamp_ns(o.force_ns);
     force_pub.publish(force_msg);

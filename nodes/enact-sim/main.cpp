@@ -117,7 +117,7 @@ int run(int argc, char** argv) {
   // parameter changes, between two steps
   auto apply_params = [&] {
     while (const auto change = params.next()) {
-      const sim::ParamApplied done = simulator.apply(*change, last_step_ns, rt::now_ns());
+      const sim::ParamApplied done = simulator.apply(*change, rt::now_ns());
       params.applied(done);
       task_state.applied(done.kind);
     }
@@ -141,6 +141,7 @@ int run(int argc, char** argv) {
     graph::fill(command, state.header().seq(), o.force_n, o.fault);
     force_pub.publish(command);
     stats.latency.record(rt::now_ns() - received);
+    params.stepped(simulator.steps(), state.header().seq(), state.header().stamp_ns());
     ++steps;
     task::TaskEvent when = o.event;
     when.time_ns += first_ns;  // back on the device's clock

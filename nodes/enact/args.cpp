@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/config/number.h"
+
 namespace enact::cli {
 
 std::string Args::get(const std::string& name, const std::string& fallback) const {
@@ -14,10 +16,9 @@ std::string Args::get(const std::string& name, const std::string& fallback) cons
 double Args::number(const std::string& name, double fallback) const {
   if (!has(name)) return fallback;
   const std::string text = get(name);
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError("--" + name + " needs a number, got '" + text + "'");
-  return v;
+  const auto v = config::parse_number(text);
+  if (!v) throw UsageError("--" + name + " needs a number, got '" + text + "'");
+  return *v;
 }
 
 Args parse(int argc, char** argv, int first, const std::set<std::string>& valued, const std::set<std::string>& switches) {

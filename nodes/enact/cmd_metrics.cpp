@@ -18,7 +18,9 @@ configured as the recorded one (scene and computer model from the recording's at
 and metadata, as enact resim does), the bridge task's 1 s rule applied to the replay.
 They are compared with the metrics the live simulator reported in the same recording (its
 task events: what enact experiment writes to results.csv); they agree when the recording
-holds every device state from the first tick.
+holds every device state from the first tick and the replay is identical to it (live
+parameter changes are re-applied where they took effect; a replay that diverges never
+agrees).
 Exit status: 0 they agree, 1 they differ (or an error).
 
 options:
@@ -55,12 +57,13 @@ int metrics(int argc, char** argv) {
   record::Reader reader(path);
   const graph::ResimResult replay = graph::resim(reader, {});
   const experiment::RecordedTrial live = experiment::read_trial(path);
-  const bool same = agree(replay.metrics, live.metrics);
+  // a replay that diverges from the recording does not reproduce the live run, whatever its counts
+  const bool same = !replay.divergence && agree(replay.metrics, live.metrics);
   if (a.flag("json")) {
-    std::printf("{%s, \"progress\": %s, \"steps\": %llu, \"first_state_seq\": %llu, \"state_gaps\": %llu, \"live\": {%s}, \"agree\": %s}\n",
+    std::printf("{%s, \"progress\": %s, \"steps\": %llu, \"first_state_seq\": %llu, \"state_gaps\": %llu, \"identical\": %s, \"live\": {%s}, \"agree\": %s}\n",
                 json(replay.metrics).c_str(), config::number(replay.metrics.progress).c_str(), static_cast<unsigned long long>(replay.steps),
                 static_cast<unsigned long long>(replay.first_state_seq), static_cast<unsigned long long>(live.state_gaps),
-                json(live.metrics).c_str(), same ? "true" : "false");
+                replay.divergence ? "false" : "true", json(live.metrics).c_str(), same ? "true" : "false");
     return same ? 0 : 1;
   }
   std::printf("metrics %s: scene %s, model %s, %.0f Hz, %llu device states\n", path.c_str(), replay.scene.c_str(), replay.model.c_str(),
@@ -70,6 +73,11 @@ int metrics(int argc, char** argv) {
   if (replay.first_state_seq != 1 || live.state_gaps) {
     std::printf("  note: the recording %s: the replay cannot match the live run exactly\n",
                 replay.first_state_seq != 1 ? "starts after the graph's first tick" : "misses device states");
+  }
+  if (replay.divergence) {
+    std::printf("  the replay diverges from the recording at step %llu (ffd/state seq %llu, %s %s): enact resim %s says more\n",
+                static_cast<unsigned long long>(replay.divergence->step), static_cast<unsigned long long>(replay.divergence->state_seq),
+                replay.divergence->topic.c_str(), replay.divergence->field.c_str(), path.c_str());
   }
   std::printf("  %s\n", same ? "agree: the replay gives the metrics the live simulator reported" : "DIFFER: see above");
   return same ? 0 : 1;

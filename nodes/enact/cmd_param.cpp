@@ -17,8 +17,9 @@ namespace {
 constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--graph NAME | --attach ENDPOINT]
 
 Send a parameter change to a running graph on param/set, through its attach point, and wait
-for the simulator's answer on param/ack: prints "applied" (exit 0) or "refused: REASON"
-(exit 1); no answer within 5 s exits 1 too. VALUE is sent as a number when it is one, as a
+for the simulator's answer on param/ack: prints "applied from ffd/state seq N" (the state
+whose step first used it; exit 0) or "refused: REASON" (exit 1); no answer within 5 s exits
+1 too. VALUE is sent as a number when it is one, as a
 flag for true / false, else as text. Names (SIM is the simulator's node or component name,
 "sim" in the shipped launch files):
   SIM.model               CM0 CM1 CM2 CM3 P T PT, or a computer model YAML file
@@ -56,7 +57,10 @@ int param(int argc, char** argv) {
   while (true) {
     if (acks.receive(ack, 50)) {
       if (const auto answer = client.take(ack)) {
-        if (answer->applied) std::printf("%s = %s: applied\n", update.name().c_str(), a.positional[2].c_str());
+        if (answer->applied) {
+          std::printf("%s = %s: applied from ffd/state seq %llu\n", update.name().c_str(), a.positional[2].c_str(),
+                      static_cast<unsigned long long>(ack.state_seq()));
+        }
         else std::printf("%s = %s: refused: %s\n", update.name().c_str(), a.positional[2].c_str(), answer->reason.c_str());
         return answer->applied ? 0 : 1;
       }

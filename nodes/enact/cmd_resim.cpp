@@ -14,7 +14,8 @@ constexpr const char* kHelp = R"(usage: enact resim FILE [--scene S] [--model M]
 Offline, with no bus: step a fresh simulator, configured as the recorded one (parameters
 from the recording's metadata, scene and model files from its attachments), on every
 recorded ffd/state, and compare its forces and tactile frames with the recorded ffd/force
-and tactile/frame, bit for bit. With the recorded scene and model they must be identical
+and tactile/frame, bit for bit. Live parameter changes the simulator acknowledged (param/ack)
+are re-applied before the step that first used them. With the recorded scene and model they must be identical
 (a regression check for the physics); otherwise the first divergence is reported: the step,
 the state's sequence number, the topic, the field and both values. Also prints the bridge
 task's metrics of the replay.
@@ -43,7 +44,8 @@ int resim(int argc, char** argv) {
     j.begin_object();
     j.field("steps", static_cast<long long>(res.steps)).field("first_state_seq", static_cast<long long>(res.first_state_seq));
     j.field("forces_compared", static_cast<long long>(res.forces_compared)).field("frames_compared", static_cast<long long>(res.frames_compared));
-    j.field("forces_missing", static_cast<long long>(res.forces_missing)).field("identical", !res.divergence);
+    j.field("forces_missing", static_cast<long long>(res.forces_missing)).field("changes", static_cast<long long>(res.changes));
+    j.field("identical", !res.divergence);
     j.field("falls", m.falls).field("time_total_s", m.time_total_s).field("time_out_s", m.time_out_s).field("ratio", m.ratio);
     j.field("completed", m.completed);
     if (res.divergence) {
@@ -65,6 +67,7 @@ int resim(int argc, char** argv) {
                 "  unknown, so the replay may differ (record from the start: README, \"Recording and replay\")\n",
                 static_cast<unsigned long long>(res.first_state_seq));
   }
+  if (res.changes) std::printf("  %llu live parameter changes re-applied where they took effect (param/ack)\n", static_cast<unsigned long long>(res.changes));
   if (res.forces_missing) std::printf("  %llu states have no recorded answer\n", static_cast<unsigned long long>(res.forces_missing));
   std::printf("  task: falls %d, time %.3f s, time out %.3f s, ratio %.4f, %s\n", m.falls, m.time_total_s, m.time_out_s, m.ratio,
               m.completed ? "completed" : "not completed");

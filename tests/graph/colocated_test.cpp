@@ -2,6 +2,8 @@
 // force and the pins in the same tick, and allocates nothing doing it.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "core/devices/safety.h"
@@ -144,6 +146,110 @@ TEST(Colocated, QueuedParamChangesApplyAtTheTopOfATickWithoutAllocating) {
   ASSERT_TRUE(applied.try_pop(a));
   EXPECT_EQ(a.kind, sim::ParamKind::trial_stop);
   EXPECT_FALSE(applied.try_pop(a));
+}
+
+// a param/set request reaching the loop at a tick
+struct Request {
+  std::int64_t tick;
+  std::string name;
+  sim::ParamValue value;
+};
+
+// what the hand felt on the scripted walk (9.2 s): the peak |F|, and the largest step of the
+// force within the 50 ms ramp after an applied change
+struct Felt {
+  double peak_n = 0.0;
+  double change_step_n = 0.0;
+};
+
+Felt walk(const std::vector<Request>& requests) {
+  Rig rig("CM1");
+  ParamQueue changes;
+  AppliedQueue applied;
+  rig.loop->connect_params(changes, applied);
+  sim::ParamPlanner planner(rig.simulator);
+  Felt felt;
+  physics::Vec3 last;
+  std::size_t next = 0;
+  std::int64_t settling_until = -1;
+  sim::ParamApplied a;
+  for (std::int64_t n = 0; n < 46'000; ++n) {
+    for (; next < requests.size() && requests[next].tick <= n; ++next) {
+      const sim::ParamPlan plan = planner.plan(requests[next].name, requests[next].value, next + 1);
+      if (plan.accepted) EXPECT_TRUE(changes.try_push(plan.change));
+    }
+    const Observation& o = rig.tick(n);
+    while (applied.try_pop(a)) settling_until = n + 250;
+    felt.peak_n = std::max(felt.peak_n, physics::norm(o.step.force_n));
+    if (n <= settling_until) felt.change_step_n = std::max(felt.change_step_n, physics::norm(o.step.force_n - last));
+    last = o.step.force_n;
+  }
+  return felt;
+}
+
+sim::ParamValue text_value(const std::string& v) { return {std::nullopt, v, std::nullopt}; }
+sim::ParamValue number_value(double v) { return {v, std::nullopt, std::nullopt}; }
+
+// the ERGOS's 5 N/ms at 5 kHz
+constexpr double kMaxStep_n = 1.0;
+
+TEST(ColocatedNoJolt, EachKindOfChangeAloneNeverMakesTheHandFeelMore) {
+  // the walk without changes peaks at 8.57 N (the first touch of the top); each kind of
+  // change, the ones that let the hand sink then restore the force included, at many
+  // moments of the walk before the first turn
+  const double baseline_n = walk({}).peak_n;
+  EXPECT_NEAR(baseline_n, 8.57, 0.01);
+  using Pair = std::pair<std::string, sim::ParamValue>;
+  const std::vector<std::vector<Pair>> kinds{
+      {{"model", text_value("T")}, {"model", text_value("CM1")}},
+      {{"model", text_value("CM2")}, {"model", text_value("CM1")}},
+      {{"model", text_value("P")}, {"model", text_value("CM1")}},
+      {{"threshold_m", number_value(0.003)}, {"threshold_m", number_value(0.0)}},
+      {{"stiffness_n_per_m", number_value(0.0)}, {"stiffness_n_per_m", number_value(6000.0)}},
+      {{"damping_n_s_per_m", number_value(0.0)}, {"damping_n_s_per_m", number_value(0.02)}},
+      {{"reset", {}}},
+      {{"reposition", {}}},
+      {{"trial", text_value("stop")}, {"trial", text_value("start")}},
+  };
+  for (const auto& kind : kinds) {
+    for (std::int64_t at = 2000; at < 28'000; at += 3000) {
+      std::vector<Request> requests;
+      for (std::size_t i = 0; i < kind.size(); ++i) requests.push_back({at + static_cast<std::int64_t>(i) * 500, kind[i].first, kind[i].second});
+      const Felt felt = walk(requests);
+      EXPECT_LE(felt.peak_n, baseline_n + 1e-9) << kind[0].first << " at tick " << at;
+      EXPECT_LE(felt.change_step_n, kMaxStep_n + 1e-9) << kind[0].first << " at tick " << at;
+    }
+  }
+}
+
+TEST(ColocatedNoJolt, AHostileBurstNeverStepsTheForcePastTheDeviceLimit) {
+  // garbage, NaN, huge, negative and plausible values in a random order, seeded
+  const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "reset", "reposition", "trial", "bogus"};
+  const std::vector<std::string> models{"CM0", "CM1", "CM2", "CM3", "P", "T", "PT"};
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<Request> requests;
+    std::int64_t tick = std::uniform_int_distribution<std::int64_t>(2000, 20'000)(rng);
+    for (int i = 0; i < 40; ++i) {
+      tick += std::uniform_int_distribution<std::int64_t>(0, 200)(rng);
+      Request r{tick, names[rng() % names.size()], {}};
+      const std::uint64_t kind = rng() % 6;
+      if (kind == 0) r.value.text = "garbage";
+      else if (kind == 1) r.value.number = NAN;
+      else if (kind == 2) r.value.number = 1e12;
+      else if (kind == 3) r.value.number = -5.0;
+      else if (r.name == "model") r.value.text = models[rng() % models.size()];
+      else if (r.name == "threshold_m") r.value.number = std::uniform_real_distribution<double>(0.0, 0.005)(rng);
+      else if (r.name == "stiffness_n_per_m") r.value.number = std::uniform_real_distribution<double>(0.0, 6000.0)(rng);
+      else if (r.name == "damping_n_s_per_m") r.value.number = std::uniform_real_distribution<double>(0.0, 0.02)(rng);
+      else if (r.name == "trial") r.value.text = rng() % 2 ? "start" : "stop";
+      else r.value.flag = true;
+      requests.push_back(r);
+    }
+    const Felt felt = walk(requests);
+    EXPECT_LE(felt.change_step_n, kMaxStep_n + 1e-9) << "seed " << seed;
+    EXPECT_TRUE(std::isfinite(felt.peak_n)) << "seed " << seed;
+  }
 }
 
 TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {

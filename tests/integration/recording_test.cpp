@@ -172,6 +172,45 @@ TEST(Recording, ThirtySecondsOfADistributedFiveKilohertzGraphHaveNoGaps) {
   EXPECT_EQ(info.out.find("publisher restarted"), std::string::npos) << info.out;
 }
 
+// `graph` recorded from its first tick to its end (8 s) while live changes of seven kinds
+// come: resim re-applies each where it took effect and is identical, and the metrics agree
+void live_changes_replay_exactly(const std::string& graph_file, const std::string& started) {
+  TempDir dir;
+  const std::string file = dir.file("live.mcap");
+  {
+    Launcher graph(dir, source_path(graph_file), 8.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log(started, 15.0)) << graph.log();
+    const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 12 >" + dir.file("rec.out") +
+                              " 2>&1 & echo $!");
+    const pid_t recorder = static_cast<pid_t>(std::stol(rec.out));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    for (const char* change : {"sim.stiffness_n_per_m 3000", "sim.model CM2", "sim.damping_n_s_per_m 0.01", "sim.threshold_m 0.001",
+                               "sim.trial stop", "sim.trial start", "sim.reposition 1", "sim.reset 1"}) {
+      const RunResult set = run(kCli + " param set " + change + " --attach " + graph.endpoint());
+      EXPECT_EQ(set.exit_code, 0) << change << ": " << set.out << set.err;
+      EXPECT_NE(set.out.find("applied from ffd/state seq "), std::string::npos) << set.out;
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    const auto end = after(20.0);
+    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+  }
+  const Summary s = summarize(file);
+  EXPECT_EQ(s.first_state_seq, 1u);
+  EXPECT_EQ(s.state_gaps, 0u);
+  const RunResult resim = run(kCli + " resim " + file);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("8 live parameter changes re-applied"), std::string::npos) << resim.out;
+  EXPECT_NE(resim.out.find("identical"), std::string::npos) << resim.out;
+  const RunResult metrics = run(kCli + " metrics " + file);
+  EXPECT_EQ(metrics.exit_code, 0) << metrics.out << metrics.err;
+  EXPECT_NE(metrics.out.find("agree:"), std::string::npos) << metrics.out;
+}
+
+TEST(Recording, LiveChangesOnTheColocatedGraphReplayExactly) { live_changes_replay_exactly("launch/bridge_rt.yaml", "started rt"); }
+
+TEST(Recording, LiveChangesOnTheDistributedGraphReplayExactly) { live_changes_replay_exactly("launch/bridge.yaml", "started ffd"); }
+
 TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
   TempDir dir;
   write_file(dir.file("path.csv"), "t_s,x_m,y_m,z_m\n0,0,0,0\n");

@@ -141,6 +141,9 @@ msgs::ParamAck param_ack() {
   m.set_request_id(77);
   m.set_applied(true);
   m.set_reason("clamped to 2000");
+  m.set_name("sim.stiffness_n_per_m");
+  m.set_number(2000.0);
+  m.set_state_seq(5120);
   return m;
 }
 
@@ -301,7 +304,14 @@ TEST(Msgs, ParamUpdateRoundTripEachValueKind) {
   EXPECT_EQ(round_trip(m).value_case(), msgs::ParamUpdate::kFlag);
 }
 
-TEST(Msgs, ParamAckRoundTrip) { expect_round_trip(param_ack()); }
+TEST(Msgs, ParamAckRoundTrip) {
+  auto m = param_ack();
+  expect_round_trip(m);
+  EXPECT_EQ(round_trip(m).state_seq(), 5120u);
+  m.set_text("CM3");
+  expect_round_trip(m);
+  EXPECT_EQ(round_trip(m).value_case(), msgs::ParamAck::kText);
+}
 
 TEST(Msgs, GraphInfoRoundTrip) { expect_round_trip(graph_info()); }
 

@@ -51,7 +51,7 @@ struct Rig {
   ParamApplied apply(ParamPlanner& planner, const std::string& name, const ParamValue& v) {
     const ParamPlan plan = planner.plan(name, v, 7);
     EXPECT_TRUE(plan.accepted) << name << ": " << plan.reason;
-    return sim.apply(plan.change, n * kPeriod_ns, 123);
+    return sim.apply(plan.change, 123);
   }
 };
 
@@ -143,14 +143,42 @@ TEST(ParamPlanner, ModelFromAFileAndOneWithATooLongName) {
   EXPECT_FALSE(planner.plan("model", text(dir.file("long.yaml")), 2).accepted);
 }
 
-TEST(SimulatorApply, StiffnessScalesTheContactForce) {
+TEST(SimulatorApply, StiffnessDownBlendsOverTheRampWithoutAJolt) {
   Rig rig;
   ParamPlanner planner(rig.sim);
   for (int i = 0; i < 3; ++i) rig.step(kPressed);  // at rest: the force is k x depth
   const double before = rig.step(kPressed).force_n.z;
   ASSERT_GT(before, 0.0);
   rig.apply(planner, "stiffness_n_per_m", number(3000.0));
-  EXPECT_NEAR(rig.step(kPressed).force_n.z, before / 2.0, 1e-9 * before);
+  // the body held still: the old force, then to half of it in even steps over 50 ms (250 steps)
+  double last = rig.step(kPressed).force_n.z;
+  EXPECT_EQ(last, before);
+  for (int i = 0; i < 250; ++i) {
+    const double f = rig.step(kPressed).force_n.z;
+    EXPECT_NEAR(last - f, before / 2.0 / 250.0, 1e-9 * before) << "step " << i;
+    last = f;
+  }
+  EXPECT_NEAR(last, before / 2.0, 1e-9 * before);
+  EXPECT_EQ(rig.step(kPressed).force_n.z, last);
+}
+
+TEST(SimulatorApply, StiffnessUpNeverReleasesThePenetrationAtOnce) {
+  const test::TempDir dir;
+  Rig rig(bridge(bridge_with_stiffness(dir, "1000")));
+  ParamPlanner planner(rig.sim);
+  for (int i = 0; i < 3; ++i) rig.step(kPressed);
+  const double before = rig.step(kPressed).force_n.z;
+  ASSERT_GT(before, 0.0);
+  rig.apply(planner, "stiffness_n_per_m", number(3000.0));
+  // the body held still 1 mm deep: the force it had, then the surface rises back gently (at
+  // most the ERGOS's 5 N/ms, i.e. 1 N a step) to the new law's 3 x
+  double last = before;
+  for (int i = 0; i < 2000; ++i) {
+    const double f = rig.step(kPressed).force_n.z;
+    EXPECT_LE(std::abs(f - last), 1.0 + 1e-9) << "step " << i;
+    last = f;
+  }
+  EXPECT_NEAR(last, 3.0 * before, 1e-9 * before);
 }
 
 TEST(SimulatorApply, ModelAndThresholdChangeForceAndPins) {
@@ -162,8 +190,12 @@ TEST(SimulatorApply, ModelAndThresholdChangeForceAndPins) {
   rig.apply(planner, "model", text("CM3"));
   EXPECT_EQ(rig.step(kPressed).pins, 0xffffu & ~pins_cm1);
   EXPECT_EQ(rig.sim.computer_model().name, "CM3");
-  // 2 mm threshold, 1 mm deep: no force, the pins still follow contact (CM3: inverted)
+  // 2 mm threshold, 1 mm deep: the force fades out over the ramp (50 ms, 250 steps), the
+  // pins still follow contact (CM3: inverted)
   rig.apply(planner, "threshold_m", number(0.002));
+  const double before = rig.step(kPressed).force_n.z;
+  EXPECT_GT(before, 0.0);
+  for (int i = 0; i < 250; ++i) rig.step(kPressed);
   const StepOutput& deep = rig.step(kPressed);
   EXPECT_EQ(deep.force_n.z, 0.0);
   EXPECT_EQ(deep.pins, 0xffffu & ~pins_cm1);
@@ -176,16 +208,19 @@ TEST(SimulatorApply, TrialStopFreezesTheTaskAndStartBeginsANewOne) {
   Rig rig(p);
   ParamPlanner planner(rig.sim);
   for (int i = 0; i < 10; ++i) rig.step(kPressed);
+  // the trial ends with the next step
   rig.apply(planner, "trial", text("stop"));
+  rig.step(kPressed);
   EXPECT_FALSE(rig.sim.trial_running());
   for (int i = 0; i < 200; ++i) EXPECT_EQ(rig.step(kAbove).event.kind, task::TaskEventKind::none);
   EXPECT_EQ(rig.sim.metrics().falls, 0);
+  // a new trial from the next step on
   rig.apply(planner, "trial", text("start"));
-  EXPECT_TRUE(rig.sim.trial_running());
   int falls = 0;
   for (int i = 0; i < 200; ++i) falls += rig.step(kAbove).event.kind == task::TaskEventKind::fall_start;
+  EXPECT_TRUE(rig.sim.trial_running());
   EXPECT_EQ(falls, 1);
-  // the new trial began at the start command, 210 steps in: it lasted 200 steps
+  // the new trial began at the start command, 211 steps in: it lasted 200 steps
   EXPECT_NEAR(rig.sim.metrics().time_total_s, 199 * 2e-4, 1e-9);
 }
 
@@ -224,7 +259,7 @@ TEST(SimulatorApply, AppliesEveryKindOfChangeWithoutAllocating) {
   {
     const test::AllocGuard guard;
     for (const ParamChange& c : changes) {
-      rig.sim.apply(c, rig.n * kPeriod_ns, 0);
+      rig.sim.apply(c, 0);
       rig.step(kPressed);
     }
     allocations = guard.allocations();
