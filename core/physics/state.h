@@ -23,6 +23,14 @@ struct ContactState {
   std::uint64_t near_boxes = 0;
   Vec3 near_at_m;
   bool near_valid = false;
+  // passive pairs (ContactPair::passive), a passivity observer after Hannaford & Ryu (2002):
+  // the energy the contact's spring absorbed and has not returned (J), from the discrete work
+  // the three integrators give, F(n) . (x(n+1) - x(n-1)) / 2; and this step's spring and
+  // damper terms along `normal` (N) and x(n-1), for that work once x(n+1) is known
+  double ledger_j = 0.0;
+  double spring_n = 0.0;
+  double damper_n = 0.0;
+  Vec3 work_from_m;
 };
 
 enum class Fault : std::uint8_t { none, nonfinite_input, nonfinite_state, runaway_position, runaway_speed };
@@ -45,6 +53,8 @@ struct State {
   // which points the step integrates and which follow a proxy (from make_state)
   std::vector<int> dynamic;
   std::vector<int> kinematic;
+  // the passive contact pairs (indices into Model::contacts)
+  std::vector<int> passive;
 
   std::int64_t steps = 0;
   double time_s = 0.0;

@@ -81,43 +81,105 @@ void link_force(const Model& m, const Link& l, State& s) {
   add_stiffness(m, s, l.b, k, z);
 }
 
+// passivity observer: last step's spring work on the point, now that x(n) is known
+void observe(const State& s, int point, ContactState& cs) {
+  if (cs.spring_n == 0.0) return;
+  cs.ledger_j -= 0.5 * cs.spring_n * dot(cs.normal, s.x[point] - cs.work_from_m);
+  cs.spring_n = 0.0;
+}
+
 // unilateral visco-elastic contact of a point against a rigid object
 void contact_force(const Model& m, const ContactPair& c, State& s) {
   ContactState& cs = s.contacts[&c - m.contacts.data()];
+  if (c.passive) observe(s, c.point, cs);
   const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs);
   if (depth <= 0.0) return;
   s.in_contact[c.point] = 1;
   const double felt = depth - m.points[c.point].contact_threshold_m;
   if (felt <= 0.0) return;
   // push only: damping may slow the separation but never pulls the point in
-  const double push = std::max(0.0, c.stiffness_n_per_m * felt - c.damping_n_s_per_m * dot(s.v[c.point], cs.normal));
-  s.f[c.point] += cs.normal * push;
+  const double spring = c.stiffness_n_per_m * felt;
+  const double damper = c.damping_n_s_per_m * dot(s.v[c.point], cs.normal);
+  s.f[c.point] += cs.normal * std::max(0.0, spring - damper);
   add_stiffness(m, s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
+  if (!c.passive) return;
+  cs.spring_n = spring;
+  cs.damper_n = damper;
+  cs.work_from_m = s.x_prev[c.point];
+}
+
+// one point's position and velocity after this step's forces; `gain`: how far x(n+1) moves
+// per newton more on the point (m/N). A kinematic point is predicted at constant velocity
+Vec3 advance(const Model& m, const State& s, int i, Vec3& v_next, double& gain) {
+  const Point& p = m.points[i];
+  const double dt = m.dt_s;
+  const Vec3 x = s.x[i];
+  if (p.kind != PointKind::dynamic) {
+    gain = 0.0;
+    v_next = s.v[i];
+    return x + (x - s.x_prev[i]);
+  }
+  switch (m.integrator) {
+    case Integrator::cordis: {
+      gain = dt * dt / p.mass_kg;
+      const Vec3 next = x * 2.0 - s.x_prev[i] + s.f[i] * (dt * dt / p.mass_kg);
+      v_next = (next - x) * (1.0 / dt);
+      return next;
+    }
+    case Integrator::symplectic_euler:
+      gain = dt * dt / p.mass_kg;
+      v_next = s.v[i] + s.f[i] * (dt / p.mass_kg);
+      return x + v_next * dt;
+    case Integrator::implicit_euler: {
+      // (m + dt z + dt^2 k) v+ = m v + dt F + dt z v: stiffness and damping taken at the new state
+      const double zd = s.z_diag[i];
+      const double denom = p.mass_kg + dt * zd + dt * dt * s.k_diag[i];
+      gain = dt * dt / denom;
+      v_next = (s.v[i] * (p.mass_kg + dt * zd) + s.f[i] * dt) * (1.0 / denom);
+      return x + v_next * dt;
+    }
+  }
+  return x;
+}
+
+// the spring term that makes this step's spring work F . (x(n+1) - x(n-1)) / 2 equal to
+// `energy_j`, x(n+1) moving by `gain` per newton of push; `travel_m`: that distance along the
+// normal without this contact's push
+double returning(double energy_j, double travel_m, double gain, double damper_n) {
+  if (gain > 0.0) {
+    const double b = travel_m - gain * damper_n;
+    const double spring = (-b + std::sqrt(b * b + 8.0 * gain * energy_j)) / (2.0 * gain);
+    if (spring >= damper_n) return spring;
+  }
+  return travel_m > 0.0 ? 2.0 * energy_j / travel_m : 0.0;
+}
+
+// passivity controller on the passive pairs, once every force of the step is known: the
+// spring never returns more than its ledger holds, and on the step the point is predicted to
+// leave the surface it returns exactly what the ledger holds (the sampled spring would return
+// more or less, depending on where between two samples the point crossed the surface)
+void control(const Model& m, State& s) {
+  for (const int k : s.passive) {
+    ContactState& cs = s.contacts[k];
+    if (cs.spring_n == 0.0) continue;
+    const int i = m.contacts[k].point;
+    Vec3 v_next;
+    double gain = 0.0;
+    const Vec3 next = advance(m, s, i, v_next, gain);
+    const double push = std::max(0.0, cs.spring_n - cs.damper_n);
+    const double travel = dot(cs.normal, next - s.x_prev[i]);
+    const bool leaving = cs.spring_n <= m.contacts[k].stiffness_n_per_m * dot(cs.normal, next - s.x[i]);
+    if (!leaving && 0.5 * cs.spring_n * travel <= cs.ledger_j) continue;
+    cs.spring_n = returning(std::max(0.0, cs.ledger_j), travel - gain * push, gain, cs.damper_n);
+    s.f[i] += cs.normal * (std::max(0.0, cs.spring_n - cs.damper_n) - push);
+  }
 }
 
 void integrate(const Model& m, State& s) {
-  const double dt = m.dt_s;
+  double gain = 0.0;
   for (const int i : s.dynamic) {
-    const Point& p = m.points[i];
     const Vec3 x = s.x[i];
-    switch (m.integrator) {
-      case Integrator::cordis:
-        s.x[i] = x * 2.0 - s.x_prev[i] + s.f[i] * (dt * dt / p.mass_kg);
-        s.v[i] = (s.x[i] - x) * (1.0 / dt);
-        break;
-      case Integrator::symplectic_euler:
-        s.v[i] += s.f[i] * (dt / p.mass_kg);
-        s.x[i] = x + s.v[i] * dt;
-        break;
-      case Integrator::implicit_euler: {
-        // (m + dt z + dt^2 k) v+ = m v + dt F + dt z v: stiffness and damping taken at the new state
-        const double zd = s.z_diag[i];
-        const double denom = p.mass_kg + dt * zd + dt * dt * s.k_diag[i];
-        s.v[i] = (s.v[i] * (p.mass_kg + dt * zd) + s.f[i] * dt) * (1.0 / denom);
-        s.x[i] = x + s.v[i] * dt;
-        break;
-      }
-    }
+    s.x[i] = advance(m, s, i, s.v[i], gain);
     s.x_prev[i] = x;
   }
 }
@@ -202,6 +264,9 @@ State make_state(const Model& m) {
     if (m.points[i].kind == PointKind::dynamic) s.dynamic.push_back(static_cast<int>(i));
     if (m.points[i].kind == PointKind::kinematic) s.kinematic.push_back(static_cast<int>(i));
   }
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    if (m.contacts[k].passive) s.passive.push_back(static_cast<int>(k));
+  }
   s.proxy_position_m.resize(m.proxies.size());
   s.proxy_force_n.resize(m.proxies.size());
   for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
@@ -246,6 +311,7 @@ void step(const Model& m, State& s) {
     s.v[i] = (now - before) * rate;
   }
   accumulate_forces(m, s);
+  if (!s.passive.empty()) control(m, s);
   // what each device feels: the forces on its proxy and body points that feed it
   for (std::size_t p = 0; p < m.proxies.size(); ++p) {
     Vec3 sum;

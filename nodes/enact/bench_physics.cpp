@@ -69,9 +69,13 @@ errors (deterministic, no damping added):
   damped      the same with zeta = 0.05: max |x - x_exact| / A
   bounce      0.01 kg dropped from 5 mm onto a plane (2000 N/m, undamped), g = 9.81:
     peak pen    first impact's peak penetration / (mg/k + sqrt((mg/k)^2 + m v^2/k)) - 1
-    E drift     (E - E0) / E0 after 10^6 steps (--quick 10^5), and max |E - E0| / E0;
-                E = m v^2/2 + m g z + k d^2/2 with v the state's velocity, which for all
-                three integrators is the backward difference (x(n) - x(n-1)) / dt
+    E drift     (E - E0) / E0 at the last step in flight within 10^6 steps (--quick
+                10^5), and max |E - E0| / E0 over the steps in flight; E = m v^2/2 +
+                m g (z(n) + z(n-1))/2 with v the state's velocity (x(n) - x(n-1)) / dt,
+                which all three integrators keep exactly in flight; E0 after step 1
+    P drift     the same with the contact passive (energy-consistent, scene key
+                passive: true); its step cost against the plain contact is timed at
+                1 kHz (JSON passive_cost)
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
@@ -85,6 +89,9 @@ options:
 constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler};
 constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
 constexpr std::array kChainMasses{10, 100, 1000};
+// the bounce's step timed at this rate, restarted this often (the plain contact gains energy)
+constexpr double kBounceTiming_hz = 1000.0;
+constexpr std::size_t kBounceRestart = 100000;
 
 // the bridge step: its rate, the hand's depth into the top and its wobble
 constexpr double kBridgeRate_hz = 44000.0;
@@ -226,6 +233,10 @@ std::string oscillator_name(Integrator integrator, double rate_hz) {
 
 std::string chain_name(int masses) { return "chain/" + std::to_string(masses); }
 
+std::string bounce_name(Integrator integrator, bool passive) {
+  return std::string(passive ? "bounce_passive/" : "bounce/") + physics::to_string(integrator);
+}
+
 void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& motion, const Model& path_model,
                          const std::vector<Vec3>& path_motion) {
   for (Integrator integrator : kIntegrators) {
@@ -234,6 +245,11 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
       const std::size_t one_second = steps_in(1.0, rate_hz);
       benchmark::RegisterBenchmark(oscillator_name(integrator, rate_hz).c_str(),
                                    [m, one_second](benchmark::State& t) { step_loop(t, m, {}, one_second, true); });
+    }
+    for (bool passive : {false, true}) {
+      const Model m = reference::bounce(integrator, kBounceTiming_hz, passive);
+      benchmark::RegisterBenchmark(bounce_name(integrator, passive).c_str(),
+                                   [m](benchmark::State& t) { step_loop(t, m, {}, kBounceRestart, true); });
     }
   }
   benchmark::RegisterBenchmark("bridge", [&bridge_model, &motion](benchmark::State& t) { step_loop(t, bridge_model, motion, motion.size(), false); });
@@ -270,6 +286,7 @@ struct Row {
   OscillatorErrors oscillator;
   double damped_error = 0.0;
   BounceErrors bounce;
+  BounceErrors passive_bounce;
   double realtime_factor() const { return 1e9 / rate_hz / ns_per_step; }
 };
 
@@ -277,6 +294,14 @@ struct ChainRow {
   int masses = 0;
   double ns_per_step = 0.0;
   double ns_per_element() const { return ns_per_step / (2.0 * masses); }  // masses + links
+};
+
+// the step cost of the bounce with the plain and the passive contact
+struct PassiveCost {
+  Integrator integrator = Integrator::cordis;
+  double plain_ns = 0.0;
+  double passive_ns = 0.0;
+  double ratio() const { return passive_ns / plain_ns; }
 };
 
 struct Machine {
@@ -290,6 +315,7 @@ struct Results {
   Settings settings;
   std::vector<Row> rows;
   std::vector<ChainRow> chain;
+  std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
   double bridge_path_ns = 0.0;  // along the scripted hand path
   GridContacts bridge_contacts;
@@ -331,13 +357,17 @@ double convergence_order(const std::vector<Row>& rows, Integrator integrator) {
 }
 
 void print_table(const Results& r) {
-  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
-              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max");
+  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s %10s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
+              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max", "P drift");
   for (const Row& w : r.rows) {
-    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e\n", physics::to_string(w.integrator),
+    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e %10.2e\n", physics::to_string(w.integrator),
                 w.rate_hz / 1e3, w.ns_per_step, w.realtime_factor(), w.oscillator.global, w.oscillator.amplitude,
                 w.oscillator.phase_rad, w.oscillator.freq_vs_predicted, w.damped_error, w.bounce.peak_penetration,
-                w.bounce.energy_drift, w.bounce.energy_drift_max);
+                w.bounce.energy_drift, w.bounce.energy_drift_max, w.passive_bounce.energy_drift);
+  }
+  for (const PassiveCost& c : r.passive_cost) {
+    std::printf("passive contact  %-16s bounce step %.1f ns plain, %.1f ns passive (x%.2f)\n", physics::to_string(c.integrator), c.plain_ns,
+                c.passive_ns, c.ratio());
   }
   std::printf("\nobserved order of the global error (1 to 44 kHz):");
   for (Integrator integrator : kIntegrators) std::printf(" %s %.2f", physics::to_string(integrator), convergence_order(r.rows, integrator));
@@ -376,7 +406,14 @@ void write_json(const Results& r, const std::string& path) {
     j.field("amplitude_error", w.oscillator.amplitude).field("phase_error_rad", w.oscillator.phase_rad);
     j.field("freq_error_vs_predicted", w.oscillator.freq_vs_predicted).field("freq_warping", w.oscillator.freq_warping);
     j.field("damped_error", w.damped_error).field("bounce_peak_penetration_error", w.bounce.peak_penetration);
-    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max).end_object();
+    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max);
+    j.field("passive_bounce_energy_drift", w.passive_bounce.energy_drift);
+    j.field("passive_bounce_energy_drift_max", w.passive_bounce.energy_drift_max).end_object();
+  }
+  j.end_array().key("passive_cost").begin_array();
+  for (const PassiveCost& c : r.passive_cost) {
+    j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
+    j.field("bounce_ns_per_step", c.plain_ns).field("passive_bounce_ns_per_step", c.passive_ns).field("ratio", c.ratio()).end_object();
   }
   j.end_array().end_object();
   std::ofstream out(path);
@@ -394,7 +431,8 @@ std::vector<Row> error_rows(const Settings& settings) {
                       .rate_hz = rate_hz,
                       .oscillator = undamped_errors(integrator, rate_hz),
                       .damped_error = damped_error(integrator, rate_hz),
-                      .bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps)});
+                      .bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps, false),
+                      .passive_bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps, true)});
     }
   }
   return rows;
@@ -412,11 +450,14 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> path_motion = scripted_motion(scene);
   const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
-               kIntegrators.size() * kRates_hz.size() + 2 + kChainMasses.size(), settings.repetitions);
+               kIntegrators.size() * (kRates_hz.size() + 2) + 2 + kChainMasses.size(), settings.repetitions);
   MedianReporter reporter;
   register_benchmarks(bridge_model, motion, path_model, path_motion);
   run_benchmarks(settings, reporter);
   for (Row& w : r.rows) w.ns_per_step = reporter.median_ns(oscillator_name(w.integrator, w.rate_hz));
+  for (Integrator integrator : kIntegrators) {
+    r.passive_cost.push_back({integrator, reporter.median_ns(bounce_name(integrator, false)), reporter.median_ns(bounce_name(integrator, true))});
+  }
   r.bridge_ns = reporter.median_ns("bridge");
   r.bridge_path_ns = reporter.median_ns("bridge_path");
   for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});

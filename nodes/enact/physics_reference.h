@@ -27,7 +27,7 @@ struct OscillatorErrors {
 
 struct BounceErrors {
   double peak_penetration = 0.0;  // relative, signed
-  double energy_drift = 0.0;      // relative, signed, at the last step
+  double energy_drift = 0.0;      // relative, signed, at the last step in flight
   double energy_drift_max = 0.0;  // relative, largest |E - E0| / E0
 };
 
@@ -35,7 +35,10 @@ struct BounceErrors {
 OscillatorErrors undamped_errors(physics::Integrator integrator, double rate_hz);
 // the damped oscillator (zeta 0.05): max |x - x_exact| / A over 1 s
 double damped_error(physics::Integrator integrator, double rate_hz);
-// a 0.01 kg mass dropped from 5 mm onto an undamped 2000 N/m plane, for `steps` steps
-BounceErrors bounce_errors(physics::Integrator integrator, double rate_hz, long steps);
+// a 0.01 kg mass at rest 5 mm above an undamped 2000 N/m plane under gravity; `passive`: an
+// energy-consistent contact (ContactPair::passive)
+physics::Model bounce(physics::Integrator integrator, double rate_hz, bool passive);
+// that mass dropped, for `steps` steps; energy compared in flight (both samples above the plane)
+BounceErrors bounce_errors(physics::Integrator integrator, double rate_hz, long steps, bool passive);
 
 }  // namespace enact::cli::reference
