@@ -33,6 +33,22 @@ struct ContactState {
   Vec3 work_from_m;
 };
 
+// the contact pairs of one device body against one object: each step, when a sphere around
+// the body is apart from the object, none of them can touch and all are skipped
+struct PairGroup {
+  int proxy = -1;
+  int object = -1;
+  Vec3 centre_offset_m;  // the sphere's centre relative to the proxy
+  double radius_m = 0.0; // it holds every body point of the group
+};
+
+// consecutive contact pairs of one group (-1: none), in the order of Model::contacts
+struct PairRun {
+  int first = 0;
+  int count = 0;
+  int group = -1;
+};
+
 enum class Fault : std::uint8_t { none, nonfinite_input, nonfinite_state, runaway_position, runaway_speed };
 
 struct State {
@@ -55,6 +71,14 @@ struct State {
   std::vector<int> kinematic;
   // the passive contact pairs (indices into Model::contacts)
   std::vector<int> passive;
+  // pair culling: the groups, the pairs as runs of one group (group -1: the pairs of dynamic
+  // points and passive pairs, evaluated every step), and which groups are apart this step.
+  // With cull false every pair is evaluated every step (the reference: the same forces bit
+  // for bit, in the same order)
+  std::vector<PairGroup> groups;
+  std::vector<PairRun> runs;
+  std::vector<std::uint8_t> group_apart;
+  bool cull = true;
 
   std::int64_t steps = 0;
   double time_s = 0.0;

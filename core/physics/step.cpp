@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/physics/contact.h"
 #include "core/physics/state.h"
@@ -9,6 +10,9 @@ namespace {
 
 // below this distance (m) a link with a rest length has no defined direction
 constexpr double kMinDirection_m = 1e-12;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// added to a pair group's sphere: far above the rounding of a body point's position (m)
+constexpr double kCullMargin_m = 1e-6;
 
 // the implicit integrator's per-point stiffness and damping (not needed by the explicit ones)
 void add_stiffness(const Model& m, State& s, int i, double k, double z) {
@@ -217,7 +221,57 @@ void accumulate_forces(const Model& m, State& s) {
   }
   for (const int i : s.dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
   for (const Link& l : m.links) link_force(m, l, s);
-  for (const ContactPair& c : m.contacts) contact_force(m, c, s);
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    const PairGroup& group = s.groups[g];
+    s.group_apart[g] = s.cull && apart(m, m.objects[group.object], s.proxy_position_m[group.proxy] + group.centre_offset_m, group.radius_m + kCullMargin_m);
+  }
+  for (const PairRun& run : s.runs) {
+    const bool apart = run.group >= 0 && s.group_apart[run.group];
+    for (int k = run.first; k < run.first + run.count; ++k) {
+      if (!apart) {
+        contact_force(m, m.contacts[k], s);
+        continue;
+      }
+      // what update_contact would find: the point is in no box and above every plane
+      s.contacts[k].active = false;
+      s.contacts[k].depth_m = 0.0;
+    }
+  }
+}
+
+// the pair groups of a model (one per device body and object, in order of first appearance)
+// and the runs of pairs of one group
+void group_pairs(const Model& m, State& s) {
+  std::vector<int> group_of(m.contacts.size(), -1);
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    const ContactPair& c = m.contacts[k];
+    const Point& p = m.points[c.point];
+    if (p.kind != PointKind::kinematic || c.passive) continue;
+    int g = 0;
+    while (g < static_cast<int>(s.groups.size()) && (s.groups[g].proxy != p.proxy || s.groups[g].object != c.object)) ++g;
+    if (g == static_cast<int>(s.groups.size())) s.groups.push_back({p.proxy, c.object, {}, 0.0});
+    group_of[k] = g;
+  }
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    if (s.runs.empty() || s.runs.back().group != group_of[k]) s.runs.push_back({static_cast<int>(k), 0, group_of[k]});
+    ++s.runs.back().count;
+  }
+  // each group's sphere: around the middle of its points' offsets
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    Vec3 low{kInfinity, kInfinity, kInfinity}, high = -low;
+    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+      if (group_of[k] != static_cast<int>(g)) continue;
+      const Vec3& o = m.points[m.contacts[k].point].offset_m;
+      low = {std::min(low.x, o.x), std::min(low.y, o.y), std::min(low.z, o.z)};
+      high = {std::max(high.x, o.x), std::max(high.y, o.y), std::max(high.z, o.z)};
+    }
+    PairGroup& group = s.groups[g];
+    group.centre_offset_m = (low + high) * 0.5;
+    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+      if (group_of[k] == static_cast<int>(g)) group.radius_m = std::max(group.radius_m, norm(m.points[m.contacts[k].point].offset_m - group.centre_offset_m));
+    }
+  }
+  s.group_apart.assign(s.groups.size(), 0);
 }
 
 void fault(const Model& m, State& s, Fault kind, int point) {
@@ -267,6 +321,7 @@ State make_state(const Model& m) {
   for (std::size_t k = 0; k < m.contacts.size(); ++k) {
     if (m.contacts[k].passive) s.passive.push_back(static_cast<int>(k));
   }
+  group_pairs(m, s);
   s.proxy_position_m.resize(m.proxies.size());
   s.proxy_force_n.resize(m.proxies.size());
   for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;

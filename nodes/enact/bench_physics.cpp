@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/haptics/computer_model.h"
+#include "core/physics/contact.h"
 #include "core/physics/scene.h"
 #include "core/sim/offline.h"
 #include "core/physics/state.h"
@@ -51,7 +52,11 @@ timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock
   bridge      one step of SCENE at 44 kHz with computer model CM1, share of the
               22.7 us period (target: 227 ns, 1 %):
                 path: along the scene's scripted hand path (enact path; JSON
-                      bridge_step_ns_median)
+                      bridge_step_ns_median); the same evaluating every contact
+                      pair (bridge_step_unculled_ns_median), and the culling test
+                      alone (bridge_cull_test_ns_median): the pairs of the body
+                      against an object are skipped while a sphere around the
+                      body is apart from it
                 turn: the body resting 0.1 mm into the top at the first turn, all 16 grid
                       masses touching, wobbling +-1.2 mm at 2 and 3 Hz (the worst case;
                       JSON bridge_turn_step_ns_median)
@@ -89,9 +94,9 @@ options:
 constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler};
 constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
 constexpr std::array kChainMasses{10, 100, 1000};
-// the bounce's step timed at this rate, restarted this often (the plain contact gains energy)
+// the bounce's step timed at this rate, restarted every simulated second (a decaying
+// bounce would reach denormal numbers, the plain contact gains energy)
 constexpr double kBounceTiming_hz = 1000.0;
-constexpr std::size_t kBounceRestart = 100000;
 
 // the bridge step: its rate, the hand's depth into the top and its wobble
 constexpr double kBridgeRate_hz = 44000.0;
@@ -190,8 +195,10 @@ GridContacts grid_contacts(const Model& m, const std::vector<Vec3>& motion) {
 // the timed loop: one step per iteration. A motion drives proxy 0, its index wrapping every
 // `period` steps; with `restart` the state also returns to its initial conditions then
 // (by copy, no allocation), so a decaying oscillator never reaches denormal numbers
-void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion, std::size_t period, bool restart) {
-  const physics::State initial = physics::make_state(m);
+void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion, std::size_t period, bool restart,
+               bool cull = true) {
+  physics::State initial = physics::make_state(m);
+  initial.cull = cull;
   physics::State s = initial;
   std::size_t n = 0;
   for (auto _ : timer) {
@@ -200,6 +207,19 @@ void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>&
     if (++n < period) continue;
     n = 0;
     if (restart) s = initial;
+  }
+}
+
+// the culling test alone: each pair group's bounding sphere against its object, at the
+// body positions of a motion
+void cull_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion) {
+  const physics::State s = physics::make_state(m);
+  std::size_t n = 0;
+  for (auto _ : timer) {
+    bool any = false;
+    for (const physics::PairGroup& g : s.groups) any = any != physics::apart(m, m.objects[g.object], motion[n] + g.centre_offset_m, g.radius_m);
+    benchmark::DoNotOptimize(any);
+    if (++n == motion.size()) n = 0;
   }
 }
 
@@ -249,13 +269,16 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
     for (bool passive : {false, true}) {
       const Model m = reference::bounce(integrator, kBounceTiming_hz, passive);
       benchmark::RegisterBenchmark(bounce_name(integrator, passive).c_str(),
-                                   [m](benchmark::State& t) { step_loop(t, m, {}, kBounceRestart, true); });
+                                   [m](benchmark::State& t) { step_loop(t, m, {}, steps_in(1.0, kBounceTiming_hz), true); });
     }
   }
   benchmark::RegisterBenchmark("bridge", [&bridge_model, &motion](benchmark::State& t) { step_loop(t, bridge_model, motion, motion.size(), false); });
-  benchmark::RegisterBenchmark("bridge_path", [&path_model, &path_motion](benchmark::State& t) {
-    step_loop(t, path_model, path_motion, path_motion.size(), false);
-  });
+  for (bool cull : {true, false}) {
+    benchmark::RegisterBenchmark(cull ? "bridge_path" : "bridge_path_unculled", [&path_model, &path_motion, cull](benchmark::State& t) {
+      step_loop(t, path_model, path_motion, path_motion.size(), false, cull);
+    });
+  }
+  benchmark::RegisterBenchmark("bridge_cull_test", [&path_model, &path_motion](benchmark::State& t) { cull_loop(t, path_model, path_motion); });
   for (int masses : kChainMasses) {
     const Model m = chain(masses, kBridgeRate_hz);
     benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
@@ -318,6 +341,8 @@ struct Results {
   std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
   double bridge_path_ns = 0.0;  // along the scripted hand path
+  double bridge_path_unculled_ns = 0.0;  // the same evaluating every pair
+  double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
   GridContacts bridge_contacts;
   double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
 };
@@ -375,6 +400,8 @@ void print_table(const Results& r) {
   std::printf("\nbridge step  along the scripted hand path: %.1f ns median at 44 kHz, %.2f %% of the 22.7 us period (target %.0f ns: %s)\n",
               r.bridge_path_ns, 100.0 * r.bridge_path_ns * 1e-9 * kBridgeRate_hz, kBridgeTarget_ns,
               r.bridge_path_ns <= kBridgeTarget_ns ? "met" : "NOT met");
+  std::printf("bridge step  the same evaluating every pair: %.1f ns; the culling test alone: %.1f ns per step\n", r.bridge_path_unculled_ns,
+              r.bridge_cull_test_ns);
   std::printf("bridge step  at a turn (worst case): %.1f ns median, %.2f %% of the period (target %.0f ns: %s); "
               "%.1f of %d grid masses touching on average, all on %.0f %% of steps\n",
               r.bridge_ns, 100.0 * r.bridge_share(), kBridgeTarget_ns, r.bridge_ns <= kBridgeTarget_ns ? "met" : "NOT met", c.mean,
@@ -393,6 +420,7 @@ void write_json(const Results& r, const std::string& path) {
   j.field("repetitions", r.settings.repetitions).field("min_time_s", r.settings.min_time_s);
   j.field("bounce_steps", static_cast<long long>(r.settings.bounce_steps));
   j.field("bridge_step_ns_median", r.bridge_path_ns).field("bridge_share_of_44khz_period", r.bridge_path_ns * 1e-9 * kBridgeRate_hz);
+  j.field("bridge_step_unculled_ns_median", r.bridge_path_unculled_ns).field("bridge_cull_test_ns_median", r.bridge_cull_test_ns);
   j.field("bridge_turn_step_ns_median", r.bridge_ns).field("bridge_turn_share_of_44khz_period", r.bridge_share());
   j.field("bridge_grid_contacts_mean", r.bridge_contacts.mean).field("bridge_all_grid_contacts_share", r.bridge_contacts.all_share);
   j.key("chain").begin_array();
@@ -450,7 +478,7 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> path_motion = scripted_motion(scene);
   const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
-               kIntegrators.size() * (kRates_hz.size() + 2) + 2 + kChainMasses.size(), settings.repetitions);
+               kIntegrators.size() * (kRates_hz.size() + 2) + 4 + kChainMasses.size(), settings.repetitions);
   MedianReporter reporter;
   register_benchmarks(bridge_model, motion, path_model, path_motion);
   run_benchmarks(settings, reporter);
@@ -460,6 +488,8 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   }
   r.bridge_ns = reporter.median_ns("bridge");
   r.bridge_path_ns = reporter.median_ns("bridge_path");
+  r.bridge_path_unculled_ns = reporter.median_ns("bridge_path_unculled");
+  r.bridge_cull_test_ns = reporter.median_ns("bridge_cull_test");
   for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});
   return r;
 }
