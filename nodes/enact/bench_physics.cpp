@@ -38,6 +38,8 @@ using reference::chain;
 using reference::damped_error;
 using reference::oscillator;
 using reference::steps_in;
+using reference::kIntegrators;
+using reference::kRates_hz;
 using reference::undamped_errors;
 
 constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
@@ -91,8 +93,6 @@ options:
                 directory, else from the source tree above the executable)
 )";
 
-constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler};
-constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
 constexpr std::array kChainMasses{10, 100, 1000};
 // the bounce's step timed at this rate, restarted every simulated second (a decaying
 // bounce would reach denormal numbers, the plain contact gains energy)
@@ -110,6 +110,7 @@ struct Settings {
   int repetitions = 5;
   double min_time_s = 0.2;
   long bounce_steps = 1000000;
+  double sweep_reference_hz = reference::kSweepReference_hz;
 };
 
 // ---- the bridge: scene, hand motion ----
@@ -142,16 +143,20 @@ std::vector<Vec3> bridge_motion(const Model& m) {
   return motion;
 }
 
-// the built-in scripted hand path of the scene (enact path), sampled at the bridge rate: on
-// the top, off the edges, a fall and the climb back, the turns
-std::vector<Vec3> scripted_motion(const std::string& scene) {
+// the built-in scripted hand path of the scene (enact path): on the top, off the edges, a
+// fall and the climb back, the turns
+sim::Trajectory scripted_path(const std::string& scene) {
   sim::SimParams p;
   p.scene = find_file(scene);
   p.rate_hz = kBridgeRate_hz;
   p.force = true;
   sim::Simulator simulator;
   simulator.configure(p);
-  const sim::Trajectory tr = sim::scripted_path(simulator);
+  return sim::scripted_path(simulator);
+}
+
+// the scripted path sampled at the bridge rate
+std::vector<Vec3> scripted_motion(const sim::Trajectory& tr) {
   std::vector<Vec3> motion(steps_in(tr.end_s() - tr.start_s(), kBridgeRate_hz));
   for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / kBridgeRate_hz);
   return motion;
@@ -340,6 +345,7 @@ struct Results {
   std::vector<ChainRow> chain;
   std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
+  std::vector<reference::SweepRow> bridge_rows;
   double bridge_path_ns = 0.0;  // along the scripted hand path
   double bridge_path_unculled_ns = 0.0;  // the same evaluating every pair
   double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
@@ -406,6 +412,7 @@ void print_table(const Results& r) {
               "%.1f of %d grid masses touching on average, all on %.0f %% of steps\n",
               r.bridge_ns, 100.0 * r.bridge_share(), kBridgeTarget_ns, r.bridge_ns <= kBridgeTarget_ns ? "met" : "NOT met", c.mean,
               c.masses, 100.0 * c.all_share);
+  reference::print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -438,7 +445,9 @@ void write_json(const Results& r, const std::string& path) {
     j.field("passive_bounce_energy_drift", w.passive_bounce.energy_drift);
     j.field("passive_bounce_energy_drift_max", w.passive_bounce.energy_drift_max).end_object();
   }
-  j.end_array().key("passive_cost").begin_array();
+  j.end_array().key("bridge_rows");
+  reference::sweep_json(j, r.bridge_rows);
+  j.key("passive_cost").begin_array();
   for (const PassiveCost& c : r.passive_cost) {
     j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
     j.field("bounce_ns_per_step", c.plain_ns).field("passive_bounce_ns_per_step", c.passive_ns).field("ratio", c.ratio()).end_object();
@@ -475,8 +484,13 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
   const Model bridge_model = bridge(scene, motion);
   r.bridge_contacts = grid_contacts(bridge_model, motion);
-  const std::vector<Vec3> path_motion = scripted_motion(scene);
+  const sim::Trajectory path = scripted_path(scene);
+  const std::vector<Vec3> path_motion = scripted_motion(path);
   const Model path_model = bridge(scene, path_motion);
+  std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);
+  r.bridge_rows = reference::rate_sweep(path_model, *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols),
+                                        [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
+                                        settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
                kIntegrators.size() * (kRates_hz.size() + 2) + 4 + kChainMasses.size(), settings.repetitions);
   MedianReporter reporter;
@@ -507,7 +521,9 @@ int bench(int argc, char** argv) {
   if (a.positional.size() != 1 || a.positional[0] != "physics") {
     throw UsageError(a.positional.empty() ? "give a benchmark: physics, loop or record" : "unknown benchmark '" + a.positional[0] + "' (physics, loop, record)");
   }
-  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000} : Settings{};
+  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000,
+                                                        .sweep_reference_hz = reference::kSweepQuickReference_hz}
+                                            : Settings{};
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
   print_table(r);
   if (a.has("json")) write_json(r, a.get("json"));
