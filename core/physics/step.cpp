@@ -163,19 +163,22 @@ double returning(double energy_j, double travel_m, double gain, double damper_n)
 // leave the surface it returns exactly what the ledger holds (the sampled spring would return
 // more or less, depending on where between two samples the point crossed the surface)
 void control(const Model& m, State& s) {
-  for (const int k : s.passive) {
-    ContactState& cs = s.contacts[k];
+  for (const int pair : s.passive) {
+    ContactState& cs = s.contacts[pair];
     if (cs.spring_n == 0.0) continue;
-    const int i = m.contacts[k].point;
+    const ContactPair& c = m.contacts[pair];
     Vec3 v_next;
     double gain = 0.0;
-    const Vec3 next = advance(m, s, i, v_next, gain);
+    const Vec3 next = advance(m, s, c.point, v_next, gain);
     const double push = std::max(0.0, cs.spring_n - cs.damper_n);
-    const double travel = dot(cs.normal, next - s.x_prev[i]);
-    const bool leaving = cs.spring_n <= m.contacts[k].stiffness_n_per_m * dot(cs.normal, next - s.x[i]);
+    const double travel = dot(cs.normal, next - s.x_prev[c.point]);
+    const bool leaving = cs.spring_n <= c.stiffness_n_per_m * dot(cs.normal, next - s.x[c.point]);
     if (!leaving && 0.5 * cs.spring_n * travel <= cs.ledger_j) continue;
-    cs.spring_n = returning(std::max(0.0, cs.ledger_j), travel - gain * push, gain, cs.damper_n);
-    s.f[i] += cs.normal * (std::max(0.0, cs.spring_n - cs.damper_n) - push);
+    // never harder than the plain spring, or than the spring one step's travel deep: a
+    // ledger grown over a long press is never released as a kick on the device
+    const double cap = std::max(cs.spring_n, c.stiffness_n_per_m * std::abs(travel));
+    cs.spring_n = std::min(cap, returning(std::max(0.0, cs.ledger_j), travel - gain * push, gain, cs.damper_n));
+    s.f[c.point] += cs.normal * (std::max(0.0, cs.spring_n - cs.damper_n) - push);
   }
 }
 

@@ -45,7 +45,8 @@ using reference::undamped_errors;
 constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
 
 Speed against error of the three integrators (cordis, symplectic_euler, implicit_euler)
-at 1, 2, 5, 10, 20 and 44 kHz, the cost of one bridge step, and how a chain scales.
+at 1, 2, 5, 10, 20 and 44 kHz (analytic cases and the bridge scene itself), the cost of
+one bridge step, and how a chain scales.
 About a minute (--quick: about 15 s); progress goes to stderr, the table to stdout.
 
 timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock):
@@ -83,6 +84,13 @@ errors (deterministic, no damping added):
     P drift     the same with the contact passive (energy-consistent, scene key
                 passive: true); its step cost against the plain contact is timed at
                 1 kHz (JSON passive_cost)
+  bridge      the scene along its scripted hand path under CM1 through each integrator
+              at each rate, against cordis at 880 kHz (--quick 440 kHz) at the same
+              instants (JSON bridge_rows): ns per step (the whole path, wall clock),
+              device force error rms and max (N), share of steps whose pins differ.
+              The bridge has no dynamic masses: the integrators give the same forces,
+              and its force depends on the rate only through the contact damping's
+              backward-difference velocity and the entry faces
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
