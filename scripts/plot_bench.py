@@ -2,8 +2,10 @@
 """Plot `enact bench physics --json FILE`: speed against error, and error against rate.
 
 Left: x = ns per step (median), y = global error of the undamped oscillator, one line per
-integrator across the rates (annotated in kHz). Right: error against rate per integrator;
-the legend gives the fitted slope, the observed order of convergence.
+integrator across the rates (annotated in kHz). Middle: error against rate per integrator;
+the legend gives the fitted slope, the observed order of convergence. Right (when the JSON
+has bridge_rows): the bridge scene itself along its scripted path, x = ns per step, y = rms
+error of the force sent to the device against the high-rate reference, per integrator.
 """
 import argparse
 import json
@@ -17,6 +19,9 @@ from matplotlib.ticker import FuncFormatter  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROW_KEYS = ("integrator", "rate_hz", "ns_per_step", "error")
+BRIDGE_KEYS = ("integrator", "rate_hz", "ns_per_step", "force_rms_error_n")
+# an error of exactly 0 N drawn at this floor on the log axis
+ERROR_FLOOR_N = 1e-15
 
 
 def fail(message):
@@ -42,13 +47,26 @@ def load(path):
     return data
 
 
-# rows grouped by integrator, sorted by rate, rows without a number (null) dropped
-def by_integrator(rows):
+# rows grouped by integrator, sorted by rate, rows without a number (null) for `keys` dropped
+def by_integrator(rows, keys=ROW_KEYS):
     groups = {}
     for row in rows:
-        if all(isinstance(row[k], (int, float)) for k in ROW_KEYS[1:]):
+        if isinstance(row, dict) and all(isinstance(row.get(k), (int, float)) for k in keys[1:]):
             groups.setdefault(row["integrator"], []).append(row)
     return {name: sorted(group, key=lambda r: r["rate_hz"]) for name, group in groups.items()}
+
+
+# speed against the device force's error along the bridge's scripted path
+def plot_bridge(ax, rows):
+    for name, group in by_integrator(rows, BRIDGE_KEYS).items():
+        ns = [r["ns_per_step"] for r in group]
+        err = [max(r["force_rms_error_n"], ERROR_FLOOR_N) for r in group]
+        line, = ax.loglog(ns, err, "o-", label=name)
+        for x, y, r in zip(ns, err, group):
+            ax.annotate(f"{r['rate_hz'] / 1e3:g}k", (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7,
+                        color=line.get_color())
+    ax.set(xlabel="ns per step (whole path)", ylabel="device force rms error (N)",
+           title="the bridge along its scripted path\nagainst the high-rate reference (labels: rate)")
 
 
 # slope of log(error) against log(rate), negated: the observed order
@@ -71,7 +89,10 @@ def plot(data, out):
     groups = by_integrator(data["rows"])
     if not groups:
         fail("no row has numbers for rate_hz, ns_per_step and error")
-    fig, (speed, order) = plt.subplots(1, 2, figsize=(13, 5.5))
+    bridge_rows = data.get("bridge_rows")
+    panels = 3 if isinstance(bridge_rows, list) and bridge_rows else 2
+    fig, axes = plt.subplots(1, panels, figsize=(6.5 * panels, 5.5))
+    speed, order = axes[0], axes[1]
     for name, group in groups.items():
         ns = [r["ns_per_step"] for r in group]
         err = [r["error"] for r in group]
@@ -87,9 +108,12 @@ def plot(data, out):
               title="error against rate (slope: order)")
     # ns per step spans a narrow range: plain numbers on its log axis
     plain = FuncFormatter(lambda v, _: f"{v:g}")
-    speed.xaxis.set_major_formatter(plain)
-    speed.xaxis.set_minor_formatter(plain)
-    for ax in (speed, order):
+    for ax in axes[::2]:
+        ax.xaxis.set_major_formatter(plain)
+        ax.xaxis.set_minor_formatter(plain)
+    if panels == 3:
+        plot_bridge(axes[2], bridge_rows)
+    for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle(title(data), fontsize=10)

@@ -1,5 +1,7 @@
 #include "core/physics/contact.h"
 
+#include <algorithm>
+#include <bit>
 #include <limits>
 
 namespace enact::physics {
@@ -171,16 +173,31 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
   const Vec3& h = own_box.half_extents_m;
   const double depth[6] = {h.x - lx, h.x + lx, h.y - ly, h.y + ly, h.z - lz, h.z + lz};
   const double own = depth[contact.face];
+  // left the box
+  if (std::min(std::min(std::min(depth[0], depth[1]), std::min(depth[2], depth[3])), std::min(depth[4], depth[5])) <= 0.0) return false;
+  // in its own box the other faces are perpendicular or opposite: they take over only within
+  // the skin, and one does when the shallowest of them does (branch-free: a face that
+  // cannot push counts as infinitely deep)
   const int own_axis = contact.face / 2;
-  // in its own box the other faces are perpendicular or opposite: they take over only within the skin
+  double side = kInfinity;
   for (int face = 0; face < 6; ++face) {
-    if (depth[face] <= 0.0) return false;  // left the box
-    if (face / 2 != own_axis && ((own_box.faces >> face) & 1u) && depth[face] <= skin_m && depth[face] < own) return false;
+    const bool pushes = face / 2 != own_axis && ((own_box.faces >> face) & 1u);
+    side = std::min(side, pushes ? depth[face] : kInfinity);
   }
-  double local[3];
-  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-    if (i == contact.box || !selected(object, near, i) || !local_coordinates(model.boxes[i], x, local)) continue;
-    if (competes(model.boxes[i], local, contact.normal, own, skin_m)) return false;
+  if (side <= skin_m && side < own) return false;
+  // the other boxes of the object the point may be in (the near ones, bit by bit)
+  auto taken_over = [&](int i) {
+    double local[3];
+    return i != contact.box && local_coordinates(model.boxes[i], x, local) && competes(model.boxes[i], local, contact.normal, own, skin_m);
+  };
+  if (object.box_count > 64) {
+    for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+      if (taken_over(i)) return false;
+    }
+  } else {
+    for (std::uint64_t rest = near & ~(std::uint64_t{1} << (contact.box - object.first_box)); rest != 0; rest &= rest - 1) {
+      if (taken_over(object.first_box + std::countr_zero(rest))) return false;
+    }
   }
   contact.depth_m = own;
   return true;
@@ -251,6 +268,17 @@ void Model::index_boxes() {
       }
     }
   }
+}
+
+bool apart(const Model& model, const Object& object, const Vec3& centre_m, double radius_m) {
+  if (object.type == ObjectType::plane) return dot(object.plane_normal, centre_m - object.plane_point_m) > radius_m;
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+    const Box& box = model.boxes[i];
+    const Vec3 local = box.rotation.transpose_times(centre_m - box.center_m);
+    const Vec3& h = box.half_extents_m;
+    if (std::abs(local.x) < h.x + radius_m && std::abs(local.y) < h.y + radius_m && std::abs(local.z) < h.z + radius_m) return false;
+  }
+  return true;
 }
 
 bool objects_overlap(const Model& m, const Object& a, const Object& b) {

@@ -11,6 +11,10 @@ namespace enact::physics {
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
                       ContactState& contact);
 
+// can no point within radius_m of centre_m be inside the object? (a plane: the sphere is
+// above it; boxes: the sphere is outside every box along one of its axes)
+bool apart(const Model& model, const Object& object, const Vec3& centre_m, double radius_m);
+
 // can a point be inside both objects at once? Conservative: false only when their volumes
 // are disjoint (a box on a plane, boxes apart); used to sum the stiffness that can act at once
 bool objects_overlap(const Model& model, const Object& a, const Object& b);

@@ -104,6 +104,9 @@ struct ContactPair {
   double damping_n_s_per_m = 0.0;
   double edge_skin_m = 0.001;  // a point this close below another face rides over the edge onto it
   int line = 0;
+  // energy-consistent (scene key passive: true): the spring never returns more energy than it
+  // absorbed, and returns what it holds on the step the point leaves (ContactState::ledger_j)
+  bool passive = false;
 };
 
 // a device proxy: a point whose position the device imposes, with an exploratory body of

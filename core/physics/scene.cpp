@@ -243,17 +243,18 @@ struct Loader {
 
   void contacts(const Map& scene) {
     for (const auto& n : scene.list("contacts")) {
-      Map m(n, file, "contact", {"masses", "objects", "stiffness_n_per_m", "damping_n_s_per_m", "edge_skin_m"});
+      Map m(n, file, "contact", {"masses", "objects", "stiffness_n_per_m", "damping_n_s_per_m", "edge_skin_m", "passive"});
       const std::vector<int> pts = contact_points(m);
       const YAML::Node objs = m.get("objects");
       if (!objs.IsSequence()) m.fail("objects", "objects must be a list of object names", "write e.g. objects: [bridge, floor]");
       const double k = m.positive("stiffness_n_per_m");
       const double z = m.positive("damping_n_s_per_m", 0.0, true);
       const double skin = m.positive("edge_skin_m", 0.001, true);
+      const bool passive = m.flag("passive", false);
       for (const auto& o : objs) {
         const int oi = model.find_object(o.as<std::string>());
         if (oi < 0) config::fail(file, o, "unknown object '" + o.as<std::string>() + "'", "name an object defined under objects:");
-        for (int p : pts) model.contacts.push_back({p, oi, k, z, skin, m.line()});
+        for (int p : pts) model.contacts.push_back({p, oi, k, z, skin, m.line(), passive});
       }
     }
   }

@@ -23,6 +23,30 @@ struct ContactState {
   std::uint64_t near_boxes = 0;
   Vec3 near_at_m;
   bool near_valid = false;
+  // passive pairs (ContactPair::passive), a passivity observer after Hannaford & Ryu (2002):
+  // the energy the contact's spring absorbed and has not returned (J), from the discrete work
+  // the three integrators give, F(n) . (x(n+1) - x(n-1)) / 2; and this step's spring and
+  // damper terms along `normal` (N) and x(n-1), for that work once x(n+1) is known
+  double ledger_j = 0.0;
+  double spring_n = 0.0;
+  double damper_n = 0.0;
+  Vec3 work_from_m;
+};
+
+// the contact pairs of one device body against one object: each step, when a sphere around
+// the body is apart from the object, none of them can touch and all are skipped
+struct PairGroup {
+  int proxy = -1;
+  int object = -1;
+  Vec3 centre_offset_m;  // the sphere's centre relative to the proxy
+  double radius_m = 0.0; // it holds every body point of the group
+};
+
+// consecutive contact pairs of one group (-1: none), in the order of Model::contacts
+struct PairRun {
+  int first = 0;
+  int count = 0;
+  int group = -1;
 };
 
 enum class Fault : std::uint8_t { none, nonfinite_input, nonfinite_state, runaway_position, runaway_speed };
@@ -45,6 +69,16 @@ struct State {
   // which points the step integrates and which follow a proxy (from make_state)
   std::vector<int> dynamic;
   std::vector<int> kinematic;
+  // the passive contact pairs (indices into Model::contacts)
+  std::vector<int> passive;
+  // pair culling: the groups, the pairs as runs of one group (group -1: the pairs of dynamic
+  // points and passive pairs, evaluated every step), and which groups are apart this step.
+  // With cull false every pair is evaluated every step (the reference: the same forces bit
+  // for bit, in the same order)
+  std::vector<PairGroup> groups;
+  std::vector<PairRun> runs;
+  std::vector<std::uint8_t> group_apart;
+  bool cull = true;
 
   std::int64_t steps = 0;
   double time_s = 0.0;

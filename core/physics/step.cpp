@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/physics/contact.h"
 #include "core/physics/state.h"
@@ -9,6 +10,9 @@ namespace {
 
 // below this distance (m) a link with a rest length has no defined direction
 constexpr double kMinDirection_m = 1e-12;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// added to a pair group's sphere: far above the rounding of a body point's position (m)
+constexpr double kCullMargin_m = 1e-6;
 
 // the implicit integrator's per-point stiffness and damping (not needed by the explicit ones)
 void add_stiffness(const Model& m, State& s, int i, double k, double z) {
@@ -81,43 +85,108 @@ void link_force(const Model& m, const Link& l, State& s) {
   add_stiffness(m, s, l.b, k, z);
 }
 
+// passivity observer: last step's spring work on the point, now that x(n) is known
+void observe(const State& s, int point, ContactState& cs) {
+  if (cs.spring_n == 0.0) return;
+  cs.ledger_j -= 0.5 * cs.spring_n * dot(cs.normal, s.x[point] - cs.work_from_m);
+  cs.spring_n = 0.0;
+}
+
 // unilateral visco-elastic contact of a point against a rigid object
 void contact_force(const Model& m, const ContactPair& c, State& s) {
   ContactState& cs = s.contacts[&c - m.contacts.data()];
+  if (c.passive) observe(s, c.point, cs);
   const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs);
   if (depth <= 0.0) return;
   s.in_contact[c.point] = 1;
   const double felt = depth - m.points[c.point].contact_threshold_m;
   if (felt <= 0.0) return;
   // push only: damping may slow the separation but never pulls the point in
-  const double push = std::max(0.0, c.stiffness_n_per_m * felt - c.damping_n_s_per_m * dot(s.v[c.point], cs.normal));
-  s.f[c.point] += cs.normal * push;
+  const double spring = c.stiffness_n_per_m * felt;
+  const double damper = c.damping_n_s_per_m * dot(s.v[c.point], cs.normal);
+  s.f[c.point] += cs.normal * std::max(0.0, spring - damper);
   add_stiffness(m, s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
+  if (!c.passive) return;
+  cs.spring_n = spring;
+  cs.damper_n = damper;
+  cs.work_from_m = s.x_prev[c.point];
+}
+
+// one point's position and velocity after this step's forces; `gain`: how far x(n+1) moves
+// per newton more on the point (m/N). A kinematic point is predicted at constant velocity
+Vec3 advance(const Model& m, const State& s, int i, Vec3& v_next, double& gain) {
+  const Point& p = m.points[i];
+  const double dt = m.dt_s;
+  const Vec3 x = s.x[i];
+  if (p.kind != PointKind::dynamic) {
+    gain = 0.0;
+    v_next = s.v[i];
+    return x + (x - s.x_prev[i]);
+  }
+  switch (m.integrator) {
+    case Integrator::cordis: {
+      gain = dt * dt / p.mass_kg;
+      const Vec3 next = x * 2.0 - s.x_prev[i] + s.f[i] * (dt * dt / p.mass_kg);
+      v_next = (next - x) * (1.0 / dt);
+      return next;
+    }
+    case Integrator::symplectic_euler:
+      gain = dt * dt / p.mass_kg;
+      v_next = s.v[i] + s.f[i] * (dt / p.mass_kg);
+      return x + v_next * dt;
+    case Integrator::implicit_euler: {
+      // (m + dt z + dt^2 k) v+ = m v + dt F + dt z v: stiffness and damping taken at the new state
+      const double zd = s.z_diag[i];
+      const double denom = p.mass_kg + dt * zd + dt * dt * s.k_diag[i];
+      gain = dt * dt / denom;
+      v_next = (s.v[i] * (p.mass_kg + dt * zd) + s.f[i] * dt) * (1.0 / denom);
+      return x + v_next * dt;
+    }
+  }
+  return x;
+}
+
+// the spring term that makes this step's spring work F . (x(n+1) - x(n-1)) / 2 equal to
+// `energy_j`, x(n+1) moving by `gain` per newton of push; `travel_m`: that distance along the
+// normal without this contact's push
+double returning(double energy_j, double travel_m, double gain, double damper_n) {
+  if (gain > 0.0) {
+    const double b = travel_m - gain * damper_n;
+    const double spring = (-b + std::sqrt(b * b + 8.0 * gain * energy_j)) / (2.0 * gain);
+    if (spring >= damper_n) return spring;
+  }
+  return travel_m > 0.0 ? 2.0 * energy_j / travel_m : 0.0;
+}
+
+// passivity controller on the passive pairs, once every force of the step is known: the
+// spring never returns more than its ledger holds, and on the step the point is predicted to
+// leave the surface it returns exactly what the ledger holds (the sampled spring would return
+// more or less, depending on where between two samples the point crossed the surface)
+void control(const Model& m, State& s) {
+  for (const int pair : s.passive) {
+    ContactState& cs = s.contacts[pair];
+    if (cs.spring_n == 0.0) continue;
+    const ContactPair& c = m.contacts[pair];
+    Vec3 v_next;
+    double gain = 0.0;
+    const Vec3 next = advance(m, s, c.point, v_next, gain);
+    const double push = std::max(0.0, cs.spring_n - cs.damper_n);
+    const double travel = dot(cs.normal, next - s.x_prev[c.point]);
+    const bool leaving = cs.spring_n <= c.stiffness_n_per_m * dot(cs.normal, next - s.x[c.point]);
+    if (!leaving && 0.5 * cs.spring_n * travel <= cs.ledger_j) continue;
+    // never harder than the plain spring, or than the spring one step's travel deep: a
+    // ledger grown over a long press is never released as a kick on the device
+    const double cap = std::max(cs.spring_n, c.stiffness_n_per_m * std::abs(travel));
+    cs.spring_n = std::min(cap, returning(std::max(0.0, cs.ledger_j), travel - gain * push, gain, cs.damper_n));
+    s.f[c.point] += cs.normal * (std::max(0.0, cs.spring_n - cs.damper_n) - push);
+  }
 }
 
 void integrate(const Model& m, State& s) {
-  const double dt = m.dt_s;
+  double gain = 0.0;
   for (const int i : s.dynamic) {
-    const Point& p = m.points[i];
     const Vec3 x = s.x[i];
-    switch (m.integrator) {
-      case Integrator::cordis:
-        s.x[i] = x * 2.0 - s.x_prev[i] + s.f[i] * (dt * dt / p.mass_kg);
-        s.v[i] = (s.x[i] - x) * (1.0 / dt);
-        break;
-      case Integrator::symplectic_euler:
-        s.v[i] += s.f[i] * (dt / p.mass_kg);
-        s.x[i] = x + s.v[i] * dt;
-        break;
-      case Integrator::implicit_euler: {
-        // (m + dt z + dt^2 k) v+ = m v + dt F + dt z v: stiffness and damping taken at the new state
-        const double zd = s.z_diag[i];
-        const double denom = p.mass_kg + dt * zd + dt * dt * s.k_diag[i];
-        s.v[i] = (s.v[i] * (p.mass_kg + dt * zd) + s.f[i] * dt) * (1.0 / denom);
-        s.x[i] = x + s.v[i] * dt;
-        break;
-      }
-    }
+    s.x[i] = advance(m, s, i, s.v[i], gain);
     s.x_prev[i] = x;
   }
 }
@@ -155,7 +224,57 @@ void accumulate_forces(const Model& m, State& s) {
   }
   for (const int i : s.dynamic) s.f[i] += m.gravity_m_per_s2 * m.points[i].mass_kg;
   for (const Link& l : m.links) link_force(m, l, s);
-  for (const ContactPair& c : m.contacts) contact_force(m, c, s);
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    const PairGroup& group = s.groups[g];
+    s.group_apart[g] = s.cull && apart(m, m.objects[group.object], s.proxy_position_m[group.proxy] + group.centre_offset_m, group.radius_m + kCullMargin_m);
+  }
+  for (const PairRun& run : s.runs) {
+    const bool apart = run.group >= 0 && s.group_apart[run.group];
+    for (int k = run.first; k < run.first + run.count; ++k) {
+      if (!apart) {
+        contact_force(m, m.contacts[k], s);
+        continue;
+      }
+      // what update_contact would find: the point is in no box and above every plane
+      s.contacts[k].active = false;
+      s.contacts[k].depth_m = 0.0;
+    }
+  }
+}
+
+// the pair groups of a model (one per device body and object, in order of first appearance)
+// and the runs of pairs of one group
+void group_pairs(const Model& m, State& s) {
+  std::vector<int> group_of(m.contacts.size(), -1);
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    const ContactPair& c = m.contacts[k];
+    const Point& p = m.points[c.point];
+    if (p.kind != PointKind::kinematic || c.passive) continue;
+    int g = 0;
+    while (g < static_cast<int>(s.groups.size()) && (s.groups[g].proxy != p.proxy || s.groups[g].object != c.object)) ++g;
+    if (g == static_cast<int>(s.groups.size())) s.groups.push_back({p.proxy, c.object, {}, 0.0});
+    group_of[k] = g;
+  }
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    if (s.runs.empty() || s.runs.back().group != group_of[k]) s.runs.push_back({static_cast<int>(k), 0, group_of[k]});
+    ++s.runs.back().count;
+  }
+  // each group's sphere: around the middle of its points' offsets
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    Vec3 low{kInfinity, kInfinity, kInfinity}, high = -low;
+    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+      if (group_of[k] != static_cast<int>(g)) continue;
+      const Vec3& o = m.points[m.contacts[k].point].offset_m;
+      low = {std::min(low.x, o.x), std::min(low.y, o.y), std::min(low.z, o.z)};
+      high = {std::max(high.x, o.x), std::max(high.y, o.y), std::max(high.z, o.z)};
+    }
+    PairGroup& group = s.groups[g];
+    group.centre_offset_m = (low + high) * 0.5;
+    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+      if (group_of[k] == static_cast<int>(g)) group.radius_m = std::max(group.radius_m, norm(m.points[m.contacts[k].point].offset_m - group.centre_offset_m));
+    }
+  }
+  s.group_apart.assign(s.groups.size(), 0);
 }
 
 void fault(const Model& m, State& s, Fault kind, int point) {
@@ -202,6 +321,10 @@ State make_state(const Model& m) {
     if (m.points[i].kind == PointKind::dynamic) s.dynamic.push_back(static_cast<int>(i));
     if (m.points[i].kind == PointKind::kinematic) s.kinematic.push_back(static_cast<int>(i));
   }
+  for (std::size_t k = 0; k < m.contacts.size(); ++k) {
+    if (m.contacts[k].passive) s.passive.push_back(static_cast<int>(k));
+  }
+  group_pairs(m, s);
   s.proxy_position_m.resize(m.proxies.size());
   s.proxy_force_n.resize(m.proxies.size());
   for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
@@ -246,6 +369,7 @@ void step(const Model& m, State& s) {
     s.v[i] = (now - before) * rate;
   }
   accumulate_forces(m, s);
+  if (!s.passive.empty()) control(m, s);
   // what each device feels: the forces on its proxy and body points that feed it
   for (std::size_t p = 0; p < m.proxies.size(); ++p) {
     Vec3 sum;

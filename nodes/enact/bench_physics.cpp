@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/haptics/computer_model.h"
+#include "core/physics/contact.h"
 #include "core/physics/scene.h"
 #include "core/sim/offline.h"
 #include "core/physics/state.h"
@@ -37,12 +38,15 @@ using reference::chain;
 using reference::damped_error;
 using reference::oscillator;
 using reference::steps_in;
+using reference::kIntegrators;
+using reference::kRates_hz;
 using reference::undamped_errors;
 
 constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
 
 Speed against error of the three integrators (cordis, symplectic_euler, implicit_euler)
-at 1, 2, 5, 10, 20 and 44 kHz, the cost of one bridge step, and how a chain scales.
+at 1, 2, 5, 10, 20 and 44 kHz (analytic cases and the bridge scene itself), the cost of
+one bridge step, and how a chain scales.
 About a minute (--quick: about 15 s); progress goes to stderr, the table to stdout.
 
 timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock):
@@ -51,7 +55,11 @@ timing (Google Benchmark; medians of 5 repetitions of at least 0.2 s, wall-clock
   bridge      one step of SCENE at 44 kHz with computer model CM1, share of the
               22.7 us period (target: 227 ns, 1 %):
                 path: along the scene's scripted hand path (enact path; JSON
-                      bridge_step_ns_median)
+                      bridge_step_ns_median); the same evaluating every contact
+                      pair (bridge_step_unculled_ns_median), and the culling test
+                      alone (bridge_cull_test_ns_median): the pairs of the body
+                      against an object are skipped while a sphere around the
+                      body is apart from it
                 turn: the body resting 0.1 mm into the top at the first turn, all 16 grid
                       masses touching, wobbling +-1.2 mm at 2 and 3 Hz (the worst case;
                       JSON bridge_turn_step_ns_median)
@@ -69,9 +77,20 @@ errors (deterministic, no damping added):
   damped      the same with zeta = 0.05: max |x - x_exact| / A
   bounce      0.01 kg dropped from 5 mm onto a plane (2000 N/m, undamped), g = 9.81:
     peak pen    first impact's peak penetration / (mg/k + sqrt((mg/k)^2 + m v^2/k)) - 1
-    E drift     (E - E0) / E0 after 10^6 steps (--quick 10^5), and max |E - E0| / E0;
-                E = m v^2/2 + m g z + k d^2/2 with v the state's velocity, which for all
-                three integrators is the backward difference (x(n) - x(n-1)) / dt
+    E drift     (E - E0) / E0 at the last step in flight within 10^6 steps (--quick
+                10^5), and max |E - E0| / E0 over the steps in flight; E = m v^2/2 +
+                m g (z(n) + z(n-1))/2 with v the state's velocity (x(n) - x(n-1)) / dt,
+                which all three integrators keep exactly in flight; E0 after step 1
+    P drift     the same with the contact passive (energy-consistent, scene key
+                passive: true); its step cost against the plain contact is timed at
+                1 kHz (JSON passive_cost)
+  bridge      the scene along its scripted hand path under CM1 through each integrator
+              at each rate, against cordis at 880 kHz (--quick 440 kHz) at the same
+              instants (JSON bridge_rows): ns per step (the whole path, wall clock),
+              device force error rms and max (N), share of steps whose pins differ.
+              The bridge has no dynamic masses: the integrators give the same forces,
+              and its force depends on the rate only through the contact damping's
+              backward-difference velocity and the entry faces
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
@@ -82,9 +101,10 @@ options:
                 directory, else from the source tree above the executable)
 )";
 
-constexpr std::array kIntegrators{Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler};
-constexpr std::array kRates_hz{1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 44000.0};
 constexpr std::array kChainMasses{10, 100, 1000};
+// the bounce's step timed at this rate, restarted every simulated second (a decaying
+// bounce would reach denormal numbers, the plain contact gains energy)
+constexpr double kBounceTiming_hz = 1000.0;
 
 // the bridge step: its rate, the hand's depth into the top and its wobble
 constexpr double kBridgeRate_hz = 44000.0;
@@ -98,6 +118,7 @@ struct Settings {
   int repetitions = 5;
   double min_time_s = 0.2;
   long bounce_steps = 1000000;
+  double sweep_reference_hz = reference::kSweepReference_hz;
 };
 
 // ---- the bridge: scene, hand motion ----
@@ -130,16 +151,20 @@ std::vector<Vec3> bridge_motion(const Model& m) {
   return motion;
 }
 
-// the built-in scripted hand path of the scene (enact path), sampled at the bridge rate: on
-// the top, off the edges, a fall and the climb back, the turns
-std::vector<Vec3> scripted_motion(const std::string& scene) {
+// the built-in scripted hand path of the scene (enact path): on the top, off the edges, a
+// fall and the climb back, the turns
+sim::Trajectory scripted_path(const std::string& scene) {
   sim::SimParams p;
   p.scene = find_file(scene);
   p.rate_hz = kBridgeRate_hz;
   p.force = true;
   sim::Simulator simulator;
   simulator.configure(p);
-  const sim::Trajectory tr = sim::scripted_path(simulator);
+  return sim::scripted_path(simulator);
+}
+
+// the scripted path sampled at the bridge rate
+std::vector<Vec3> scripted_motion(const sim::Trajectory& tr) {
   std::vector<Vec3> motion(steps_in(tr.end_s() - tr.start_s(), kBridgeRate_hz));
   for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / kBridgeRate_hz);
   return motion;
@@ -183,8 +208,10 @@ GridContacts grid_contacts(const Model& m, const std::vector<Vec3>& motion) {
 // the timed loop: one step per iteration. A motion drives proxy 0, its index wrapping every
 // `period` steps; with `restart` the state also returns to its initial conditions then
 // (by copy, no allocation), so a decaying oscillator never reaches denormal numbers
-void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion, std::size_t period, bool restart) {
-  const physics::State initial = physics::make_state(m);
+void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion, std::size_t period, bool restart,
+               bool cull = true) {
+  physics::State initial = physics::make_state(m);
+  initial.cull = cull;
   physics::State s = initial;
   std::size_t n = 0;
   for (auto _ : timer) {
@@ -193,6 +220,19 @@ void step_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>&
     if (++n < period) continue;
     n = 0;
     if (restart) s = initial;
+  }
+}
+
+// the culling test alone: each pair group's bounding sphere against its object, at the
+// body positions of a motion
+void cull_loop(benchmark::State& timer, const Model& m, const std::vector<Vec3>& motion) {
+  const physics::State s = physics::make_state(m);
+  std::size_t n = 0;
+  for (auto _ : timer) {
+    bool any = false;
+    for (const physics::PairGroup& g : s.groups) any = any != physics::apart(m, m.objects[g.object], motion[n] + g.centre_offset_m, g.radius_m);
+    benchmark::DoNotOptimize(any);
+    if (++n == motion.size()) n = 0;
   }
 }
 
@@ -226,6 +266,10 @@ std::string oscillator_name(Integrator integrator, double rate_hz) {
 
 std::string chain_name(int masses) { return "chain/" + std::to_string(masses); }
 
+std::string bounce_name(Integrator integrator, bool passive) {
+  return std::string(passive ? "bounce_passive/" : "bounce/") + physics::to_string(integrator);
+}
+
 void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& motion, const Model& path_model,
                          const std::vector<Vec3>& path_motion) {
   for (Integrator integrator : kIntegrators) {
@@ -235,11 +279,19 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
       benchmark::RegisterBenchmark(oscillator_name(integrator, rate_hz).c_str(),
                                    [m, one_second](benchmark::State& t) { step_loop(t, m, {}, one_second, true); });
     }
+    for (bool passive : {false, true}) {
+      const Model m = reference::bounce(integrator, kBounceTiming_hz, passive);
+      benchmark::RegisterBenchmark(bounce_name(integrator, passive).c_str(),
+                                   [m](benchmark::State& t) { step_loop(t, m, {}, steps_in(1.0, kBounceTiming_hz), true); });
+    }
   }
   benchmark::RegisterBenchmark("bridge", [&bridge_model, &motion](benchmark::State& t) { step_loop(t, bridge_model, motion, motion.size(), false); });
-  benchmark::RegisterBenchmark("bridge_path", [&path_model, &path_motion](benchmark::State& t) {
-    step_loop(t, path_model, path_motion, path_motion.size(), false);
-  });
+  for (bool cull : {true, false}) {
+    benchmark::RegisterBenchmark(cull ? "bridge_path" : "bridge_path_unculled", [&path_model, &path_motion, cull](benchmark::State& t) {
+      step_loop(t, path_model, path_motion, path_motion.size(), false, cull);
+    });
+  }
+  benchmark::RegisterBenchmark("bridge_cull_test", [&path_model, &path_motion](benchmark::State& t) { cull_loop(t, path_model, path_motion); });
   for (int masses : kChainMasses) {
     const Model m = chain(masses, kBridgeRate_hz);
     benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
@@ -270,6 +322,7 @@ struct Row {
   OscillatorErrors oscillator;
   double damped_error = 0.0;
   BounceErrors bounce;
+  BounceErrors passive_bounce;
   double realtime_factor() const { return 1e9 / rate_hz / ns_per_step; }
 };
 
@@ -277,6 +330,14 @@ struct ChainRow {
   int masses = 0;
   double ns_per_step = 0.0;
   double ns_per_element() const { return ns_per_step / (2.0 * masses); }  // masses + links
+};
+
+// the step cost of the bounce with the plain and the passive contact
+struct PassiveCost {
+  Integrator integrator = Integrator::cordis;
+  double plain_ns = 0.0;
+  double passive_ns = 0.0;
+  double ratio() const { return passive_ns / plain_ns; }
 };
 
 struct Machine {
@@ -290,8 +351,12 @@ struct Results {
   Settings settings;
   std::vector<Row> rows;
   std::vector<ChainRow> chain;
+  std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
+  std::vector<reference::SweepRow> bridge_rows;
   double bridge_path_ns = 0.0;  // along the scripted hand path
+  double bridge_path_unculled_ns = 0.0;  // the same evaluating every pair
+  double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
   GridContacts bridge_contacts;
   double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
 };
@@ -331,13 +396,17 @@ double convergence_order(const std::vector<Row>& rows, Integrator integrator) {
 }
 
 void print_table(const Results& r) {
-  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
-              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max");
+  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s %10s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
+              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max", "P drift");
   for (const Row& w : r.rows) {
-    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e\n", physics::to_string(w.integrator),
+    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e %10.2e\n", physics::to_string(w.integrator),
                 w.rate_hz / 1e3, w.ns_per_step, w.realtime_factor(), w.oscillator.global, w.oscillator.amplitude,
                 w.oscillator.phase_rad, w.oscillator.freq_vs_predicted, w.damped_error, w.bounce.peak_penetration,
-                w.bounce.energy_drift, w.bounce.energy_drift_max);
+                w.bounce.energy_drift, w.bounce.energy_drift_max, w.passive_bounce.energy_drift);
+  }
+  for (const PassiveCost& c : r.passive_cost) {
+    std::printf("passive contact  %-16s bounce step %.1f ns plain, %.1f ns passive (x%.2f)\n", physics::to_string(c.integrator), c.plain_ns,
+                c.passive_ns, c.ratio());
   }
   std::printf("\nobserved order of the global error (1 to 44 kHz):");
   for (Integrator integrator : kIntegrators) std::printf(" %s %.2f", physics::to_string(integrator), convergence_order(r.rows, integrator));
@@ -345,10 +414,13 @@ void print_table(const Results& r) {
   std::printf("\nbridge step  along the scripted hand path: %.1f ns median at 44 kHz, %.2f %% of the 22.7 us period (target %.0f ns: %s)\n",
               r.bridge_path_ns, 100.0 * r.bridge_path_ns * 1e-9 * kBridgeRate_hz, kBridgeTarget_ns,
               r.bridge_path_ns <= kBridgeTarget_ns ? "met" : "NOT met");
+  std::printf("bridge step  the same evaluating every pair: %.1f ns; the culling test alone: %.1f ns per step\n", r.bridge_path_unculled_ns,
+              r.bridge_cull_test_ns);
   std::printf("bridge step  at a turn (worst case): %.1f ns median, %.2f %% of the period (target %.0f ns: %s); "
               "%.1f of %d grid masses touching on average, all on %.0f %% of steps\n",
               r.bridge_ns, 100.0 * r.bridge_share(), kBridgeTarget_ns, r.bridge_ns <= kBridgeTarget_ns ? "met" : "NOT met", c.mean,
               c.masses, 100.0 * c.all_share);
+  reference::print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -363,6 +435,7 @@ void write_json(const Results& r, const std::string& path) {
   j.field("repetitions", r.settings.repetitions).field("min_time_s", r.settings.min_time_s);
   j.field("bounce_steps", static_cast<long long>(r.settings.bounce_steps));
   j.field("bridge_step_ns_median", r.bridge_path_ns).field("bridge_share_of_44khz_period", r.bridge_path_ns * 1e-9 * kBridgeRate_hz);
+  j.field("bridge_step_unculled_ns_median", r.bridge_path_unculled_ns).field("bridge_cull_test_ns_median", r.bridge_cull_test_ns);
   j.field("bridge_turn_step_ns_median", r.bridge_ns).field("bridge_turn_share_of_44khz_period", r.bridge_share());
   j.field("bridge_grid_contacts_mean", r.bridge_contacts.mean).field("bridge_all_grid_contacts_share", r.bridge_contacts.all_share);
   j.key("chain").begin_array();
@@ -376,7 +449,16 @@ void write_json(const Results& r, const std::string& path) {
     j.field("amplitude_error", w.oscillator.amplitude).field("phase_error_rad", w.oscillator.phase_rad);
     j.field("freq_error_vs_predicted", w.oscillator.freq_vs_predicted).field("freq_warping", w.oscillator.freq_warping);
     j.field("damped_error", w.damped_error).field("bounce_peak_penetration_error", w.bounce.peak_penetration);
-    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max).end_object();
+    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max);
+    j.field("passive_bounce_energy_drift", w.passive_bounce.energy_drift);
+    j.field("passive_bounce_energy_drift_max", w.passive_bounce.energy_drift_max).end_object();
+  }
+  j.end_array().key("bridge_rows");
+  reference::sweep_json(j, r.bridge_rows);
+  j.key("passive_cost").begin_array();
+  for (const PassiveCost& c : r.passive_cost) {
+    j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
+    j.field("bounce_ns_per_step", c.plain_ns).field("passive_bounce_ns_per_step", c.passive_ns).field("ratio", c.ratio()).end_object();
   }
   j.end_array().end_object();
   std::ofstream out(path);
@@ -394,7 +476,8 @@ std::vector<Row> error_rows(const Settings& settings) {
                       .rate_hz = rate_hz,
                       .oscillator = undamped_errors(integrator, rate_hz),
                       .damped_error = damped_error(integrator, rate_hz),
-                      .bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps)});
+                      .bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps, false),
+                      .passive_bounce = bounce_errors(integrator, rate_hz, settings.bounce_steps, true)});
     }
   }
   return rows;
@@ -409,16 +492,26 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
   const Model bridge_model = bridge(scene, motion);
   r.bridge_contacts = grid_contacts(bridge_model, motion);
-  const std::vector<Vec3> path_motion = scripted_motion(scene);
+  const sim::Trajectory path = scripted_path(scene);
+  const std::vector<Vec3> path_motion = scripted_motion(path);
   const Model path_model = bridge(scene, path_motion);
+  std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);
+  r.bridge_rows = reference::rate_sweep(path_model, *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols),
+                                        [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
+                                        settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
-               kIntegrators.size() * kRates_hz.size() + 2 + kChainMasses.size(), settings.repetitions);
+               kIntegrators.size() * (kRates_hz.size() + 2) + 4 + kChainMasses.size(), settings.repetitions);
   MedianReporter reporter;
   register_benchmarks(bridge_model, motion, path_model, path_motion);
   run_benchmarks(settings, reporter);
   for (Row& w : r.rows) w.ns_per_step = reporter.median_ns(oscillator_name(w.integrator, w.rate_hz));
+  for (Integrator integrator : kIntegrators) {
+    r.passive_cost.push_back({integrator, reporter.median_ns(bounce_name(integrator, false)), reporter.median_ns(bounce_name(integrator, true))});
+  }
   r.bridge_ns = reporter.median_ns("bridge");
   r.bridge_path_ns = reporter.median_ns("bridge_path");
+  r.bridge_path_unculled_ns = reporter.median_ns("bridge_path_unculled");
+  r.bridge_cull_test_ns = reporter.median_ns("bridge_cull_test");
   for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});
   return r;
 }
@@ -436,7 +529,9 @@ int bench(int argc, char** argv) {
   if (a.positional.size() != 1 || a.positional[0] != "physics") {
     throw UsageError(a.positional.empty() ? "give a benchmark: physics, loop or record" : "unknown benchmark '" + a.positional[0] + "' (physics, loop, record)");
   }
-  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000} : Settings{};
+  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000,
+                                                        .sweep_reference_hz = reference::kSweepQuickReference_hz}
+                                            : Settings{};
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
   print_table(r);
   if (a.has("json")) write_json(r, a.get("json"));

@@ -7,13 +7,15 @@
 #include "core/haptics/device_profile.h"
 #include "core/physics/scene.h"
 #include "core/physics/stability.h"
+#include "core/sim/offline.h"
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
+#include "nodes/enact/physics_reference.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json]
+constexpr const char* kHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json] [--rate-sweep]
 
 Load and validate a scene file, then print its stability table: for each mass the
 integrator's discrete stability bound at the rate (K + 2Z < 4M for the explicit
@@ -27,11 +29,38 @@ options:
                  device_profile; ergos, falcon)
   --json         print JSON instead: settings, stability, and the geometry (path
                  centerlines, widths, top heights, the body's grid offsets)
+  --rate-sweep   also run the scene through each integrator at 1, 2, 5, 10, 20 and
+                 44 kHz along its scripted hand path (enact path; a scene without a
+                 task path: the hand held still for 1 s) and compare the force sent to
+                 the device, and the pins, with a cordis run at 880 kHz at every step:
+                 ns per step, force error (rms, max, N), share of steps whose pins
+                 differ (JSON: rate_sweep). Takes seconds to a minute
 )";
+
+// the hand path of the sweep: the scripted path when the scene has a task path, else the
+// body held at its position
+struct SweepPath {
+  reference::HandPath hand;
+  double duration_s = 1.0;
+};
+
+SweepPath sweep_path(const std::string& scene, const physics::Model& m) {
+  if (m.task_surface.empty()) {
+    const physics::Vec3 still = m.points[m.proxies[0].point].position_m;
+    return {[still](double) { return still; }, 1.0};
+  }
+  sim::SimParams p;
+  p.scene = scene;
+  p.force = true;
+  sim::Simulator simulator;
+  simulator.configure(p);
+  const sim::Trajectory tr = sim::scripted_path(simulator);
+  return {[tr](double t) { return tr.at(tr.start_s() + t); }, tr.end_s() - tr.start_s()};
+}
 
 void json_vec(Json& j, const physics::Vec3& v) { j.begin_array().value(v.x).value(v.y).value(v.z).end_array(); }
 
-void write_json(const physics::Model& m, const physics::StabilityReport& r, const std::string& device) {
+void write_json(const physics::Model& m, const physics::StabilityReport& r, const std::string& device, const std::vector<reference::SweepRow>& sweep) {
   Json j;
   j.begin_object().field("scene", m.name).field("source", m.source).field("rate_hz", m.rate_hz).field("dt_s", m.dt_s);
   j.field("integrator", physics::to_string(m.integrator)).field("device_profile", device);
@@ -78,7 +107,12 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
     j.field("device_damping_n_s_per_m", d.device_damping_n_s_per_m).field("passive", d.passive);
     j.field("largest_passive_stiffness_n_per_m", d.largest_passive_stiffness_n_per_m).field("min_passive_rate_hz", d.min_passive_rate_hz).end_object();
   }
-  j.end_array().end_object();
+  j.end_array();
+  if (!sweep.empty()) {
+    j.key("rate_sweep");
+    reference::sweep_json(j, sweep);
+  }
+  j.end_object();
   std::cout << j.str() << "\n";
 }
 
@@ -120,7 +154,7 @@ void write_table(const physics::Model& m, const physics::StabilityReport& r, con
 }  // namespace
 
 int check(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"rate", "model", "device"}, {"json"});
+  const Args a = parse(argc, argv, 2, {"rate", "model", "device"}, {"json", "rate-sweep"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -132,7 +166,12 @@ int check(int argc, char** argv) {
     if (rate < 1.0 || rate > 1.0e6) throw UsageError("--rate must be from 1 to 1000000 Hz");
     m.set_rate(rate);
   }
-  if (!m.proxies.empty()) haptics::apply(haptics::resolve_computer_model(a.get("model", "CM1"), m.proxies[0].rows * m.proxies[0].cols), m);
+  if (a.flag("rate-sweep") && m.proxies.empty()) throw config::Error(m.source + ": --rate-sweep compares the force sent to the device: the scene has no body\n  fix: add a body: section");
+  haptics::ComputerModel cm;
+  if (!m.proxies.empty()) {
+    cm = haptics::resolve_computer_model(a.get("model", "CM1"), m.proxies[0].rows * m.proxies[0].cols);
+    haptics::apply(cm, m);
+  }
   const std::string device = a.get("device", m.device_profile);
   double b = -1.0;
   if (!device.empty()) {
@@ -141,8 +180,14 @@ int check(int argc, char** argv) {
     b = profile->damping_n_s_per_m;
   }
   const physics::StabilityReport r = physics::analyze_stability(m, b);
-  if (a.flag("json")) write_json(m, r, device);
+  std::vector<reference::SweepRow> sweep;
+  if (a.flag("rate-sweep")) {
+    const SweepPath path = sweep_path(a.positional[0], m);
+    sweep = reference::rate_sweep(m, cm, path.hand, path.duration_s, reference::kSweepReference_hz);
+  }
+  if (a.flag("json")) write_json(m, r, device, sweep);
   else write_table(m, r, device);
+  if (!sweep.empty() && !a.flag("json")) reference::print_sweep(sweep, "rate sweep: device force and pins against cordis at 880 kHz");
   std::fflush(stdout);  // the table before any message on stderr
   if (!r.stable()) {
     std::fprintf(stderr, "enact check: %s\n", physics::instability_message(m, r).c_str());

@@ -3,7 +3,9 @@
 #include "nodes/enact/physics_reference.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -54,8 +56,10 @@ physics::Link spring_damper(int a, int b, double stiffness_n_per_m, double dampi
           .rest_length_m = rest_length_m};
 }
 
+}  // namespace
+
 // a mass (point 0) at rest above an undamped plane at z = 0, under gravity
-Model bounce(Integrator integrator, double rate_hz) {
+Model bounce(Integrator integrator, double rate_hz, bool passive) {
   Model m;
   m.name = "bounce";
   m.integrator = integrator;
@@ -66,10 +70,12 @@ Model bounce(Integrator integrator, double rate_hz) {
   floor.type = physics::ObjectType::plane;
   floor.plane_normal = {0.0, 0.0, 1.0};
   m.objects = {floor};
-  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m}};
+  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m, .passive = passive}};
   m.set_rate(rate_hz);
   return m;
 }
+
+namespace {
 
 // x of point 1 at steps 0 .. steps
 std::vector<double> positions(const Model& m, std::size_t steps) {
@@ -106,11 +112,10 @@ double predicted_omega(Integrator integrator, double dt_s) {
   return (integrator == Integrator::implicit_euler ? std::atan(w_dt) : 2.0 * std::asin(w_dt / 2.0)) / dt_s;
 }
 
-// kinetic (state velocity) + gravity + contact potential of the bouncing mass
-double bounce_energy_j(const physics::State& s) {
-  const double depth_m = std::max(0.0, -s.x[0].z);
-  return 0.5 * kMass_kg * physics::dot(s.v[0], s.v[0]) + kMass_kg * kGravity_m_per_s2 * s.x[0].z +
-         0.5 * kContactStiffness_n_per_m * depth_m * depth_m;
+// the bouncing mass's energy in flight, m v^2 / 2 + m g (z(n) + z(n-1)) / 2 with v the state's
+// velocity (x(n) - x(n-1)) / dt: what all three integrators keep exactly under gravity alone
+double flight_energy_j(const physics::State& s) {
+  return 0.5 * kMass_kg * physics::dot(s.v[0], s.v[0]) + 0.5 * kMass_kg * kGravity_m_per_s2 * (s.x[0].z + s.x_prev[0].z);
 }
 
 }  // namespace
@@ -185,18 +190,21 @@ double damped_error(Integrator integrator, double rate_hz) {
   return error;
 }
 
-BounceErrors bounce_errors(Integrator integrator, double rate_hz, long steps) {
-  const Model m = bounce(integrator, rate_hz);
+BounceErrors bounce_errors(Integrator integrator, double rate_hz, long steps, bool passive) {
+  const Model m = bounce(integrator, rate_hz, passive);
   physics::State s = physics::make_state(m);
-  const double e0 = bounce_energy_j(s);
+  physics::step(m, s);
+  const double e0 = flight_energy_j(s);
   BounceErrors r;
-  // heights kept until the first impact is over; energy followed over every step
-  std::vector<double> z{s.x[0].z};
+  // heights kept until the first impact is over; energy followed over every step in flight
+  std::vector<double> z{s.x_prev[0].z, s.x[0].z};
   bool impact_over = false;
-  for (long n = 0; n < steps; ++n) {
+  for (long n = 1; n < steps; ++n) {
     physics::step(m, s);
-    r.energy_drift = (bounce_energy_j(s) - e0) / e0;
-    r.energy_drift_max = std::max(r.energy_drift_max, std::abs(r.energy_drift));
+    if (s.x[0].z > 0.0 && s.x_prev[0].z > 0.0) {
+      r.energy_drift = (flight_energy_j(s) - e0) / e0;
+      r.energy_drift_max = std::max(r.energy_drift_max, std::abs(r.energy_drift));
+    }
     if (impact_over) continue;
     z.push_back(s.x[0].z);
     impact_over = z.back() >= 0.0 && z[z.size() - 2] < 0.0;
@@ -208,6 +216,104 @@ BounceErrors bounce_errors(Integrator integrator, double rate_hz, long steps) {
   const auto lowest = static_cast<std::size_t>(std::min_element(z.begin(), z.end()) - z.begin());
   r.peak_penetration = -refined_extremum(z, lowest) / exact_m - 1.0;
   return r;
+}
+
+namespace {
+
+// one integrator at one rate stepping with the reference every `every` reference steps
+struct SweepRun {
+  Model model;
+  physics::State state;
+  std::size_t every = 1;
+  double sum_squares = 0.0;
+  SweepRow row;
+};
+
+// the scene at a rate and integrator, its body starting where the hand starts
+Model sweep_model(const Model& scene, const haptics::ComputerModel& cm, const Vec3& start, Integrator integrator, double rate_hz) {
+  Model m = scene;
+  m.integrator = integrator;
+  m.set_rate(rate_hz);
+  haptics::apply(cm, m);
+  m.points[m.proxies[0].point].position_m = start;
+  return m;
+}
+
+// ns per step of a run alone, positions sampled beforehand
+double time_run(const Model& m, const HandPath& hand, double duration_s) {
+  std::vector<Vec3> motion(steps_in(duration_s, m.rate_hz));
+  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = hand(static_cast<double>(n + 1) / m.rate_hz);
+  physics::State s = physics::make_state(m);
+  const auto start = std::chrono::steady_clock::now();
+  for (const Vec3& p : motion) {
+    s.proxy_position_m[0] = p;
+    physics::step(m, s);
+  }
+  const std::chrono::duration<double, std::nano> elapsed = std::chrono::steady_clock::now() - start;
+  return elapsed.count() / static_cast<double>(std::max<std::size_t>(1, motion.size()));
+}
+
+}  // namespace
+
+std::vector<SweepRow> rate_sweep(const Model& scene, const haptics::ComputerModel& cm, const HandPath& hand, double duration_s,
+                                 double reference_hz) {
+  const Vec3 start = hand(0.0);
+  std::vector<SweepRun> runs;
+  for (Integrator integrator : kIntegrators) {
+    for (double rate_hz : kRates_hz) {
+      SweepRun r{.model = sweep_model(scene, cm, start, integrator, rate_hz), .every = steps_in(1.0 / rate_hz, reference_hz)};
+      r.state = physics::make_state(r.model);
+      r.row = {.integrator = integrator, .rate_hz = rate_hz};
+      runs.push_back(std::move(r));
+    }
+  }
+  const Model reference = sweep_model(scene, cm, start, Integrator::cordis, reference_hz);
+  physics::State ref = physics::make_state(reference);
+  // in lockstep: each run steps when its instant comes, and is compared with the reference then
+  const std::size_t steps = steps_in(duration_s, reference_hz);
+  for (std::size_t k = 1; k <= steps; ++k) {
+    const Vec3 p = hand(static_cast<double>(k) / reference_hz);
+    ref.proxy_position_m[0] = p;
+    physics::step(reference, ref);
+    const std::uint32_t ref_pins = haptics::pins(cm, reference, ref);
+    for (SweepRun& r : runs) {
+      if (k % r.every != 0) continue;
+      r.state.proxy_position_m[0] = p;
+      physics::step(r.model, r.state);
+      const double error = physics::norm(r.state.proxy_force_n[0] - ref.proxy_force_n[0]);
+      r.sum_squares += error * error;
+      r.row.force_max_error_n = std::max(r.row.force_max_error_n, error);
+      r.row.pins_mismatch_fraction += haptics::pins(cm, r.model, r.state) != ref_pins ? 1.0 : 0.0;
+    }
+  }
+  std::vector<SweepRow> rows;
+  for (SweepRun& r : runs) {
+    const double n = static_cast<double>(std::max<std::size_t>(1, steps / r.every));
+    r.row.force_rms_error_n = std::sqrt(r.sum_squares / n);
+    r.row.pins_mismatch_fraction /= n;
+    r.row.faults = r.state.faults;
+    r.row.ns_per_step = time_run(r.model, hand, duration_s);
+    rows.push_back(r.row);
+  }
+  return rows;
+}
+
+void print_sweep(const std::vector<SweepRow>& rows, const char* title) {
+  std::printf("\n%s\n%-16s %6s %9s %12s %12s %10s %7s\n", title, "integrator", "kHz", "ns/step", "F rms N", "F max N", "pins diff", "faults");
+  for (const SweepRow& r : rows) {
+    std::printf("%-16s %6.0f %9.1f %12.3e %12.3e %10.2e %7llu\n", physics::to_string(r.integrator), r.rate_hz / 1e3, r.ns_per_step,
+                r.force_rms_error_n, r.force_max_error_n, r.pins_mismatch_fraction, static_cast<unsigned long long>(r.faults));
+  }
+}
+
+void sweep_json(Json& j, const std::vector<SweepRow>& rows) {
+  j.begin_array();
+  for (const SweepRow& r : rows) {
+    j.begin_object().field("integrator", physics::to_string(r.integrator)).field("rate_hz", r.rate_hz).field("ns_per_step", r.ns_per_step);
+    j.field("force_rms_error_n", r.force_rms_error_n).field("force_max_error_n", r.force_max_error_n);
+    j.field("pins_mismatch_fraction", r.pins_mismatch_fraction).field("faults", static_cast<long long>(r.faults)).end_object();
+  }
+  j.end_array();
 }
 
 }  // namespace enact::cli::reference

@@ -145,6 +145,12 @@ inline void place_body(const Model& m, State& s, Vec3 centre) {
   reset(m, s);
 }
 
+// a mass's energy in flight under gravity g along -z, m v^2/2 + m g (z(n) + z(n-1))/2 with v the
+// state's velocity (x(n) - x(n-1)) / dt: what the explicit schemes keep exactly in flight
+inline double flight_energy_j(const State& s, int point, double mass_kg, double g) {
+  return 0.5 * mass_kg * dot(s.v[point], s.v[point]) + 0.5 * mass_kg * g * (s.x[point].z + s.x_prev[point].z);
+}
+
 // all per-point vectors finite
 inline bool state_finite(const State& s) {
   for (std::size_t i = 0; i < s.x.size(); ++i) {
