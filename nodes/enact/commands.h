@@ -22,6 +22,7 @@ int play(int argc, char** argv);
 int resim(int argc, char** argv);
 int devices(int argc, char** argv);
 int param(int argc, char** argv);
+int foxglove_bridge(int argc, char** argv);
 
 // --attach, else the endpoint of the last graph launched on this machine (UsageError if none)
 std::string attach_endpoint(const Args& a);
