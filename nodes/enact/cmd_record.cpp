@@ -20,6 +20,7 @@
 #include "core/rt/clock.h"
 #include "core/record/writer.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/mcap_copy.h"
 
 namespace enact::cli {
 namespace {
@@ -55,10 +56,15 @@ Exit status 1 when the file is damaged or was not closed.
 )";
 
 constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv [--publisher NODE]
+       enact export FILE --foxglove OUT.mcap
 
 One topic of a recording as a flat CSV table for analysis: log_time_ns, then every field of
 the message (nested fields as a.b, repeated ones as a.0, a.1, ...), decoded with the schema
 stored in the recording.
+--foxglove: a copy of the recording with one more channel, foxglove/scene
+(foxglove.SceneUpdate: the bridge, the body's grid coloured by contact, the force arrow),
+made from sim/scene and the scene file kept with the recording, so Foxglove's 3D panel
+shows it (layout: docs/foxglove-layout.json).
 )";
 
 constexpr const char* kRecoverHelp = R"(usage: enact recover BROKEN.mcap -o FIXED.mcap [--compression zstd|lz4|none]
@@ -252,11 +258,12 @@ int info(int argc, char** argv) {
 }
 
 int export_csv(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher"}, {});
+  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher", "foxglove"}, {});
   if (a.flag("help")) {
     std::fputs(kExportHelp, stdout);
     return 0;
   }
+  if (a.has("foxglove")) return export_foxglove(a);
   if (a.positional.size() != 1 || !a.has("topic") || !a.has("csv")) throw UsageError("give FILE, --topic T and --csv OUT.csv");
   const std::string topic = a.get("topic"), publisher = a.get("publisher", "");
   record::Reader r(a.positional[0]);
@@ -329,28 +336,10 @@ int recover(int argc, char** argv) {
   }
   record::Reader r(a.positional[0]);
   record::Writer w(a.get("out"), wo);
-  std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;
-  std::uint64_t n = 0;
-  r.for_each([&](const record::Message& m) {
-    auto c = channel_ids.find(m.channel->id);
-    if (c == channel_ids.end()) {
-      std::uint16_t schema = 0;
-      if (m.schema) {
-        auto s = schema_ids.find(m.schema->id);
-        if (s == schema_ids.end()) s = schema_ids.emplace(m.schema->id, w.add_schema(m.schema->name, m.schema->encoding, m.schema->data)).first;
-        schema = s->second;
-      }
-      c = channel_ids.emplace(m.channel->id, w.add_channel(schema, m.channel->topic, m.channel->message_encoding, m.channel->metadata)).first;
-    }
-    w.write(c->second, m.sequence, m.log_time_ns, m.publish_time_ns, m.data);
-    ++n;
-    return true;
-  });
-  for (const auto& m : r.metadata_records()) w.add_metadata(m.name, m.values);
-  for (const auto& at : r.attachments()) w.add_attachment(at.name, at.media_type, at.data, at.log_time_ns, at.create_time_ns);
+  const CopyCount n = copy_recording(r, w);
   w.close();
-  std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n),
-              channel_ids.size(), r.metadata_records().size(), r.attachments().size(), a.get("out").c_str());
+  std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n.messages),
+              n.channels, r.metadata_records().size(), r.attachments().size(), a.get("out").c_str());
   if (r.damage().empty()) std::printf("the source had no damage\n");
   for (const auto& d : r.damage()) std::printf("  lost or skipped at %s\n", d.c_str());
   return 0;

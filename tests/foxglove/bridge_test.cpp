@@ -6,11 +6,14 @@
 #include <signal.h>
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/record/reader.h"
+#include "msgs/foxglove/scene_update.pb.h"
 #include "tests/integration/integration_util.h"
 
 namespace enact::test {
@@ -72,6 +75,43 @@ TEST_F(FoxgloveBridge, FoxglovesClientSeesEveryTopicDecodesItAndGetsTheScene) {
   EXPECT_EQ(s["capabilities"], nlohmann::json::array({"clientPublish"}));
   ASSERT_TRUE(s["ack"].is_object()) << client.out;
   EXPECT_TRUE(s["ack"]["applied"].get<bool>()) << s["ack"]["reason"];
+}
+
+// a recording of the graph gets foxglove/scene: one SceneUpdate per sim/scene, at its log time,
+// which the independent MCAP reader (@mcap/core + protobufjs) decodes with the stored schema
+TEST_F(FoxgloveBridge, ExportAddsTheSceneToARecording) {
+  TempDir dir;
+  const std::string file = dir.file("run.mcap"), out = dir.file("run_foxglove.mcap");
+  {
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 30.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log("started rt", 15.0)) << graph.log();
+    const RunResult rec = run(std::string(ENACT_CLI) + " record -o " + file + " --attach " + graph.endpoint() + " --duration 2");
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  }
+  const RunResult exp = run(std::string(ENACT_CLI) + " export " + file + " --foxglove " + out);
+  ASSERT_EQ(exp.exit_code, 0) << exp.err;
+  std::map<std::int64_t, int> scene_times;
+  int updates = 0, red = 0;
+  record::Reader r(out);
+  r.for_each([&](const record::Message& m) {
+    if (m.topic == "sim/scene") ++scene_times[m.log_time_ns];
+    if (m.topic != "foxglove/scene") return true;
+    ::foxglove::SceneUpdate u;
+    EXPECT_TRUE(u.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())));
+    EXPECT_EQ(m.schema_name, "foxglove.SceneUpdate");
+    EXPECT_EQ(scene_times[m.log_time_ns], 1) << "a SceneUpdate at a time no SceneState has";
+    ++updates;
+    for (const auto& s : u.entities(1).spheres()) red += s.color().r() > 0.8 && s.color().g() < 0.3;
+    return true;
+  });
+  EXPECT_GT(updates, 50);
+  EXPECT_EQ(static_cast<std::size_t>(updates), scene_times.size());
+  EXPECT_GT(red, 0);
+  const RunResult reader = run("ENACT_NODE_MODULES=" + kModules + " node " + source_path("tests/interop/read_mcap.mjs") + " " + out);
+  ASSERT_EQ(reader.exit_code, 0) << reader.err;
+  EXPECT_NE(reader.out.find("\"foxglove/scene\":" + std::to_string(updates)), std::string::npos) << reader.out;
+  // twice is refused
+  EXPECT_EQ(run(std::string(ENACT_CLI) + " export " + out + " --foxglove " + dir.file("again.mcap")).exit_code, 1);
 }
 
 TEST(FoxgloveBridgeCli, RefusesABadPortAndHasHelp) {
