@@ -23,6 +23,7 @@ int resim(int argc, char** argv);
 int devices(int argc, char** argv);
 int param(int argc, char** argv);
 int foxglove_bridge(int argc, char** argv);
+int doctor(int argc, char** argv);
 // enact export FILE --foxglove OUT.mcap (from export_csv)
 int export_foxglove(const Args& a);
 
