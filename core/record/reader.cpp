@@ -43,7 +43,7 @@ const char* op_name(Op op) {
 
 Reader::Reader(const std::string& path) : path_(path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error(path + ": cannot open: " + std::strerror(errno));
+  if (fd < 0) throw Error(path + ": cannot open: " + std::strerror(errno) + "\n  fix: check the path (`enact record -o FILE.mcap` makes recordings)");
   struct stat st {};
   ::fstat(fd, &st);
   const auto size = static_cast<std::size_t>(st.st_size);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 
@@ -55,7 +56,7 @@ of an MCAP recording, and any damage (everything readable before it is still cou
 Exit status 1 when the file is damaged or was not closed.
 )";
 
-constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv [--publisher NODE]
+constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv|- [--publisher NODE]
        enact export FILE --foxglove OUT.mcap
 
 One topic of a recording as a flat CSV table for analysis: log_time_ns, then every field of
@@ -301,8 +302,12 @@ int export_csv(int argc, char** argv) {
     for (const auto& [id, c] : r.channels()) known += (known.empty() ? "" : ", ") + c.topic;
     throw config::Error(r.path() + ": no decodable message on topic '" + topic + "'\n  fix: choose among " + known);
   }
-  std::ofstream out(a.get("csv"));
-  if (!out) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
+  // "-": standard output (the summary line then goes to standard error)
+  const bool to_stdout = a.get("csv") == "-";
+  std::ofstream file;
+  if (!to_stdout) file.open(a.get("csv"));
+  if (!to_stdout && !file) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
+  std::ostream& out = to_stdout ? std::cout : file;
   out << "log_time_ns";
   for (const auto& c : columns) out << "," << c;
   out << "\n";
@@ -314,7 +319,8 @@ int export_csv(int argc, char** argv) {
     for (const std::string* v : line) out << "," << (v ? *v : "");
     out << "\n";
   }
-  std::printf("%zu rows x %zu columns of %s -> %s%s\n", rows.size(), columns.size() + 1, topic.c_str(), a.get("csv").c_str(),
+  out.flush();
+  std::fprintf(to_stdout ? stderr : stdout, "%zu rows x %zu columns of %s -> %s%s\n", rows.size(), columns.size() + 1, topic.c_str(), a.get("csv").c_str(),
               undecodable ? (" (" + std::to_string(undecodable) + " messages could not be decoded)").c_str() : "");
   for (const auto& d : r.damage()) std::fprintf(stderr, "enact export: %s: %s\n", r.path().c_str(), d.c_str());
   return 0;

@@ -15,6 +15,7 @@
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 #include "msgs/graph.pb.h"
+#include "core/config/suggest.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
@@ -23,11 +24,15 @@ namespace {
 constexpr const char* kHelp = R"(usage: enact topic list [--attach ENDPOINT]
        enact topic echo TOPIC [--count N] [--attach ENDPOINT]
        enact topic hz TOPIC [--duration S] [--attach ENDPOINT]
+       enact topic info TOPIC | bw TOPIC [--duration S] [--attach ENDPOINT]
 
 Attach to a running graph (like `ros2 topic`), at any time, without disturbing it:
   list   the graph's topics, their message types and publishers (from graph/topics)
   echo   print each message of TOPIC (Protobuf text), N of them or until Ctrl-C
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
+  info   TOPIC's message type, publishers and rate (measured over 1 s)
+  bw     the bandwidth of TOPIC every second (bytes of payload), until --duration or Ctrl-C
+TOPIC may start with '/' (ROS 2 style): /ffd/state is ffd/state.
 --attach: the graph's attach endpoint (printed by `enact launch`); default: the last graph
 launched on this machine (/tmp/enact-<uid>/attach).
 )";
@@ -35,7 +40,8 @@ launched on this machine (/tmp/enact-<uid>/attach).
 std::atomic<bool> g_stop{false};
 void on_stop(int) { g_stop.store(true); }
 
-// the graph's topics, from its attach point
+}  // namespace
+
 msgs::GraphInfo graph_info(const std::string& endpoint) {
   bus::ByteSubscriber sub;
   sub.connect(endpoint);
@@ -54,9 +60,12 @@ std::string type_of(const msgs::GraphInfo& info, const std::string& topic) {
     if (t.name() == topic) return t.type();
   }
   std::string names;
-  for (const auto& t : info.topics()) names += (names.empty() ? "" : ", ") + t.name();
-  throw UsageError("the graph has no topic '" + topic + "' (topics: " + names + ")");
+  std::vector<std::string> known;
+  for (const auto& t : info.topics()) names += (names.empty() ? "" : ", ") + t.name(), known.push_back(t.name());
+  throw UsageError("the graph has no topic '" + topic + "'" + config::did_you_mean(topic, known) + " (topics: " + names + ")");
 }
+
+namespace {
 
 int list(const std::string& endpoint) {
   const msgs::GraphInfo info = graph_info(endpoint);
@@ -140,9 +149,10 @@ int topic(int argc, char** argv) {
   const std::string endpoint = attach_endpoint(a);
   if (verb == "list" && a.positional.size() == 1) return list(endpoint);
   if ((verb == "echo" || verb == "hz") && a.positional.size() == 2) {
-    return echo_or_hz(endpoint, a.positional[1], verb == "echo", static_cast<long>(a.number("count", 0.0)), a.number("duration", 0.0));
+    return echo_or_hz(endpoint, topic_name(a.positional[1]), verb == "echo", static_cast<long>(a.number("count", 0.0)), a.number("duration", 0.0));
   }
-  throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC");
+  if ((verb == "info" || verb == "bw") && a.positional.size() == 2) return topic_info_or_bw(endpoint, topic_name(a.positional[1]), verb == "bw", a.number("duration", 0.0));
+  throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC");
 }
 
 }  // namespace enact::cli

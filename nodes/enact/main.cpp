@@ -21,7 +21,8 @@ commands:
   bench loop        the real-time loop and the bus against the machine's floor
   bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
-  topic list|echo|hz  look at a running graph through its attach point
+  topic list|echo|hz|info|bw  look at a running graph through its attach point
+  node list|info    the nodes of a running graph: state, rate, topics, parameters
   record            keep a running graph's messages in an MCAP file
   info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
   play FILE         republish a recording with its timing, as if live
@@ -67,6 +68,7 @@ int main(int argc, char** argv) {
     if (command == "param") return enact::cli::param(argc, argv);
     if (command == "foxglove") return enact::cli::foxglove_bridge(argc, argv);
     if (command == "doctor") return enact::cli::doctor(argc, argv);
+    if (command == "node") return enact::cli::node(argc, argv);
     if (command == "experiment") return enact::cli::experiment_run(argc, argv);
     if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
