@@ -26,7 +26,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--split-size MB | --split-duration S]
+constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--regex RE] [--exclude RE] [--split-size MB | --split-duration S]
                     [--compression zstd|lz4|none] [--chunk-duration S] [--attach ENDPOINT]
                     [--duration S] [--wait S]
 
@@ -40,6 +40,8 @@ options:
   -o, --out FILE         default enact_YYYYmmdd_HHMMSS.mcap
   --all                  every topic (the default)
   --topics T...          only these topics
+  --regex RE             only topics RE matches (ECMAScript, anywhere in the name)
+  --exclude RE           no topic RE matches
   --split-size MB        start a new file (FILE_000.mcap, FILE_001.mcap, ...) past this size
   --split-duration S     ... or after this long
   --compression C        zstd (default), lz4 or none
@@ -56,12 +58,13 @@ of an MCAP recording, and any damage (everything readable before it is still cou
 Exit status 1 when the file is damaged or was not closed.
 )";
 
-constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv|- [--publisher NODE]
+constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv|- [--publisher NODE] [--relative-time]
        enact export FILE --foxglove OUT.mcap
 
 One topic of a recording as a flat CSV table for analysis: log_time_ns, then every field of
 the message (nested fields as a.b, repeated ones as a.0, a.1, ...), decoded with the schema
-stored in the recording.
+stored in the recording. --csv -: to standard output. --relative-time: the first column
+is time_s, seconds from the first row, instead of log_time_ns.
 --foxglove: a copy of the recording with one more channel, foxglove/scene
 (foxglove.SceneUpdate: the bridge, the body's grid coloured by contact, the force arrow),
 made from sim/scene and the scene file kept with the recording, so Foxglove's 3D panel
@@ -159,7 +162,7 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait", "regex", "exclude"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
     return 0;
@@ -170,6 +173,8 @@ int record(int argc, char** argv) {
   graph::LoggerOptions o;
   o.output = a.get("out", default_output());
   o.topics = topics;
+  o.regex = a.get("regex");
+  o.exclude = a.get("exclude");
   try {
     o.writer.compression = record::parse_compression(a.get("compression", "zstd"));
   } catch (const std::invalid_argument& e) {
@@ -259,7 +264,7 @@ int info(int argc, char** argv) {
 }
 
 int export_csv(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher", "foxglove"}, {});
+  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher", "foxglove"}, {"relative-time"});
   if (a.flag("help")) {
     std::fputs(kExportHelp, stdout);
     return 0;
@@ -308,14 +313,22 @@ int export_csv(int argc, char** argv) {
   if (!to_stdout) file.open(a.get("csv"));
   if (!to_stdout && !file) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
   std::ostream& out = to_stdout ? std::cout : file;
-  out << "log_time_ns";
+  // --relative-time: seconds from the first row instead of the log time
+  const bool relative = a.flag("relative-time");
+  out << (relative ? "time_s" : "log_time_ns");
   for (const auto& c : columns) out << "," << c;
   out << "\n";
   std::vector<const std::string*> line(columns.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     std::fill(line.begin(), line.end(), nullptr);
     for (const auto& [col, v] : rows[i]) line[column_of[col]] = &v;
-    out << times[i];
+    if (relative) {
+      char t[32];
+      std::snprintf(t, sizeof t, "%.9f", static_cast<double>(times[i] - times[0]) * 1e-9);
+      out << t;
+    } else {
+      out << times[i];
+    }
     for (const std::string* v : line) out << "," << (v ? *v : "");
     out << "\n";
   }

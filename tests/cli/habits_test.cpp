@@ -1,6 +1,7 @@
 // ROS 2 habits on the enact command line: topic info / bw, node list / info, a leading '/'
 // in topic names, "did you mean" for misspelled options, topics, nodes and presets, fix
-// lines for missing recordings, export to standard output.
+// lines for missing recordings, export to standard output and in relative time, record
+// --regex / --exclude.
 #include <gtest/gtest.h>
 
 #include "tests/cli/cli_support.h"
@@ -56,6 +57,20 @@ TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
   EXPECT_TRUE(csv.out.starts_with("log_time_ns,")) << csv.out.substr(0, 200);
   EXPECT_GT(std::count(csv.out.begin(), csv.out.end(), '\n'), 10);
   EXPECT_NE(csv.err.find("rows x"), std::string::npos) << csv.err;
+  // seconds from the first row
+  const RunResult relative = enact("export " + file + " --topic sim/scene --csv - --relative-time");
+  ASSERT_EQ(relative.exit_code, 0) << relative.err;
+  EXPECT_NE(relative.out.find("\n0.000000000,"), std::string::npos) << relative.out.substr(0, 300);
+  EXPECT_TRUE(relative.out.starts_with("time_s,"));
+
+  // record --regex keeps the topics it matches, --exclude drops those it matches
+  const std::string some = dir.file("some.mcap");
+  ASSERT_EQ(enact("record -o " + some + " --duration 1 --regex ^ffd/ --exclude force" + at).exit_code, 0);
+  const RunResult kept = enact("info " + some);
+  EXPECT_NE(kept.out.find("ffd/state"), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.out.find("ffd/force"), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.out.find("sim/scene"), std::string::npos) << kept.out;
+  EXPECT_EQ(enact("record -o " + some + " --duration 1 --regex '(' " + at).exit_code, 1);
 }
 
 TEST(RosHabits, MisspellingsGetTheClosestName) {
