@@ -2,7 +2,8 @@
 # Install every system dependency of enact from Debian packages, when missing.
 # Idempotent: prints nothing and touches nothing when all are present;
 # runs `apt-get update` once first when something must be installed.
-# Also installs the npm packages of the MCAP interop test (tests/interop/package.json) into
+# Also installs the npm packages of the interop tests (tests/interop/package.json: the MCAP
+# reader, Foxglove's WebSocket client) into
 # .deps/npm when Node.js is present (the build ignores that folder).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -11,7 +12,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 npm_deps() {
   command -v npm >/dev/null || return 0
   local dir="$root/.deps/npm"
-  if [[ -d "$dir/node_modules/@mcap/core" ]] && cmp -s "$root/tests/interop/package.json" "$dir/package.json"; then return 0; fi
+  if [[ -d "$dir/node_modules/@mcap/core" && -d "$dir/node_modules/@foxglove/ws-protocol" ]] && cmp -s "$root/tests/interop/package.json" "$dir/package.json"; then return 0; fi
   echo "setup.sh: installing the MCAP interop test's npm packages into .deps/npm"
   mkdir -p "$dir"
   cp "$root/tests/interop/package.json" "$dir/package.json"
@@ -25,6 +26,8 @@ packages=(
   libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # devices, config
   libusb-1.0-0-dev libyaml-cpp-dev
+  # the Foxglove bridge: WebSocket server over standalone asio, JSON
+  libwebsocketpp-dev libasio-dev nlohmann-json3-dev
   # recordings: MCAP chunk compression and CRC-32
   libzstd-dev liblz4-dev zlib1g-dev
   # the live viewer: Dear ImGui (with its SDL2 and OpenGL 3 backends) and stb, SDL2, OpenGL

@@ -148,7 +148,8 @@ void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& c
   if (conditions.empty()) throw config::Error("--conditions is empty\n  fix: give e.g. --conditions CM0,CM1");
   std::vector<Condition> out;
   for (const std::string& c : conditions) {
-    const std::string model = haptics::preset(c) ? c : fs::absolute(c).string();
+    // a file given relative to here, else the name as it is (a preset, or an unknown one)
+    const std::string model = fs::exists(c) ? fs::absolute(c).string() : c;
     try {
       out.push_back({haptics::resolve_computer_model(model).name, model});
     } catch (const config::Error& e) {

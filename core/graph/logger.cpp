@@ -1,7 +1,9 @@
 #include "core/graph/logger.h"
 
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
+#include <tuple>
 #include <fstream>
 #include <sstream>
 
@@ -67,6 +69,15 @@ Logger::~Logger() {
 }
 
 void Logger::attach() {
+  // the topic filters, checked before anything connects
+  for (auto [text, out, what] : {std::tuple{&options_.regex, &regex_, "regex"}, std::tuple{&options_.exclude, &exclude_, "exclude"}}) {
+    if (text->empty()) continue;
+    try {
+      out->emplace(*text, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw config::Error(std::string(what) + " '" + *text + "' is not a regular expression: " + e.what() + "\n  fix: e.g. '^ffd/' or 'state$'");
+    }
+  }
   endpoint_ = find_endpoint(options_.attach);
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
@@ -100,15 +111,14 @@ void Logger::attach() {
   open_file();
 }
 
+bool Logger::wanted(const std::string& topic) const {
+  const bool listed = options_.topics.empty() || std::find(options_.topics.begin(), options_.topics.end(), topic) != options_.topics.end();
+  return listed && (!regex_ || std::regex_search(topic, *regex_)) && !(exclude_ && std::regex_search(topic, *exclude_));
+}
+
 void Logger::update_graph(const msgs::GraphInfo& info) {
   for (const auto& d : info.topics()) {
-    if (options_.topics.empty()) {
-      sub_.subscribe(d.name());
-    } else {
-      for (const std::string& t : options_.topics) {
-        if (t == d.name()) sub_.subscribe(t);
-      }
-    }
+    if (wanted(d.name())) sub_.subscribe(d.name());
   }
 }
 

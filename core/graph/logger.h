@@ -10,6 +10,8 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,8 @@ struct LoggerOptions {
   std::string attach;                    // attach endpoint; "" = $ENACT_ATTACH, else the last local graph's
   std::string output = "recording.mcap";  // file; with splitting, NAME_000.mcap, NAME_001.mcap, ...
   std::vector<std::string> topics;       // topics to keep; empty = every topic of the graph
+  std::string regex;                     // ... only those it matches (ECMAScript, anywhere); "" = all
+  std::string exclude;                   // ... but none this matches; "" = none excluded
   record::WriterOptions writer;          // compression, chunk size and duration (the kill -9 loss bound)
   double split_size_mb = 0.0;            // start a new file past this size (0: never)
   double split_duration_s = 0.0;         // start a new file after this long (0: never)
@@ -94,8 +98,10 @@ class Logger {
   void take(const bus::RawMessage& m, std::int64_t now_ns);
   void update_graph(const msgs::GraphInfo& info);
   std::uint16_t schema_for(const std::string& type);
+  bool wanted(const std::string& topic) const;
 
   LoggerOptions options_;
+  std::optional<std::regex> regex_, exclude_;
   std::string endpoint_;
   bus::ByteSubscriber sub_;
   std::unique_ptr<bus::DisconnectWatch> watch_;  // on sub_, from attach()

@@ -1,5 +1,6 @@
 #include "core/haptics/computer_model.h"
 
+#include "core/config/suggest.h"
 #include "core/config/yaml.h"
 
 namespace enact::haptics {
@@ -61,7 +62,8 @@ ComputerModel resolve_computer_model(const std::string& name_or_path, int masses
   if (!looks_like_file) {
     std::string names;
     for (const auto& n : preset_names()) names += (names.empty() ? "" : ", ") + n;
-    throw config::Error("unknown computer model '" + name_or_path + "'\n  fix: use a preset (" + names + ") or a YAML file defining one");
+    throw config::Error("unknown preset " + name_or_path + config::did_you_mean(name_or_path, preset_names()) + "\n  fix: use a preset (" + names +
+                        ") or a YAML file defining a computer model");
   }
   const YAML::Node root = config::load_file(name_or_path);
   const config::Map m(root, name_or_path, "computer model", {"name", "description", "force", "pins", "pin_masses", "threshold_m"});

@@ -109,7 +109,7 @@ void draw_side_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const
   for (int mm = -8; mm <= 4; mm += 2) {
     const Pixel p = view.to_screen(0.0, g.top_z_m + mm * 1e-3);
     char label[16];
-    std::snprintf(label, sizeof label, "%+d", mm);
+    std::snprintf(label, sizeof label, "%+d mm", mm);
     text(dl, r.x0 + 2, p.y - 7, palette::kWorkspace, label);
   }
   // the trail: height of the body centre against the distance along the path (off the

@@ -1,5 +1,7 @@
 #include "core/viewer/layout.h"
 
+#include <cmath>
+
 #include <algorithm>
 
 namespace enact::viewer {
@@ -51,6 +53,15 @@ SideView::SideView(const SceneGeometry& g, const Rect& r)
 Pixel SideView::to_screen(double along_m, double z_m) const {
   const float fz = static_cast<float>((z_m - z0_m_) / (z1_m_ - z0_m_));
   return {plot_.x0 + static_cast<float>(along_m) * sx_, plot_.y1 - fz * plot_.height()};
+}
+
+double round_scale(double value, double floor) {
+  if (!(value > floor)) return floor;
+  const double decade = std::pow(10.0, std::floor(std::log10(value)));
+  for (const double step : {1.0, 2.0, 5.0}) {
+    if (step * decade >= value) return step * decade;
+  }
+  return 10.0 * decade;
 }
 
 }  // namespace enact::viewer

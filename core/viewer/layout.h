@@ -25,6 +25,10 @@ struct Layout {
 };
 Layout layout(float width, float height);
 
+// a plot's round upper bound: the smallest 1, 2 or 5 x 10^k at or above `value` (`floor`
+// when value is not above it), so the scale printed with the plot reads at a glance
+double round_scale(double value, double floor);
+
 // the top view: x to the right, y (forward) up, the scene's view extent fitted into the
 // rect with a margin, one scale for both axes
 class TopView {

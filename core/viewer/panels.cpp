@@ -103,10 +103,14 @@ void plot_window(const Rect& r, const ViewModel& model) {
   const ImVec2 size{room.x, (room.y - ImGui::GetStyle().ItemSpacing.y) / 2};
   const auto& f = model.force_history();
   const auto& c = model.contact_history();
-  char overlay[48];
-  std::snprintf(overlay, sizeof overlay, "|F| %.3f N", f.empty() ? 0.0 : static_cast<double>(f.back()));
-  ImGui::PlotLines("##force", f.data(), static_cast<int>(f.size() < f.capacity() ? f.size() : f.capacity()), static_cast<int>(f.offset()), overlay, 0.0f, FLT_MAX, size);
-  std::snprintf(overlay, sizeof overlay, "contacts %.0f", c.empty() ? 0.0 : static_cast<double>(c.back()));
+  // |F| on a round scale from 0 N, printed with the plot; time runs left to right, newest at the right
+  const int nf = static_cast<int>(f.size() < f.capacity() ? f.size() : f.capacity());
+  const double peak_n = nf ? static_cast<double>(*std::max_element(f.data(), f.data() + nf)) : 0.0;
+  const double scale_n = round_scale(peak_n, 0.1);
+  char overlay[96];
+  std::snprintf(overlay, sizeof overlay, "|F| now %.3f N   (axis 0 to %g N, time ->)", f.empty() ? 0.0 : static_cast<double>(f.back()), scale_n);
+  ImGui::PlotLines("##force", f.data(), nf, static_cast<int>(f.offset()), overlay, 0.0f, static_cast<float>(scale_n), size);
+  std::snprintf(overlay, sizeof overlay, "masses in contact now %.0f   (axis 0 to 16, time ->)", c.empty() ? 0.0 : static_cast<double>(c.back()));
   ImGui::PlotLines("##contacts", c.data(), static_cast<int>(c.size() < c.capacity() ? c.size() : c.capacity()), static_cast<int>(c.offset()), overlay, 0.0f, 16.0f, size);
   ImGui::End();
 }

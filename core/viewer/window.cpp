@@ -19,8 +19,13 @@ namespace {
 }  // namespace
 
 Window::Window(const char* title, int width, int height, bool offscreen_ok) {
-  // no display: render offscreen (snapshots only)
-  if (offscreen_ok && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("SDL_VIDEODRIVER")) setenv("SDL_VIDEODRIVER", "offscreen", 1);
+  // no display: render offscreen (snapshots only), else refuse a window nobody would see
+  const bool display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY") || std::getenv("SDL_VIDEODRIVER");
+  if (!display && !offscreen_ok) {
+    throw std::runtime_error("no display ($DISPLAY and $WAYLAND_DISPLAY are unset): the window would be invisible\n"
+                             "  fix: run it on a desktop (or ssh -X), under xvfb-run, or take a picture with --snapshot FILE.png");
+  }
+  if (!display) setenv("SDL_VIDEODRIVER", "offscreen", 1);
   if (SDL_Init(SDL_INIT_VIDEO) != 0) sdl_failed("cannot start SDL video (no display? run under Xvfb, or set DISPLAY)");
   SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
   SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 0);

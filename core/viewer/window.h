@@ -13,7 +13,8 @@ namespace enact::viewer {
 class Window {
  public:
   // opens a width x height window (offscreen when there is no display and `offscreen_ok`);
-  // throws std::runtime_error naming what SDL or OpenGL refused
+  // throws std::runtime_error naming what SDL or OpenGL refused, or when there is no display
+  // and not `offscreen_ok` (a window nobody would see)
   Window(const char* title, int width, int height, bool offscreen_ok);
   ~Window();
   Window(const Window&) = delete;

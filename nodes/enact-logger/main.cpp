@@ -21,6 +21,7 @@ Records the graph's traffic to an MCAP file (enact record is the same from the s
 parameters:
   output=recording.mcap   file (with splitting: NAME_000.mcap, NAME_001.mcap, ...)
   topics=                 comma-separated topics to keep (empty: every topic)
+  regex=  exclude=        only topics the regular expression matches / none it matches
   compression=zstd        zstd, lz4 or none
   chunk_duration_s=1      a chunk reaches the file at least this often (the most a kill -9 loses)
   split_size_mb=0  split_duration_s=0   start a new file past this size / after this long
@@ -40,6 +41,8 @@ int run(int argc, char** argv) {
   graph::LoggerOptions o;
   o.output = p.text("output", o.output);
   o.topics = config::split_commas(p.text("topics", ""));
+  o.regex = p.text("regex", "");
+  o.exclude = p.text("exclude", "");
   try {
     o.writer.compression = record::parse_compression(p.text("compression", "zstd"));
   } catch (const std::invalid_argument& e) {
@@ -50,7 +53,7 @@ int run(int argc, char** argv) {
   o.split_duration_s = p.number("split_duration_s", 0.0);
   o.attach = p.text("attach", "");
   o.wait_s = p.number("wait_s", 10.0);
-  p.refuse_unread({"output", "topics", "compression", "chunk_duration_s", "split_size_mb", "split_duration_s", "attach", "wait_s"});
+  p.refuse_unread({"output", "topics", "regex", "exclude", "compression", "chunk_duration_s", "split_size_mb", "split_duration_s", "attach", "wait_s"});
   if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0.0 || o.split_duration_s < 0.0) {
     throw config::Error(args.name + ": chunk_duration_s must be > 0, split_size_mb and split_duration_s >= 0\n  fix: e.g. chunk_duration_s=1");
   }

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/config/number.h"
+#include "core/config/suggest.h"
 
 namespace enact::cli {
 
@@ -51,7 +52,9 @@ Args parse(int argc, char** argv, int first, const std::set<std::string>& valued
       }
       a.options[name] = value;
     } else {
-      throw UsageError("unknown option --" + name);
+      std::vector<std::string> known(valued.begin(), valued.end());
+      known.insert(known.end(), switches.begin(), switches.end());
+      throw UsageError("unknown option --" + name + config::did_you_mean(name, known, "--"));
     }
   }
   return a;

@@ -6,6 +6,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 
@@ -22,11 +23,12 @@
 #include "core/record/writer.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/mcap_copy.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--split-size MB | --split-duration S]
+constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--regex RE] [--exclude RE] [--split-size MB | --split-duration S]
                     [--compression zstd|lz4|none] [--chunk-duration S]
                     [--graph NAME | --attach ENDPOINT] [--duration S] [--wait S]
 
@@ -42,6 +44,8 @@ options:
   -o, --out FILE         default enact_YYYYmmdd_HHMMSS.mcap
   --all                  every topic (the default)
   --topics T...          only these topics
+  --regex RE             only topics RE matches (ECMAScript, anywhere in the name)
+  --exclude RE           no topic RE matches
   --split-size MB        start a new file (FILE_000.mcap, FILE_001.mcap, ...) past this size
   --split-duration S     ... or after this long
   --compression C        zstd (default), lz4 or none
@@ -56,11 +60,17 @@ of an MCAP recording, and any damage (everything readable before it is still cou
 Exit status 1 when the file is damaged or was not closed.
 )";
 
-constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv [--publisher NODE]
+constexpr const char* kExportHelp = R"(usage: enact export FILE --topic T --csv OUT.csv|- [--publisher NODE] [--relative-time]
+       enact export FILE --foxglove OUT.mcap
 
 One topic of a recording as a flat CSV table for analysis: log_time_ns, then every field of
 the message (nested fields as a.b, repeated ones as a.0, a.1, ...), decoded with the schema
-stored in the recording.
+stored in the recording. --csv -: to standard output. --relative-time: the first column
+is time_s, seconds from the first row, instead of log_time_ns.
+--foxglove: a copy of the recording with one more channel, foxglove/scene
+(foxglove.SceneUpdate: the bridge, the body's grid coloured by contact, the force arrow),
+made from sim/scene and the scene file kept with the recording, so Foxglove's 3D panel
+shows it (layout: docs/foxglove-layout.json).
 )";
 
 constexpr const char* kRecoverHelp = R"(usage: enact recover BROKEN.mcap -o FIXED.mcap [--compression zstd|lz4|none]
@@ -170,7 +180,7 @@ class GraphEnd {
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait", "regex", "exclude"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
     std::fputs(kAttachOptionsHelp, stdout);
@@ -182,6 +192,8 @@ int record(int argc, char** argv) {
   graph::LoggerOptions o;
   o.output = a.get("out", default_output());
   o.topics = topics;
+  o.regex = a.get("regex");
+  o.exclude = a.get("exclude");
   try {
     o.writer.compression = record::parse_compression(a.get("compression", "zstd"));
   } catch (const std::invalid_argument& e) {
@@ -275,11 +287,12 @@ int info(int argc, char** argv) {
 }
 
 int export_csv(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher"}, {});
+  const Args a = parse(argc, argv, 2, {"topic", "csv", "publisher", "foxglove"}, {"relative-time"});
   if (a.flag("help")) {
     std::fputs(kExportHelp, stdout);
     return 0;
   }
+  if (a.has("foxglove")) return export_foxglove(a);
   if (a.positional.size() != 1 || !a.has("topic") || !a.has("csv")) throw UsageError("give FILE, --topic T and --csv OUT.csv");
   const std::string topic = a.get("topic"), publisher = a.get("publisher", "");
   record::Reader r(a.positional[0]);
@@ -317,20 +330,33 @@ int export_csv(int argc, char** argv) {
     for (const auto& [id, c] : r.channels()) known += (known.empty() ? "" : ", ") + c.topic;
     throw config::Error(r.path() + ": no decodable message on topic '" + topic + "'\n  fix: choose among " + known);
   }
-  std::ofstream out(a.get("csv"));
-  if (!out) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
-  out << "log_time_ns";
+  // "-": standard output (the summary line then goes to standard error)
+  const bool to_stdout = a.get("csv") == "-";
+  std::ofstream file;
+  if (!to_stdout) file.open(a.get("csv"));
+  if (!to_stdout && !file) throw config::Error(a.get("csv") + ": cannot create the file\n  fix: check the folder exists and is writable");
+  std::ostream& out = to_stdout ? std::cout : file;
+  // --relative-time: seconds from the first row instead of the log time
+  const bool relative = a.flag("relative-time");
+  out << (relative ? "time_s" : "log_time_ns");
   for (const auto& c : columns) out << "," << c;
   out << "\n";
   std::vector<const std::string*> line(columns.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     std::fill(line.begin(), line.end(), nullptr);
     for (const auto& [col, v] : rows[i]) line[column_of[col]] = &v;
-    out << times[i];
+    if (relative) {
+      char t[32];
+      std::snprintf(t, sizeof t, "%.9f", static_cast<double>(times[i] - times[0]) * 1e-9);
+      out << t;
+    } else {
+      out << times[i];
+    }
     for (const std::string* v : line) out << "," << (v ? *v : "");
     out << "\n";
   }
-  std::printf("%zu rows x %zu columns of %s -> %s%s\n", rows.size(), columns.size() + 1, topic.c_str(), a.get("csv").c_str(),
+  out.flush();
+  std::fprintf(to_stdout ? stderr : stdout, "%zu rows x %zu columns of %s -> %s%s\n", rows.size(), columns.size() + 1, topic.c_str(), a.get("csv").c_str(),
               undecodable ? (" (" + std::to_string(undecodable) + " messages could not be decoded)").c_str() : "");
   for (const auto& d : r.damage()) std::fprintf(stderr, "enact export: %s: %s\n", r.path().c_str(), d.c_str());
   return 0;
@@ -352,28 +378,10 @@ int recover(int argc, char** argv) {
   }
   record::Reader r(a.positional[0]);
   record::Writer w(a.get("out"), wo);
-  std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;
-  std::uint64_t n = 0;
-  r.for_each([&](const record::Message& m) {
-    auto c = channel_ids.find(m.channel->id);
-    if (c == channel_ids.end()) {
-      std::uint16_t schema = 0;
-      if (m.schema) {
-        auto s = schema_ids.find(m.schema->id);
-        if (s == schema_ids.end()) s = schema_ids.emplace(m.schema->id, w.add_schema(m.schema->name, m.schema->encoding, m.schema->data)).first;
-        schema = s->second;
-      }
-      c = channel_ids.emplace(m.channel->id, w.add_channel(schema, m.channel->topic, m.channel->message_encoding, m.channel->metadata)).first;
-    }
-    w.write(c->second, m.sequence, m.log_time_ns, m.publish_time_ns, m.data);
-    ++n;
-    return true;
-  });
-  for (const auto& m : r.metadata_records()) w.add_metadata(m.name, m.values);
-  for (const auto& at : r.attachments()) w.add_attachment(at.name, at.media_type, at.data, at.log_time_ns, at.create_time_ns);
+  const CopyCount n = copy_recording(r, w);
   w.close();
-  std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n),
-              channel_ids.size(), r.metadata_records().size(), r.attachments().size(), a.get("out").c_str());
+  std::printf("recovered %llu messages on %zu channels, %zu metadata records, %zu attachments -> %s\n", static_cast<unsigned long long>(n.messages),
+              n.channels, r.metadata_records().size(), r.attachments().size(), a.get("out").c_str());
   if (r.damage().empty()) std::printf("the source had no damage\n");
   for (const auto& d : r.damage()) std::printf("  lost or skipped at %s\n", d.c_str());
   return 0;

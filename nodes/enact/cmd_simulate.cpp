@@ -87,6 +87,8 @@ int simulate(int argc, char** argv) {
   if (models.empty()) throw UsageError("--model needs at least one computer model");
   if (models.size() > 1 && (a.has("out") || a.has("metrics"))) throw UsageError("--out and --metrics take a single --model");
 
+  // every model checked before the table starts
+  for (const std::string& model : models) haptics::resolve_computer_model(model);
   std::printf("%-6s %10s %10s %10s %10s %6s %10s %10s %6s %6s\n", "model", "mean |F|", "peak |F|", "pins up", "contact", "falls",
               "time_out", "time_total", "done", "faults");
   std::printf("%-6s %10s %10s %10s %10s %6s %10s %10s %6s %6s\n", "", "(N)", "(N)", "(mean)", "(% steps)", "", "(s)", "(s)", "", "");

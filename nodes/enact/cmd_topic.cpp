@@ -13,6 +13,7 @@
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 #include "msgs/graph.pb.h"
+#include "core/config/suggest.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 
@@ -22,6 +23,7 @@ namespace {
 constexpr const char* kHelp = R"(usage: enact topic list [--graph NAME | --attach ENDPOINT]
        enact topic echo TOPIC [--count N | --once] [--graph NAME | --attach ENDPOINT]
        enact topic hz TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
+       enact topic info TOPIC | bw TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
 
 Attach to a running graph (like `ros2 topic`), at any time, without disturbing it:
   list   the graph's topics, their message types and publishers (from graph/topics)
@@ -29,10 +31,14 @@ Attach to a running graph (like `ros2 topic`), at any time, without disturbing i
          Ctrl-C; a state topic (task/state) gives its current message at once; at the end,
          on stderr, how many arrived and how many were lost (sequence gaps)
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
+  info   TOPIC's message type, publishers and rate (measured over 1 s)
+  bw     the bandwidth of TOPIC every second (bytes of payload), until --duration or Ctrl-C
+TOPIC may start with '/' (ROS 2 style): /ffd/state is ffd/state.
 options:
 )";
 
-// the graph's topics, from its attach point
+}  // namespace
+
 msgs::GraphInfo graph_info(const std::string& endpoint) {
   bus::ByteSubscriber sub;
   sub.connect(endpoint);
@@ -51,9 +57,12 @@ std::string type_of(const msgs::GraphInfo& info, const std::string& topic) {
     if (t.name() == topic) return t.type();
   }
   std::string names;
-  for (const auto& t : info.topics()) names += (names.empty() ? "" : ", ") + t.name();
-  throw UsageError("the graph has no topic '" + topic + "' (topics: " + names + ")");
+  std::vector<std::string> known;
+  for (const auto& t : info.topics()) names += (names.empty() ? "" : ", ") + t.name(), known.push_back(t.name());
+  throw UsageError("the graph has no topic '" + topic + "'" + config::did_you_mean(topic, known) + " (topics: " + names + ")");
 }
+
+namespace {
 
 int list(const std::string& endpoint) {
   const msgs::GraphInfo info = graph_info(endpoint);
@@ -135,14 +144,16 @@ int topic(int argc, char** argv) {
   }
   const std::string& verb = a.positional[0];
   const bool listing = verb == "list" && a.positional.size() == 1;
-  const bool watching = (verb == "echo" || verb == "hz") && a.positional.size() == 2;
-  if (!listing && !watching) throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC");
+  const bool watching = (verb == "echo" || verb == "hz" || verb == "info" || verb == "bw") && a.positional.size() == 2;
+  if (!listing && !watching) throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC");
   if (a.flag("once") && (verb != "echo" || a.has("count"))) throw UsageError("--once is for echo, instead of --count");
   graph::install_stop_handlers();
   const std::string endpoint = attach_target(a, "topic").endpoint;
   if (listing) return list(endpoint);
+  const std::string topic = topic_name(a.positional[1]);
+  if (verb == "info" || verb == "bw") return topic_info_or_bw(endpoint, topic, verb == "bw", a.number("duration", 0.0));
   const long count = a.flag("once") ? 1 : static_cast<long>(a.number("count", 0.0));
-  return echo_or_hz(endpoint, a.positional[1], verb == "echo", count, a.number("duration", 0.0));
+  return echo_or_hz(endpoint, topic, verb == "echo", count, a.number("duration", 0.0));
 }
 
 }  // namespace enact::cli

@@ -22,7 +22,8 @@ commands:
   bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
   graph list        the running graphs of this user (name, attach endpoint, pid, launch file)
-  topic list|echo|hz  look at a running graph through its attach point
+  topic list|echo|hz|info|bw  look at a running graph through its attach point
+  node list|info    the nodes of a running graph: state, rate, topics, parameters
   record            keep a running graph's messages in an MCAP file
   info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
   play FILE         republish a recording with its timing, as if live
@@ -31,6 +32,8 @@ commands:
   resim FILE        rerun a recording's device states through the simulator, compare
   devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
   param set NAME VALUE  change a parameter of a running graph (answered: applied or refused)
+  foxglove          serve a running graph to Foxglove (WebSocket): topics, schemas, the 3D scene
+  doctor            is this machine ready for real-time haptics? one line per check, with the fix
   experiment FILE   run an experiment's trials (virtual subjects or people), resumable
   metrics FILE      a trial's metrics recomputed from its recording
 
@@ -65,6 +68,9 @@ int main(int argc, char** argv) {
     if (command == "resim") return enact::cli::resim(argc, argv);
     if (command == "devices") return enact::cli::devices(argc, argv);
     if (command == "param") return enact::cli::param(argc, argv);
+    if (command == "foxglove") return enact::cli::foxglove_bridge(argc, argv);
+    if (command == "doctor") return enact::cli::doctor(argc, argv);
+    if (command == "node") return enact::cli::node(argc, argv);
     if (command == "experiment") return enact::cli::experiment_run(argc, argv);
     if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);

@@ -165,5 +165,14 @@ TEST_F(Headless, WithoutASceneThereIsNoGrid) {
   }
 }
 
+TEST(Layout, PlotScalesAreRoundAndAboveThePeak) {
+  EXPECT_DOUBLE_EQ(round_scale(0.0, 0.1), 0.1);
+  EXPECT_DOUBLE_EQ(round_scale(0.13, 0.1), 0.2);
+  EXPECT_DOUBLE_EQ(round_scale(1.0, 0.1), 1.0);
+  EXPECT_DOUBLE_EQ(round_scale(2.4, 0.1), 5.0);
+  EXPECT_DOUBLE_EQ(round_scale(7.0, 0.1), 10.0);
+  EXPECT_DOUBLE_EQ(round_scale(31.0, 0.1), 50.0);
+}
+
 }  // namespace
 }  // namespace enact::viewer

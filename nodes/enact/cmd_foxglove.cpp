@@ -1,0 +1,61 @@
+// enact foxglove: serve a running graph to Foxglove over WebSocket (core/foxglove/bridge.h).
+#include <signal.h>
+
+#include <atomic>
+#include <cstdio>
+
+#include "core/foxglove/bridge.h"
+#include "nodes/enact/attach_target.h"
+#include "nodes/enact/commands.h"
+
+namespace enact::cli {
+namespace {
+
+constexpr const char* kHelp = R"(usage: enact foxglove [--port 8765] [--host 127.0.0.1] [--max-rate HZ] [--graph NAME | --attach ENDPOINT]
+
+Serve a running graph to Foxglove (https://foxglove.dev) over WebSocket (subprotocol
+foxglove.websocket.v1), like foxglove_bridge does for ROS 2. Foxglove sees every topic of the
+graph with its Protobuf schema, and foxglove/scene (foxglove.SceneUpdate) for its 3D panel:
+the bridge as boxes, the floor, the body's 4 x 4 grid red where in contact, the force arrow.
+Open: Foxglove > Open connection > Foxglove WebSocket > ws://127.0.0.1:8765, then
+Layout > Import from file > docs/foxglove-layout.json.
+  --port       WebSocket port (0: any free port; default 8765)
+  --host       where it listens (default 127.0.0.1, this machine only)
+  --max-rate   topics faster than this (the loop-rate ones) reach each client at most at
+               this rate, Hz (default 100); a client that cannot keep up loses messages:
+               the graph never waits for it
+Foxglove may publish param/set (its Publish panel, enact.msgs.ParamUpdate) only when both
+the graph and this server are reachable from this machine alone. Runs until Ctrl-C.
+In a launch file: a node with exec: enact-foxglove (parameters: enact-foxglove --help).
+)";
+
+std::atomic<bool> g_stop{false};
+void on_stop(int) { g_stop.store(true); }
+
+}  // namespace
+
+int foxglove_bridge(int argc, char** argv) {
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "port", "host", "max-rate"}, {});
+  if (a.flag("help")) {
+    std::fputs(kHelp, stdout);
+    std::fputs(kAttachOptionsHelp, stdout);
+    return 0;
+  }
+  if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
+  foxglove::BridgeOptions o;
+  o.attach = attach_target(a, "foxglove").endpoint;
+  o.port = static_cast<int>(a.number("port", o.port));
+  o.host = a.get("host", o.host);
+  o.max_rate_hz = a.number("max-rate", o.max_rate_hz);
+  if (o.port < 0 || o.port > 65535) throw UsageError("--port must be 0-65535");
+  if (o.max_rate_hz <= 0.0) throw UsageError("--max-rate must be > 0");
+  signal(SIGINT, on_stop);
+  signal(SIGTERM, on_stop);
+  foxglove::Bridge bridge(o);
+  std::fprintf(stderr, "enact foxglove: %s\n", foxglove::describe(bridge, o).c_str());
+  bridge.run([] { return g_stop.load(); });
+  std::fprintf(stderr, "enact foxglove: %s\n", foxglove::format(bridge.stats()).c_str());
+  return 0;
+}
+
+}  // namespace enact::cli

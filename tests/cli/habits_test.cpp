@@ -1,0 +1,100 @@
+// ROS 2 habits on the enact command line: topic info / bw, node list / info, a leading '/'
+// in topic names, "did you mean" for misspelled options, topics, nodes and presets, fix
+// lines for missing recordings, export to standard output and in relative time, record
+// --regex / --exclude.
+#include <gtest/gtest.h>
+
+#include "tests/cli/cli_support.h"
+#include "tests/integration/integration_util.h"
+
+namespace enact::test {
+namespace {
+
+TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
+  TempDir dir;
+  Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 60.0);
+  ASSERT_TRUE(graph.wait_log("enact launch: graph ready", 30.0)) << graph.log();
+  const std::string at = " --attach " + graph.endpoint();
+
+  // topic info with a ROS-style leading '/': type, publisher, a loop-rate rate
+  const RunResult info = enact("topic info /ffd/state" + at);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("type: enact.msgs.DeviceState"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("publishers: rt"), std::string::npos) << info.out;
+  const auto rate_at = info.out.find("rate: ");
+  ASSERT_NE(rate_at, std::string::npos);
+  EXPECT_GT(std::atoi(info.out.c_str() + rate_at + 6), 1000) << info.out;
+
+  // topic bw: a line a second with bytes and messages
+  const RunResult bw = enact("topic bw ffd/force --duration 1" + at);
+  ASSERT_EQ(bw.exit_code, 0) << bw.err;
+  EXPECT_NE(bw.out.find("kB/s"), std::string::npos) << bw.out;
+  EXPECT_NE(bw.out.find("messages/s"), std::string::npos) << bw.out;
+
+  // a misspelled topic and node: refused with the closest name
+  const RunResult topic = enact("topic echo ffd/stat --count 1" + at);
+  EXPECT_EQ(topic.exit_code, 2);
+  EXPECT_NE(topic.err.find("did you mean ffd/state?"), std::string::npos) << topic.err;
+  const RunResult missing_node = enact("node info r" + at);
+  EXPECT_EQ(missing_node.exit_code, 2);
+  EXPECT_NE(missing_node.err.find("did you mean rt?"), std::string::npos) << missing_node.err;
+
+  // node list and info: the container, active at the loop rate, its parameters and counters
+  const RunResult list = enact("node list" + at);
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_NE(list.out.find("rt             ACTIVE"), std::string::npos) << list.out;
+  const RunResult node = enact("node info rt" + at);
+  ASSERT_EQ(node.exit_code, 0) << node.err;
+  EXPECT_NE(node.out.find("sim.model = CM1"), std::string::npos) << node.out;
+  EXPECT_NE(node.out.find("status: ACTIVE"), std::string::npos) << node.out;
+  EXPECT_NE(node.out.find("ffd/state      sent"), std::string::npos) << node.out;
+
+  // a short recording, exported to standard output
+  const std::string file = dir.file("run.mcap");
+  ASSERT_EQ(enact("record -o " + file + " --duration 1" + at).exit_code, 0);
+  const RunResult csv = enact("export " + file + " --topic sim/scene --csv -");
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_TRUE(csv.out.starts_with("log_time_ns,")) << csv.out.substr(0, 200);
+  EXPECT_GT(std::count(csv.out.begin(), csv.out.end(), '\n'), 10);
+  EXPECT_NE(csv.err.find("rows x"), std::string::npos) << csv.err;
+  // seconds from the first row
+  const RunResult relative = enact("export " + file + " --topic sim/scene --csv - --relative-time");
+  ASSERT_EQ(relative.exit_code, 0) << relative.err;
+  EXPECT_NE(relative.out.find("\n0.000000000,"), std::string::npos) << relative.out.substr(0, 300);
+  EXPECT_TRUE(relative.out.starts_with("time_s,"));
+
+  // record --regex keeps the topics it matches, --exclude drops those it matches
+  const std::string some = dir.file("some.mcap");
+  ASSERT_EQ(enact("record -o " + some + " --duration 1 --regex ^ffd/ --exclude force" + at).exit_code, 0);
+  const RunResult kept = enact("info " + some);
+  EXPECT_NE(kept.out.find("ffd/state"), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.out.find("ffd/force"), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.out.find("sim/scene"), std::string::npos) << kept.out;
+  EXPECT_EQ(enact("record -o " + some + " --duration 1 --regex '(' " + at).exit_code, 1);
+}
+
+TEST(RosHabits, MisspellingsGetTheClosestName) {
+  const RunResult flag = enact("topic hz ffd/state --duratoin 1");
+  EXPECT_EQ(flag.exit_code, 2);
+  EXPECT_NE(flag.err.find("unknown option --duratoin (did you mean --duration?)"), std::string::npos) << flag.err;
+  // an unknown preset is named as one, and no empty table is printed after the error
+  const RunResult sim = enact("simulate " + bridge_scene() + " --model CM5");
+  EXPECT_EQ(sim.exit_code, 1);
+  EXPECT_NE(sim.err.find("unknown preset CM5 (did you mean CM0, CM1, CM2 or CM3?)"), std::string::npos) << sim.err;
+  EXPECT_EQ(sim.out, "");
+  const RunResult conditions = enact("experiment " + source_path("launch/experiments/bridge_quick.yaml") + " --conditions CM1,CM5 --plan");
+  EXPECT_EQ(conditions.exit_code, 1);
+  EXPECT_NE(conditions.err.find("unknown preset CM5"), std::string::npos) << conditions.err;
+}
+
+TEST(RosHabits, AMissingRecordingGetsTheFixLine) {
+  for (const std::string command : {"info", "resim", "play"}) {
+    const RunResult r = enact(command + " /nonexistent/run.mcap");
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_NE(r.err.find("No such file"), std::string::npos) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("fix:"), std::string::npos) << command << ": " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace enact::test
