@@ -118,7 +118,7 @@ Map::Map(const YAML::Node& node, std::string file, std::string what, std::initia
   if (!node_.IsMap()) config::fail(file_, node_, what_ + " must be a mapping (key: value)", "see the format in README.md");
   std::vector<std::string> allowed(keys.begin(), keys.end());
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = scalar(file_, kv.first, "a key in " + what_);
     bool known = false;
     for (const auto& a : allowed) known = known || a == key;
     if (!known) config::fail(file_, kv.first, "unknown key '" + key + "' in " + what_, "use one of: " + joined(allowed));
@@ -200,6 +200,11 @@ std::vector<YAML::Node> Map::list(const char* key) const {
 
 void Map::fail(const char* key, const std::string& problem, const std::string& fix) const {
   config::fail(file_, has(key) ? node_[key] : node_, problem, fix);
+}
+
+std::string scalar(const std::string& file, const YAML::Node& node, const std::string& what) {
+  if (!node.IsScalar()) fail(file, node, what + " must be a single word or string, got a list or a map", "write a plain name");
+  return node.Scalar();
 }
 
 std::vector<double> numbers(const std::string& file, const YAML::Node& node, std::size_t count, const std::string& what) {

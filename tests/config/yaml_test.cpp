@@ -1,5 +1,6 @@
 // Strict YAML files: a key written twice in one mapping is refused with both lines named,
-// at any depth, while the same key in different mappings stays allowed.
+// at any depth, while the same key in different mappings stays allowed; a key that is not a
+// plain word is refused with its line (it once escaped as a yaml-cpp exception: fuzz_model).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -40,6 +41,14 @@ TEST(StrictYaml, SameKeyInSeparateMappingsIsAllowed) {
 
 TEST(StrictYaml, AliasedMappingIsAcceptedAndCheckedOnce) {
   EXPECT_EQ(refusal_of("base: &b {k: 1, j: 2}\nx: *b\ny: *b\n"), "");
+}
+
+TEST(StrictYaml, KeyThatIsAListIsRefusedWithItsLine) {
+  const std::string err = test::error_of_file("f.yaml", "name: a\n[x, y]: 1\n", [](const std::string& path) {
+    Map(load_file(path), path, "scene", {"name"});
+  });
+  EXPECT_NE(err.find("f.yaml:2:"), std::string::npos) << err;
+  EXPECT_NE(err.find("a key in scene must be a single word"), std::string::npos) << err;
 }
 
 }  // namespace
