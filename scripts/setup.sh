@@ -35,6 +35,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # analysis and plotting scripts (run under /usr/bin/python3)
   python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
+  # fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
+  clang libclang-rt-14-dev
 )
 
 # the independent MCAP reader's runtime, checked by command: a machine may have Node.js from
