@@ -2,9 +2,9 @@
 # Install every system dependency of enact from Debian packages, when missing.
 # Idempotent: prints nothing and touches nothing when all are present;
 # runs `apt-get update` once first when something must be installed.
-# Also installs the npm packages of the interop tests (tests/interop/package.json: the MCAP
-# reader, Foxglove's WebSocket client) into
-# .deps/npm when Node.js is present (the build ignores that folder).
+# Installs Node.js and npm (when the commands are absent) and the npm packages of the interop
+# tests (tests/interop/package.json: the MCAP reader, Foxglove's WebSocket client) into
+# .deps/npm (the build ignores that folder), so they run on every fresh machine, CI included.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 
@@ -39,13 +39,22 @@ packages=(
   cyclonedds-tools
   # analysis and plotting scripts (run under /usr/bin/python3)
   python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
+  # fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
+  clang libclang-rt-14-dev
 )
+
+# the independent MCAP reader's runtime, checked by command: a machine may have Node.js from
+# elsewhere (any version >= 18 reads our files), in which case nothing is installed
+declare -A by_command=([node]=nodejs [npm]=npm)
 
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
     missing+=("$p")
   fi
+done
+for c in "${!by_command[@]}"; do
+  command -v "$c" >/dev/null || missing+=("${by_command[$c]}")
 done
 if [[ ${#missing[@]} -eq 0 ]]; then
   npm_deps

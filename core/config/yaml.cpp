@@ -1,8 +1,10 @@
 #include "core/config/yaml.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <map>
+#include <set>
 
 namespace enact::config {
 namespace {
@@ -63,6 +65,28 @@ int line_count(const std::string& path) {
   return std::max(lines, 1);
 }
 
+// refuse a mapping that repeats a key, naming both lines; an aliased node is checked once
+void refuse_duplicate_keys(const std::string& file, const YAML::Node& node, std::set<std::size_t>& seen) {
+  if (!node.IsMap() && !node.IsSequence()) return;
+  if (!node.Mark().is_null() && !seen.insert(static_cast<std::size_t>(node.Mark().pos)).second) return;
+  if (node.IsSequence()) {
+    for (const auto& item : node) refuse_duplicate_keys(file, item, seen);
+    return;
+  }
+  std::map<std::string, int> first_line;
+  for (const auto& kv : node) {
+    if (kv.first.IsScalar()) {
+      const int line = kv.first.Mark().is_null() ? 0 : kv.first.Mark().line + 1;
+      const auto [it, fresh] = first_line.emplace(kv.first.Scalar(), line);
+      if (!fresh) {
+        fail(file, kv.first, "duplicate key '" + kv.first.Scalar() + "' (first on line " + std::to_string(it->second) + ")",
+             "keep one of the two lines: YAML would silently use only one value");
+      }
+    }
+    refuse_duplicate_keys(file, kv.second, seen);
+  }
+}
+
 }  // namespace
 
 void fail(const std::string& file, const YAML::Node& at, const std::string& problem, const std::string& fix) {
@@ -75,6 +99,8 @@ YAML::Node load_file(const std::string& path) {
   try {
     YAML::Node root = YAML::Load(in);
     if (!root.IsMap()) fail(path, root, "the file must be a YAML mapping (key: value lines)", "see the format in README.md");
+    std::set<std::size_t> seen;
+    refuse_duplicate_keys(path, root, seen);
     return root;
   } catch (const YAML::Exception& e) {
     const int open_line = unclosed_bracket_line(path);
@@ -92,7 +118,7 @@ Map::Map(const YAML::Node& node, std::string file, std::string what, std::initia
   if (!node_.IsMap()) config::fail(file_, node_, what_ + " must be a mapping (key: value)", "see the format in README.md");
   std::vector<std::string> allowed(keys.begin(), keys.end());
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = scalar(file_, kv.first, "a key in " + what_);
     bool known = false;
     for (const auto& a : allowed) known = known || a == key;
     if (!known) config::fail(file_, kv.first, "unknown key '" + key + "' in " + what_, "use one of: " + joined(allowed));
@@ -174,6 +200,11 @@ std::vector<YAML::Node> Map::list(const char* key) const {
 
 void Map::fail(const char* key, const std::string& problem, const std::string& fix) const {
   config::fail(file_, has(key) ? node_[key] : node_, problem, fix);
+}
+
+std::string scalar(const std::string& file, const YAML::Node& node, const std::string& what) {
+  if (!node.IsScalar()) fail(file, node, what + " must be a single word or string, got a list or a map", "write a plain name");
+  return node.Scalar();
 }
 
 std::vector<double> numbers(const std::string& file, const YAML::Node& node, std::size_t count, const std::string& what) {

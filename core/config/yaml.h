@@ -58,6 +58,9 @@ class Map {
   std::string what_;
 };
 
+// a scalar's text (a key, a name); a list or a map throws Error naming `what` and the line
+std::string scalar(const std::string& file, const YAML::Node& node, const std::string& what);
+
 // read a sequence of numbers of a fixed length (file:line errors)
 std::vector<double> numbers(const std::string& file, const YAML::Node& node, std::size_t count, const std::string& what);
 

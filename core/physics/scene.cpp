@@ -233,9 +233,10 @@ struct Loader {
     }
     if (!n.IsSequence()) m.fail("masses", "masses must be body, grid, center or a list of names", "write e.g. masses: [m1, m2]");
     for (const auto& item : n) {
-      const int i = model.find_point(item.as<std::string>());
-      if (i < 0) config::fail(file, item, "unknown mass '" + item.as<std::string>() + "' in contacts", "name a mass, or body/grid/center");
-      if (model.points[i].kind == PointKind::fixed) config::fail(file, item, "fixed point '" + item.as<std::string>() + "' cannot touch an object", "name a mass or a body mass");
+      const std::string name = config::scalar(file, item, "a mass in contacts");
+      const int i = model.find_point(name);
+      if (i < 0) config::fail(file, item, "unknown mass '" + name + "' in contacts", "name a mass, or body/grid/center");
+      if (model.points[i].kind == PointKind::fixed) config::fail(file, item, "fixed point '" + name + "' cannot touch an object", "name a mass or a body mass");
       out.push_back(i);
     }
     return out;
@@ -252,8 +253,9 @@ struct Loader {
       const double skin = m.positive("edge_skin_m", 0.001, true);
       const bool passive = m.flag("passive", false);
       for (const auto& o : objs) {
-        const int oi = model.find_object(o.as<std::string>());
-        if (oi < 0) config::fail(file, o, "unknown object '" + o.as<std::string>() + "'", "name an object defined under objects:");
+        const std::string name = config::scalar(file, o, "an object in contacts");
+        const int oi = model.find_object(name);
+        if (oi < 0) config::fail(file, o, "unknown object '" + name + "'", "name an object defined under objects:");
         for (int p : pts) model.contacts.push_back({p, oi, k, z, skin, m.line(), passive});
       }
     }

@@ -91,6 +91,19 @@ bool lz4_decompress(std::string_view in, std::string& out) {
   return ok && out_at == out.size() && in_at == in.size();
 }
 
+// the most `in` can decompress to: a single zstd frame says its size; otherwise the formats'
+// largest ratios bound it (zstd: a 4-byte RLE block gives a 128 KiB block; lz4: 255 bytes
+// per input byte)
+std::uint64_t most_from(std::string_view name, std::string_view in) {
+  if (name == "zstd") {
+    const unsigned long long declared = ZSTD_getFrameContentSize(in.data(), in.size());
+    const bool single = ZSTD_findFrameCompressedSize(in.data(), in.size()) == in.size();
+    if (single && declared != ZSTD_CONTENTSIZE_UNKNOWN && declared != ZSTD_CONTENTSIZE_ERROR) return declared;
+    return std::uint64_t{in.size()} * 32 * 1024;
+  }
+  return std::uint64_t{in.size()} * 255 + 64 * 1024;
+}
+
 }  // namespace
 
 bool decompress(std::string_view name, std::string_view in, std::uint64_t size, std::string& out) {
@@ -99,7 +112,7 @@ bool decompress(std::string_view name, std::string_view in, std::uint64_t size, 
     out.assign(in);
     return true;
   }
-  if (size > (std::uint64_t{1} << 34)) return false;  // 16 GiB: not a chunk we wrote or can hold
+  if (size > most_from(name, in)) return false;  // a damaged size: nothing is allocated for it
   out.resize(static_cast<std::size_t>(size));
   if (name == "zstd") {
     const std::size_t n = ZSTD_decompress(out.data(), out.size(), in.data(), in.size());

@@ -149,7 +149,10 @@ void Writer::flush() {
   });
   ci.length = out_.size();
   // one message index per channel with messages in the chunk, right after it
-  for (auto& [channel, entries] : message_index_) {
+  // (named pairs, not structured bindings: clang 14, the fuzz build's, cannot capture those)
+  for (auto& index : message_index_) {
+    const std::uint16_t channel = index.first;
+    auto& entries = index.second;
     if (entries.empty()) continue;
     ci.index_offsets.emplace_back(channel, offset_ + out_.size());
     append_record(out_, Op::message_index, [&](Out& o) {
@@ -298,11 +301,11 @@ void Writer::finish() {
     }
   });
   const std::uint64_t summary_offset_start = summary_start + s.size();
-  for (const auto& [op, where] : groups) {
+  for (const auto& offsets : groups) {
     append_record(s, Op::summary_offset, [&](Out& o) {
-      o.u8(static_cast<std::uint8_t>(op));
-      o.u64(where.first);
-      o.u64(where.second);
+      o.u8(static_cast<std::uint8_t>(offsets.first));
+      o.u64(offsets.second.first);
+      o.u64(offsets.second.second);
     });
   }
   // footer: the summary CRC covers the summary up to and including summary_offset_start

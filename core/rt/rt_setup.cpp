@@ -109,7 +109,8 @@ __attribute__((noinline)) std::size_t prefault_stack(std::size_t bytes) {
     std::size_t size = 0;
     pthread_attr_getstack(&attr, &low, &size);
     pthread_attr_destroy(&attr);
-    const auto here = reinterpret_cast<std::uintptr_t>(&attr);
+    // this frame's address, not a local's: under AddressSanitizer locals may live elsewhere
+    const auto here = reinterpret_cast<std::uintptr_t>(__builtin_frame_address(0));
     const auto room = here - reinterpret_cast<std::uintptr_t>(low);
     bytes = std::min(bytes, room > kStackMargin ? room - kStackMargin : 0);
   }

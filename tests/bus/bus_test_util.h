@@ -14,17 +14,6 @@ namespace enact::test {
 // generous bound for anything asynchronous (the machine is noisy; nothing here is timed)
 constexpr int kWait_ms = 2000;
 
-// polls `done` every millisecond until it holds, for up to `bound_ms`
-template <class Done>
-bool eventually(Done done, int bound_ms = kWait_ms) {
-  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(bound_ms);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > until) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  return true;
-}
-
 // a fresh endpoint to bind on `transport` ("inproc", "ipc" or "tcp")
 inline std::string bind_endpoint(const std::string& transport, const TempDir& dir) {
   static std::atomic<int> next = 0;

@@ -14,30 +14,9 @@
 
 #include "core/config/yaml.h"
 #include "core/devices/usb/fake.h"
+#include "tests/support/refusal.h"
 
 namespace enact::test {
-
-// true as soon as `done` holds; false when it did not within timeout_s
-inline bool eventually(const std::function<bool()>& done, double timeout_s = 10.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  return done();
-}
-
-// the config::Error message of f(); a test failure and "" when it did not throw one
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no config::Error";
-  return "";
-}
 
 // a fake bus with one emulated device of `backend`; the cable stays reachable
 template <class Emu>

@@ -11,6 +11,7 @@
 #include "core/config/yaml.h"
 #include "core/devices/simulated_force.h"
 #include "tests/support/alloc_guard.h"
+#include "tests/support/refusal.h"
 #include "tests/support/test_util.h"
 
 namespace enact::devices {
@@ -36,15 +37,7 @@ SubjectParams quiet() {
 HandFeel felt(const Vec3& handle, const Vec3& force = {}) { return {handle, {}, force}; }
 
 std::string error_of(const std::string& yaml) {
-  test::TempDir dir;
-  const std::string path = dir.file("subject.yaml");
-  test::write_file(path, yaml);
-  try {
-    load_subject(path);
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::error_of_file("subject.yaml", yaml, [](const std::string& path) { load_subject(path); });
 }
 
 TEST(VirtualSubject, FileValuesAreRead) {

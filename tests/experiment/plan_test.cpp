@@ -12,6 +12,7 @@
 
 #include "core/config/yaml.h"
 #include "tests/support/test_util.h"
+#include "tests/support/refusal.h"
 
 namespace enact::experiment {
 namespace {
@@ -26,15 +27,7 @@ std::string write_experiment(const test::TempDir& dir, const std::string& extra)
 }
 
 std::string error_of(const std::string& text) {
-  test::TempDir dir;
-  const std::string path = dir.file("bad.yaml");
-  test::write_file(path, text);
-  try {
-    load_experiment(path);
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::error_of_file("bad.yaml", text, [](const std::string& path) { load_experiment(path); });
 }
 
 TEST(Plan, BalancedOrderIsAWilliamsSquare) {

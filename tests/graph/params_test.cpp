@@ -4,6 +4,7 @@
 #include "core/config/yaml.h"
 #include "core/graph/components.h"
 #include "core/graph/params.h"
+#include "tests/support/refusal.h"
 
 namespace enact::graph {
 namespace {
@@ -14,14 +15,7 @@ NodeArgs parse(std::vector<std::string> words) {
   return parse_node_args(static_cast<int>(argv.size()), argv.data(), "node");
 }
 
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 TEST(NodeArgs, NameParamsAndComponents) {
   const NodeArgs a = parse({"enact-rt", "--name", "rt", "--component=sim:sim", "--param=sim.scene=s.yaml", "--param", "rate_hz=44000"});
@@ -33,7 +27,7 @@ TEST(NodeArgs, NameParamsAndComponents) {
 }
 
 TEST(NodeArgs, UnknownArgumentIsRefused) {
-  const std::string msg = refusal([] { parse({"x", "--rate", "5"}); });
+  const std::string msg = error_of([] { parse({"x", "--rate", "5"}); });
   EXPECT_NE(msg.find("--rate"), std::string::npos) << msg;
   EXPECT_NE(msg.find("fix:"), std::string::npos) << msg;
 }
@@ -43,9 +37,9 @@ TEST(Params, TypesAreChecked) {
   p.set("k", "abc");
   p.set("on", "maybe");
   p.set("v", "1,2");
-  EXPECT_NE(refusal([&] { p.number("k", 0.0); }).find("'k'"), std::string::npos);
-  EXPECT_NE(refusal([&] { p.flag("on", false); }).find("true or false"), std::string::npos);
-  EXPECT_NE(refusal([&] { p.vec3("v", {}); }).find("x,y,z"), std::string::npos);
+  EXPECT_NE(error_of([&] { p.number("k", 0.0); }).find("'k'"), std::string::npos);
+  EXPECT_NE(error_of([&] { p.flag("on", false); }).find("true or false"), std::string::npos);
+  EXPECT_NE(error_of([&] { p.vec3("v", {}); }).find("x,y,z"), std::string::npos);
   p.set("v", "0.1,0,-2e-3");
   EXPECT_EQ(p.vec3("v", {}), (physics::Vec3{0.1, 0.0, -2e-3}));
 }
@@ -53,7 +47,7 @@ TEST(Params, TypesAreChecked) {
 TEST(Params, ATypoIsRefusedListingTheKnownNames) {
   Params p("tactile");
   p.set("rise_time", "0.02");  // should be rise_time_s
-  const std::string msg = refusal([&] {
+  const std::string msg = error_of([&] {
     make_tactile_device(p);
     p.refuse_unread(kTactileParams);
   });
@@ -62,13 +56,13 @@ TEST(Params, ATypoIsRefusedListingTheKnownNames) {
 }
 
 TEST(Components, SimulatorNeedsAScene) {
-  EXPECT_NE(refusal([] { sim_params(Params("sim")); }).find("scene"), std::string::npos);
+  EXPECT_NE(error_of([] { sim_params(Params("sim")); }).find("scene"), std::string::npos);
 }
 
 TEST(Components, OnlySimulatedDevicesForNow) {
   Params p("ffd");
   p.set("device", "falcon-usb");
-  EXPECT_NE(refusal([&] { make_force_device(p); }).find("device=simulated"), std::string::npos);
+  EXPECT_NE(error_of([&] { make_force_device(p); }).find("device=simulated"), std::string::npos);
 }
 
 }  // namespace

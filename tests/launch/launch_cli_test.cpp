@@ -32,17 +32,6 @@ std::string sh_node(const std::string& name, const std::string& script, const st
   return yaml;
 }
 
-// true once `done()` holds, polling for up to timeout_s
-template <class Done>
-bool eventually(Done done, double timeout_s) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return true;
-}
-
 bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 bool gone(pid_t pid) { return kill(pid, 0) == -1 && errno == ESRCH; }
@@ -85,7 +74,7 @@ class Launcher {
   pid_t pid() const { return pid_; }
   std::string log() const { return exists(err_) ? read_file(err_) : ""; }
   bool wait_for_log(const std::string& text, double timeout_s) const {
-    return eventually([&] { return has(log(), text); }, timeout_s);
+    return eventually([&] { return has(log(), text); }, timeout_s, 20);
   }
   // its wait status, or -1 when it did not exit within timeout_s
   int wait_exit(double timeout_s) {

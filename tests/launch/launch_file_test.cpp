@@ -12,6 +12,7 @@
 #include "core/config/yaml.h"
 #include "core/launch/launch_file.h"
 #include "tests/support/test_util.h"
+#include "tests/support/refusal.h"
 
 namespace enact::launch {
 namespace {
@@ -49,12 +50,7 @@ class LoadLaunch : public ::testing::Test {
   }
   // the message of the refusal, "" when the file loads
   std::string refusal(const std::string& name, const Overrides& args = {}) {
-    try {
-      load(name, args);
-    } catch (const config::Error& e) {
-      return e.what();
-    }
-    return "";
+    return test::error_of([&] { load(name, args); });
   }
   // the refusal names "<file>:<line>:" and a fix
   void expect_refused_at(const std::string& name, int line, const Overrides& args = {}) {

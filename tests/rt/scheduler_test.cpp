@@ -13,18 +13,14 @@
 #include "core/config/yaml.h"
 #include "core/rt/clock.h"
 #include "tests/support/alloc_guard.h"
+#include "tests/support/refusal.h"
 
 namespace enact::rt {
 namespace {
 
 // the message of the config::Error thrown by building a scheduler with these params
 std::string error_of(SchedulerParams params) {
-  try {
-    PeriodicScheduler s(params);
-  } catch (const config::Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::error_of([&] { PeriodicScheduler s(params); });
 }
 
 TEST(SchedulerParams, RateOutOfRangeNamesTheFieldAndTheFix) {

@@ -1,7 +1,8 @@
 #pragma once
 // A malloc-counting guard: counts the heap allocations made by this thread while it is
 // alive (malloc, calloc, realloc, aligned allocations; operator new goes through malloc).
-// Linking this file into a test replaces the allocator entry points of the program.
+// Linking this file into a test replaces the allocator entry points of the program (under
+// AddressSanitizer it counts through the sanitizer's allocation hook instead).
 #include <cstddef>
 
 namespace enact::test {

@@ -1,22 +1,34 @@
 #pragma once
-// Test helpers: temporary directories, files, and running the enact command line.
+// Test helpers: temporary directories, files, bounded waits, and running the enact command
+// line. Refusals (the message of a config::Error): tests/support/refusal.h.
+#include <chrono>
+#include <filesystem>
 #include <string>
+#include <thread>
+
+#include "core/graph/temp_folder.h"
 
 namespace enact::test {
 
-// a fresh directory under $TMPDIR, removed with everything in it when destroyed
-class TempDir {
+// a fresh directory under $TMPDIR (enact-test-XXXXXX), removed with everything in it when
+// destroyed: the project's TempFolder with a test prefix
+class TempDir : public graph::TempFolder {
  public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-  std::string file(const std::string& name) const { return path_ + "/" + name; }
-
- private:
-  std::string path_;
+  TempDir() : TempFolder((std::filesystem::temp_directory_path() / "enact-test-").string()) {}
+  std::string file(const std::string& name) const { return path() + "/" + name; }
 };
+
+// true as soon as `done()` holds, polling every poll_ms; false when it did not within
+// timeout_s (a bound that only keeps a broken program from hanging the suite: nothing timed)
+template <class Done>
+bool eventually(Done&& done, double timeout_s = 10.0, int poll_ms = 1) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(poll_ms));
+  }
+  return true;
+}
 
 void write_file(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
