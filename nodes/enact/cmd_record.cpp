@@ -219,10 +219,9 @@ int record(int argc, char** argv) {
              [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
   logger.close();
   if (tty) std::fputs("\n", stderr);
-  if (graph_end.ended(rt::now_ns())) {
-    std::fprintf(stderr, "enact record: graph %s ended\n", target.name.c_str());
-  } else if (logger.graph_gone()) {
-    std::fputs("enact record: the graph is gone (its attach point closed the connection); file closed\n", stderr);
+  // its registry entry went, or its attach point closed the connection (an unregistered graph)
+  if (graph_end.ended(rt::now_ns()) || logger.graph_gone()) {
+    std::fprintf(stderr, "enact record: graph %s ended; file closed\n", (target.name.empty() ? target.endpoint : target.name).c_str());
   }
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;

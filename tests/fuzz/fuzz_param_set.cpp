@@ -61,10 +61,13 @@ struct Graph {
     for (int i = 0; i < 20; ++i) step();
   }
 
+  std::uint64_t state_seq = 0;
+
   void step() {
-    while (const auto change = port->next()) port->applied(simulator.apply(*change, time_ns, time_ns));
+    while (const auto change = port->next()) port->applied(simulator.apply(*change, time_ns));
     time_ns += 200'000;
     const sim::StepOutput& o = simulator.step(time_ns, {0.0, 0.0, 0.02});
+    port->stepped(simulator.steps(), ++state_seq, time_ns);
     if (!std::isfinite(o.force_n.x) || !std::isfinite(o.force_n.y) || !std::isfinite(o.force_n.z)) __builtin_trap();
   }
 };

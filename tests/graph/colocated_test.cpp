@@ -11,6 +11,7 @@
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/colocated.h"
 #include "core/haptics/computer_model.h"
+#include "core/haptics/device_profile.h"
 #include "core/sim/params.h"
 #include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
@@ -190,8 +191,8 @@ Felt walk(const std::vector<Request>& requests) {
 sim::ParamValue text_value(const std::string& v) { return {std::nullopt, v, std::nullopt}; }
 sim::ParamValue number_value(double v) { return {v, std::nullopt, std::nullopt}; }
 
-// the ERGOS's 5 N/ms at 5 kHz
-constexpr double kMaxStep_n = 1.0;
+// the ERGOS profile's force step limit over one 5 kHz tick (0.2 ms)
+const double kMaxStep_n = haptics::find_device_profile("ergos")->max_force_step_n_per_ms * 0.2;
 
 TEST(ColocatedNoJolt, EachKindOfChangeAloneNeverMakesTheHandFeelMore) {
   // the walk without changes peaks at 8.57 N (the first touch of the top); each kind of

@@ -17,8 +17,8 @@ struct Bad {
 
 TEST(LaunchCheck, BadParameterValuesAreRefusedBeforeAnythingStarts) {
   const std::string rt = source_path("launch/bridge_rt.yaml"), distributed = source_path("launch/bridge.yaml");
-  for (const Bad& b : {Bad{rt, "model=CM9", "unknown computer model 'CM9'"}, Bad{rt, "rate_hz=fast", "'rate_hz' must be a finite number"},
-                       Bad{rt, "rate_hz=100000", "rate_hz 100000 is out of range"}, Bad{distributed, "model=CM9", "unknown computer model 'CM9'"},
+  for (const Bad& b : {Bad{rt, "model=CM9", "unknown preset CM9"}, Bad{rt, "rate_hz=fast", "'rate_hz' must be a finite number"},
+                       Bad{rt, "rate_hz=100000", "rate_hz 100000 is out of range"}, Bad{distributed, "model=CM9", "unknown preset CM9"},
                        Bad{source_path("launch/replay_sim.yaml"), "recording=/nonexistent/run.mcap", "cannot open"}}) {
     for (const char* mode : {" --check", " --duration 5"}) {
       const RunResult r = enact("launch " + b.file + " --arg " + b.arg + mode);
