@@ -2,11 +2,14 @@
 """Attach to a running enact graph and print what it carries.
 
     attach_example.py ENDPOINT [TOPIC ...] [--count N] [--timeout S]
+                      [--key FILE.key --server-key FILE.pub]
 
 Connects a SUB socket to the attach endpoint the graph prints (e.g. tcp://127.0.0.1:40123),
 reads one GraphInfo from "graph/topics" to list the topics and load every message schema,
 then prints N messages of each TOPIC given, decoded from those schemas alone: no .proto
-files, no generated code. Needs python3-zmq and python3-protobuf (Debian).
+files, no generated code. For a graph launched with --access, --key (your secret key) and
+--server-key (the graph's public key) make the connection a CURVE client's (files made by
+`enact keys new`). Needs python3-zmq and python3-protobuf (Debian).
 Wire format and protocol: core/bus/README.md.
 """
 import argparse
@@ -48,6 +51,25 @@ def pool_from(descriptor_set):
     return pool
 
 
+def read_key(path):
+    """The key in an enact key file: the first line that is not a '#' comment (Z85)."""
+    with open(path, encoding="ascii") as f:
+        for line in f:
+            line = line.strip()
+            if line and not line.startswith("#"):
+                return line.encode()
+    sys.exit(f"{path}: holds no key (make one with `enact keys new NAME`)")
+
+
+def use_keys(sock, key_file, server_key_file):
+    """Makes `sock` a CURVE client: our secret key and its public key, the graph's public key."""
+    secret = read_key(key_file)
+    sock.curve_secretkey = secret
+    sock.curve_publickey = zmq.curve_public(secret)
+    server = read_key(server_key_file)
+    sock.curve_serverkey = zmq.curve_public(server) if server_key_file.endswith(".key") else server
+
+
 def receive(sub, topics, deadline):
     """The next (topic, type, payload) on one of `topics`, or None at the deadline.
 
@@ -72,11 +94,17 @@ def main():
     parser.add_argument("topics", nargs="*", help="topics to print (default: only list them)")
     parser.add_argument("--count", type=int, default=5, help="messages to print per topic (default 5)")
     parser.add_argument("--timeout", type=float, default=10.0, help="give up after this many seconds")
+    parser.add_argument("--key", help="your secret key (FILE.key), for a graph launched with --access")
+    parser.add_argument("--server-key", help="the graph's public key (FILE.pub)")
     args = parser.parse_args()
+    if (args.key is None) != (args.server_key is None):
+        parser.error("give both --key and --server-key, or neither")
     deadline = time.monotonic() + args.timeout
 
     sub = zmq.Context.instance().socket(zmq.SUB)
     sub.linger = 0
+    if args.key:
+        use_keys(sub, args.key, args.server_key)
     sub.connect(args.endpoint)
 
     # the graph: topics and schemas

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <set>
@@ -51,7 +52,7 @@ AccessClient client_from(const YAML::Node& node, const std::string& file) {
   const config::Map m(node, file, "client", {"name", "public_key", "public_key_file", "role"});
   AccessClient c;
   c.name = m.text("name");
-  if (c.name.empty() || c.name.find_first_of(" \t/") != std::string::npos) m.fail("name", "client name '" + c.name + "' is not one word", "name the key like its file, e.g. alice-laptop");
+  if (c.name.empty() || c.name.find_first_of(" \t/:") != std::string::npos) m.fail("name", "client name '" + c.name + "' is not one word", "name the key like its file, e.g. alice-laptop (no spaces, '/' or ':')");
   if (m.has("public_key") == m.has("public_key_file")) {
     m.fail("name", "client '" + c.name + "' needs exactly one of public_key and public_key_file", "give the key inline (public_key: <40 characters>) or its .pub file");
   }
@@ -203,6 +204,14 @@ Access load_access(const std::string& path) {
     a.clients.push_back(std::move(c));
   }
   return a;
+}
+
+OwnClientFiles add_own_client(Access& access, const std::string& dir, const std::string& name) {
+  const KeyPair pair = write_key_pair(dir, name);
+  access.clients.push_back({name, pair.public_z85, Role::observe});
+  OwnClientFiles files{dir + "/" + name + ".key", dir + "/server.pub"};
+  std::ofstream(files.server_key) << access.server_public_z85 << "\n";
+  return files;
 }
 
 CurveServer::CurveServer(zmq::socket_t& socket, const Access& access, LogFn log) : domain_(Zap::instance().add(access, std::move(log))) {

@@ -45,6 +45,16 @@ struct Access {
 // can read). Key file paths are relative to the access file's folder; ~/ is the home folder.
 Access load_access(const std::string& path);
 
+// the key files of a graph's own observers (enact-logger in its launch file)
+struct OwnClientFiles {
+  std::string key;         // its secret key, for $ENACT_KEY
+  std::string server_key;  // the graph's public key, for $ENACT_SERVER_KEY
+};
+
+// gives the graph's own observers a key: a fresh pair in `dir` (a private folder), listed in
+// `access` as client `name`, role observe, and the graph's public key beside it
+OwnClientFiles add_own_client(Access& access, const std::string& dir, const std::string& name);
+
 // where messages for people go (the launcher's log: stderr)
 using LogFn = std::function<void(const std::string&)>;
 

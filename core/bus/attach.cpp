@@ -289,7 +289,7 @@ void AttachPoint::refuse_inbound(const std::vector<zmq::message_t>& frames, cons
   h.set_source(kSource);
   ack.set_request_id(update.request_id());
   ack.set_applied(false);
-  ack.set_reason(update.name() + ": refused: " + reason);
+  ack.set_reason(reason);
   const std::string payload = ack.SerializeAsString();
   const std::string& type = msgs::ParamAck::descriptor()->full_name();
   constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;

@@ -42,7 +42,7 @@ std::string explain(int event, int value, const std::string& endpoint, bool keye
       [[fallthrough]];
     default:
       return keyed ? where + "the CURVE handshake failed: --server-key is not this graph's public key, or the graph refused the key\n  fix: give the .pub file of the key named server_key in the graph's access file"
-                   : where + "the handshake failed (the graph may require keys)\n  fix: give --key YOUR.key and --server-key GRAPH.pub";
+                   : where + "the handshake failed: the graph requires keys (launched with --access)\n  fix: give --key YOUR.key and --server-key GRAPH.pub";
   }
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/record/writer.h"
 #include "core/launch/launch_file.h"
 #include "msgs/common.pb.h"
@@ -23,6 +24,7 @@ namespace enact::graph {
 
 struct LoggerOptions {
   std::string attach;                    // attach endpoint; "" = $ENACT_ATTACH, else the last local graph's
+  bus::ClientKeys keys;                  // for a graph with an access file (bus::client_keys)
   std::string output = "recording.mcap";  // file; with splitting, NAME_000.mcap, NAME_001.mcap, ...
   std::vector<std::string> topics;       // topics to keep; empty = every topic of the graph
   record::WriterOptions writer;          // compression, chunk size and duration (the kill -9 loss bound)

@@ -117,7 +117,7 @@ int run_viewer(const ViewerOptions& o) {
   SceneInUse scene(o);
   Window window("enact viewer", o.width, o.height, !o.snapshot.empty());
   ViewModel model;
-  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.attach, "viewer");
+  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.attach, "viewer", o.keys);
   if (playback) {
     scene.offer(playback->scene());
     playback->seek(o.at_s >= 0.0 ? static_cast<std::int64_t>(o.at_s * 1e9) : 0, model);

@@ -4,10 +4,13 @@
 // one snapshot of either and exit.
 #include <string>
 
+#include "core/bus/client.h"
+
 namespace enact::viewer {
 
 struct ViewerOptions {
   std::string attach;       // the attach point's endpoint; "" follows the attach file
+  bus::ClientKeys keys;     // for a graph launched with an access file (none: plain)
   std::string recording;    // an MCAP recording to play instead of attaching ("" : live)
   std::string scene;        // the scene file; "" : the one the graph (or recording) names
   std::string sim;          // the simulator's name; "" : the one the graph names, else "sim"

@@ -37,10 +37,13 @@ struct GraphLink::Connection {
   msgs::ParamAck ack_msg;
   msgs::GraphInfo graph_msg;
 
-  Connection(const std::string& endpoint, const std::string& source) : params(endpoint, source) { bytes.connect(endpoint); }
+  Connection(const std::string& endpoint, const std::string& source, const bus::ClientKeys& keys) : params(endpoint, source, keys) {
+    bus::attach_connect(bytes.socket(), endpoint, keys);
+  }
 };
 
-GraphLink::GraphLink(std::string endpoint, std::string source) : follow_file_(endpoint.empty()), source_(std::move(source)) {
+GraphLink::GraphLink(std::string endpoint, std::string source, bus::ClientKeys keys)
+    : follow_file_(endpoint.empty()), source_(std::move(source)), keys_(std::move(keys)) {
   if (!follow_file_) connect(endpoint);
 }
 
@@ -49,7 +52,7 @@ GraphLink::~GraphLink() = default;
 void GraphLink::connect(const std::string& endpoint) {
   connection_.reset();
   endpoint_ = endpoint;
-  if (!endpoint.empty()) connection_ = std::make_unique<Connection>(endpoint, source_);
+  if (!endpoint.empty()) connection_ = std::make_unique<Connection>(endpoint, source_, keys_);
 }
 
 bool GraphLink::follow(std::int64_t now_ns) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/bus/typed.h"
 #include "core/graph/param_bus.h"
 #include "core/viewer/view_model.h"
@@ -26,8 +27,8 @@ namespace enact::viewer {
 class GraphLink {
  public:
   // `endpoint`: the attach point's ("" follows graph::attach_file()); `source` names the
-  // viewer in the headers of what it sends
-  GraphLink(std::string endpoint, std::string source);
+  // viewer in the headers of what it sends; `keys` for a graph with an access file
+  GraphLink(std::string endpoint, std::string source, bus::ClientKeys keys = {});
   ~GraphLink();
   GraphLink(const GraphLink&) = delete;
   GraphLink& operator=(const GraphLink&) = delete;
@@ -54,6 +55,7 @@ class GraphLink {
 
   bool follow_file_;
   std::string source_;
+  bus::ClientKeys keys_;
   std::string endpoint_;
   std::int64_t next_look_ns_ = 0;
   std::unique_ptr<Connection> connection_;

@@ -3,12 +3,13 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/config/yaml.h"
 #include "core/viewer/app.h"
 #include "nodes/enact/args.h"
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact-viewer [--attach ENDPOINT] [--scene FILE] [--sim NAME]
+constexpr const char* kHelp = R"(usage: enact-viewer [--attach ENDPOINT [--key FILE.key --server-key FILE.pub]] [--scene FILE] [--sim NAME]
                     [--snapshot OUT.png [--after SECONDS]] [--size WxH]
        enact-viewer FILE.mcap [--at SECONDS] [--scene FILE] [--snapshot OUT.png [--after SECONDS]]
 
@@ -26,7 +27,8 @@ timeline: play, pause, seek, speed (keys: space, ',' '.' 5 s back / on, '<' '>' 
 
 options:
   --attach ENDPOINT  the graph's attach point (printed by `enact launch`; from another
-                     machine: tcp://HOST:PORT of a graph launched with --allow-remote).
+                     machine: tcp://HOST:PORT of a graph launched with --allow-remote
+                     and --access).
                      Default: the last graph launched on this machine, followed: a viewer
                      started first waits, and connects when the graph appears
   --scene FILE       the scene to draw (default: the one the graph's launch names, or the
@@ -36,6 +38,9 @@ options:
   --at SECONDS       recording: start there, paused (default: play from the start)
   --snapshot OUT.png render, write OUT.png, print what it shows, exit
   --after SECONDS    when to take the snapshot, from the start (default 2)
+  --key FILE.key     your secret key, for a graph launched with --access (default $ENACT_KEY)
+  --server-key FILE.pub  the graph's public key (default $ENACT_SERVER_KEY; README,
+                     "Remote access")
   --size WxH         window size in pixels (default 1280x800)
   --fps N            frames drawn per second at most (default 60; the scene comes at 60 Hz;
                      with software OpenGL a lower rate saves processor time)
@@ -47,7 +52,7 @@ int main(int argc, char** argv) {
   using enact::cli::UsageError;
   enact::viewer::ViewerOptions o;
   try {
-    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at", "fps"}, {});
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"attach", "scene", "sim", "snapshot", "after", "size", "at", "fps", "key", "server-key"}, {});
     if (a.flag("help")) {
       std::fputs(kHelp, stdout);
       return 0;
@@ -57,6 +62,8 @@ int main(int argc, char** argv) {
     if (!o.recording.empty() && a.has("attach")) throw UsageError("give a recording or --attach, not both");
     if (o.recording.empty() && a.has("at")) throw UsageError("--at is for a recording");
     o.attach = a.get("attach");
+    if (!o.recording.empty() && (a.has("key") || a.has("server-key"))) throw UsageError("--key and --server-key are for a live graph, not a recording");
+    o.keys = enact::bus::client_keys(a.get("key"), a.get("server-key"));
     o.scene = a.get("scene");
     o.sim = a.get("sim");
     o.at_s = a.number("at", -1.0);
@@ -72,6 +79,9 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "enact-viewer: %s\n  (enact-viewer --help lists the options)\n", e.what());
     return 2;
+  } catch (const enact::config::Error& e) {
+    std::fprintf(stderr, "enact-viewer: error: %s\n", e.what());
+    return 1;
   }
   try {
     return enact::viewer::run_viewer(o);

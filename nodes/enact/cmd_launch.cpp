@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "core/bus/attach.h"
 #include "core/graph/logger.h"
@@ -21,7 +22,7 @@ namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--duration S] [--ready-timeout S] [--check]
-                         [--attach ENDPOINT [--allow-remote]]
+                         [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
 
 Run a graph from a YAML launch file (format: README.md, "Launch files"): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
@@ -39,9 +40,10 @@ options:
   --check            load and print the plan, start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
                      port; printed, and kept in /tmp/enact-<uid>/attach for `enact topic`)
-  --allow-remote     allow an --attach endpoint other machines can reach (no authentication
-                     yet: anyone who reaches the port sees every topic and can send
-                     param/set)
+  --access FILE      who may attach (README, "Remote access"; launch/access.example.yaml):
+                     the attach point then takes only the listed keys, encrypted (CURVE),
+                     and param/set only from operate keys, each at its rate limit
+  --allow-remote     allow an --attach endpoint other machines can reach (needs --access)
 
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end.
@@ -64,12 +66,15 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach"}, {"check", "allow-remote"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "access"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one launch file");
+  if (a.flag("allow-remote") && !a.has("access")) throw UsageError("--allow-remote needs --access ACCESS.yaml: without keys anyone who reaches the port could change the forces on a hand");
+  std::optional<bus::Access> access;
+  if (a.has("access")) access = bus::load_access(a.get("access"));
   launch::SupervisorOptions options;
   options.duration_s = a.number("duration", 0.0);
   options.ready_timeout_s = a.number("ready-timeout", options.ready_timeout_s);
@@ -93,6 +98,14 @@ int launch(int argc, char** argv) {
   bus::AttachOptions attach_options;
   attach_options.bind_endpoint = a.get("attach", attach_options.bind_endpoint);
   attach_options.allow_remote = a.flag("allow-remote");
+  // with keys, the graph's own observers (enact-logger) get one too, in the private folder
+  if (access) {
+    const bus::OwnClientFiles own = bus::add_own_client(*access, dir, "graph:observer");
+    options.env.push_back({bus::kKeyEnv, own.key});
+    options.env.push_back({bus::kServerKeyEnv, own.server_key});
+    std::cerr << "enact launch: access from " << access->file << ": " << access->clients.size() - 1 << " client keys; graph key " << access->server_public_z85 << "\n";
+  }
+  attach_options.access = std::move(access);
   // observers may send parameter changes; the nodes find them at the inbound publisher
   attach_options.inbound_endpoint = bus::ipc_endpoint(dir, graph::kInboundNode);
   attach_options.inbound_topics = {graph::kParamSet};

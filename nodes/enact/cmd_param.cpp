@@ -12,7 +12,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--attach ENDPOINT]
+constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
 
 Send a parameter change to a running graph on param/set, through its attach point, and wait
 for the simulator's answer on param/ack: prints "applied" (exit 0) or "refused: REASON"
@@ -33,18 +33,20 @@ launched on this machine (/tmp/enact-<uid>/attach).
 }  // namespace
 
 int param(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"attach"}, {});
+  const Args a = parse(argc, argv, 2, {"attach", "key", "server-key"}, {});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
+    std::fputs(kKeyHelp, a.flag("help") ? stdout : stderr);
     return a.flag("help") ? 0 : 2;
   }
   if (a.positional[0] != "set" || a.positional.size() != 3) throw UsageError("use: enact param set NAME VALUE");
   const std::string endpoint = attach_endpoint(a);
+  const bus::ClientKeys keys = attach_keys(a);
   // the answer comes on param/ack, through the same attach point
   bus::ByteSubscriber acks_bytes;
   bus::Subscriber<msgs::ParamAck> acks(acks_bytes, graph::kParamAck);
-  acks_bytes.connect(endpoint);
-  graph::ParamClient client(endpoint, "enact-param");
+  bus::attach_connect(acks_bytes.socket(), endpoint, keys);
+  graph::ParamClient client(endpoint, "enact-param", keys);
   msgs::ParamUpdate update;
   update.set_name(a.positional[1]);
   graph::set_value(update, a.positional[2]);

@@ -26,7 +26,7 @@ namespace {
 
 constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--split-size MB | --split-duration S]
                     [--compression zstd|lz4|none] [--chunk-duration S] [--attach ENDPOINT]
-                    [--duration S] [--wait S]
+                    [--duration S] [--wait S] [--key FILE.key --server-key FILE.pub]
 
 Attach to a running graph (the last one started here, or --attach ENDPOINT, also on another
 machine) and keep every message of its topics in an MCAP file, until Ctrl-C / SIGTERM (or
@@ -152,9 +152,10 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "attach", "duration", "wait", "key", "server-key"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
+    std::fputs(kKeyHelp, stdout);
     return 0;
   }
   if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "' (the file goes after -o)");
@@ -172,6 +173,7 @@ int record(int argc, char** argv) {
   o.split_size_mb = a.number("split-size", 0.0);
   o.split_duration_s = a.number("split-duration", 0.0);
   o.attach = a.get("attach", "");
+  o.keys = attach_keys(a);
   o.wait_s = a.number("wait", 10.0);
   const double duration_s = a.number("duration", 0.0);
   if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0 || o.split_duration_s < 0 || duration_s < 0 || o.wait_s < 0) {

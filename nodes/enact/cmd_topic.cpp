@@ -36,9 +36,9 @@ std::atomic<bool> g_stop{false};
 void on_stop(int) { g_stop.store(true); }
 
 // the graph's topics, from its attach point
-msgs::GraphInfo graph_info(const std::string& endpoint) {
+msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& keys) {
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(std::string(bus::kGraphTopic));
   msgs::GraphInfo info;
   const std::int64_t give_up = rt::now_ns() + 3'000'000'000;
@@ -58,8 +58,8 @@ std::string type_of(const msgs::GraphInfo& info, const std::string& topic) {
   throw UsageError("the graph has no topic '" + topic + "' (topics: " + names + ")");
 }
 
-int list(const std::string& endpoint) {
-  const msgs::GraphInfo info = graph_info(endpoint);
+int list(const std::string& endpoint, const bus::ClientKeys& keys) {
+  const msgs::GraphInfo info = graph_info(endpoint, keys);
   std::printf("graph %s at %s\n", info.graph().c_str(), endpoint.c_str());
   for (const auto& t : info.topics()) std::printf("  %-16s %-28s %s\n", t.name().c_str(), t.type().c_str(), t.publisher().c_str());
   return 0;
@@ -80,11 +80,11 @@ std::pair<std::string, std::uint64_t> header_of(const google::protobuf::Message&
   return {h.source(), h.seq()};
 }
 
-int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo, long count, double duration_s) {
-  const std::string type = type_of(graph_info(endpoint), topic);
+int echo_or_hz(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& topic, bool echo, long count, double duration_s) {
+  const std::string type = type_of(graph_info(endpoint, keys), topic);
   auto msg = make(type);
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(topic);
   std::map<std::string, std::uint64_t> last_seq;
   std::uint64_t received = 0, lost = 0, window = 0;
@@ -128,19 +128,23 @@ std::string attach_endpoint(const Args& a) {
   return endpoint;
 }
 
+bus::ClientKeys attach_keys(const Args& a) { return bus::client_keys(a.get("key"), a.get("server-key")); }
+
 int topic(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"attach", "count", "duration"}, {});
+  const Args a = parse(argc, argv, 2, {"attach", "count", "duration", "key", "server-key"}, {});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
+    std::fputs(kKeyHelp, a.flag("help") ? stdout : stderr);
     return a.flag("help") ? 0 : 2;
   }
   signal(SIGINT, on_stop);
   signal(SIGTERM, on_stop);
   const std::string& verb = a.positional[0];
   const std::string endpoint = attach_endpoint(a);
-  if (verb == "list" && a.positional.size() == 1) return list(endpoint);
+  const bus::ClientKeys keys = attach_keys(a);
+  if (verb == "list" && a.positional.size() == 1) return list(endpoint, keys);
   if ((verb == "echo" || verb == "hz") && a.positional.size() == 2) {
-    return echo_or_hz(endpoint, a.positional[1], verb == "echo", static_cast<long>(a.number("count", 0.0)), a.number("duration", 0.0));
+    return echo_or_hz(endpoint, keys, a.positional[1], verb == "echo", static_cast<long>(a.number("count", 0.0)), a.number("duration", 0.0));
   }
   throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC");
 }

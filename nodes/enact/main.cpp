@@ -30,6 +30,7 @@ commands:
   resim FILE        rerun a recording's device states through the simulator, compare
   devices           the supported USB devices on this machine (Novint Falcon, Metec cells)
   param set NAME VALUE  change a parameter of a running graph (answered: applied or refused)
+  keys new|show     CURVE keys for remote access (graphs launched with --access)
   experiment FILE   run an experiment's trials (virtual subjects or people), resumable
   metrics FILE      a trial's metrics recomputed from its recording
 
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
     if (command == "resim") return enact::cli::resim(argc, argv);
     if (command == "devices") return enact::cli::devices(argc, argv);
     if (command == "param") return enact::cli::param(argc, argv);
+    if (command == "keys") return enact::cli::keys(argc, argv);
     if (command == "experiment") return enact::cli::experiment_run(argc, argv);
     if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
