@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -120,6 +121,22 @@ TEST_F(Keyed, AccessFileErrorsNameTheLineAndTheFix) {
   EXPECT_EQ(a.server_public_z85, server_.public_z85);
   EXPECT_EQ(a.find("alice")->role, bus::Role::operate);
   EXPECT_EQ(a.find("bob")->public_z85, bob_.public_z85);
+}
+
+TEST_F(Keyed, TheShippedExampleLoadsWithKeysInTheHomeFolder) {
+  // its paths start at ~/.config/enact/keys: make those keys in a home of our own
+  const std::string home = std::getenv("HOME") ? std::getenv("HOME") : "";
+  setenv("HOME", dir_.path().c_str(), 1);
+  bus::write_key_pair(dir_.path() + "/.config/enact/keys", "lab-graph");
+  const bus::KeyPair logger = bus::write_key_pair(dir_.path() + "/.config/enact/keys", "lab-logger");
+  const std::string error = error_of([&] {
+    const bus::Access a = bus::load_access(enact::test::source_path("launch/access.example.yaml"));
+    ASSERT_EQ(a.clients.size(), 2u);
+    EXPECT_EQ(a.find("lab-logger")->public_z85, logger.public_z85);
+    EXPECT_EQ(a.find("experimenter-laptop")->role, bus::Role::operate);
+  });
+  setenv("HOME", home.c_str(), 1);
+  EXPECT_EQ(error, "");
 }
 
 TEST_F(Keyed, RemoteBindNeedsAnAccessFile) {
