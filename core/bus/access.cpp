@@ -251,16 +251,17 @@ Verdict InboundGate::check(std::string_view key_name, Clock::time_point now) {
   const AccessClient* client = access_.find(key_name);
   if (!client) return {false, "no client key", false};
   // a token bucket per client: inbound_rate_per_s tokens a second, one second's worth at most
-  Bucket& b = buckets_.try_emplace(client->name, Bucket{access_.inbound_rate_per_s, now, {}, 0}).first->second;
+  Bucket& b = buckets_.try_emplace(client->name, Bucket{access_.inbound_rate_per_s, now, {}}).first->second;
   b.tokens = std::min(access_.inbound_rate_per_s, b.tokens + std::chrono::duration<double>(now - b.last).count() * access_.inbound_rate_per_s);
   b.last = now;
   if (b.tokens < 1.0) {
     ++dropped_[client->name];
-    ++b.unlogged;
     if (now - b.logged >= kLogPeriod) {
-      if (log_) log_("dropped " + std::to_string(b.unlogged) + " inbound messages from key '" + client->name + "': over " + std::to_string(static_cast<int>(access_.inbound_rate_per_s)) + " per second");
+      if (log_) {
+        log_("dropping inbound messages from key '" + client->name + "' beyond " + std::to_string(static_cast<int>(access_.inbound_rate_per_s)) + " per second: " +
+             std::to_string(dropped_[client->name]) + " dropped so far (said again at most once a minute)");
+      }
       b.logged = now;
-      b.unlogged = 0;
     }
     return {false, "over the inbound rate limit", false};
   }

@@ -108,7 +108,6 @@ class InboundGate {
     double tokens = 0.0;
     std::chrono::steady_clock::time_point last{};
     std::chrono::steady_clock::time_point logged{};
-    std::uint64_t unlogged = 0;  // dropped since the last log line
   };
 
   const Access& access_;
