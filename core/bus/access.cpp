@@ -127,21 +127,12 @@ class Zap {
 
   // one request: version, request id, domain, address, identity, mechanism, credentials
   void answer() {
-    std::vector<std::string> frames;
-    zmq::message_t frame;
-    do {
-      if (!socket_.recv(frame)) return;
-      frames.push_back(frame.to_string());
-    } while (frame.more());
+    const std::vector<std::string> frames = receive_frames(socket_);
     std::string status = "400", text = "unknown key", user;
     if (frames.size() == 7 && frames[0] == "1.0" && frames[5] == "CURVE") user = decide(frames[2], frames[3], frames[6], status, text);
     else if (frames.size() >= 2 && frames[0] == "1.0") text = "only CURVE is accepted";
     // reply: version, request id, status code, status text, user id, metadata
-    const std::string id = frames.size() >= 2 ? frames[1] : "";
-    const std::string parts[] = {"1.0", id, status, text, user, ""};
-    for (std::size_t i = 0; i < 6; ++i) {
-      (void)socket_.send(zmq::buffer(parts[i]), i + 1 < 6 ? zmq::send_flags::sndmore : zmq::send_flags::none);
-    }
+    send_frames(socket_, {"1.0", frames.size() >= 2 ? frames[1] : "", status, text, user, ""});
   }
 
   // the client's name when its key is allowed in `domain`; else logs the refusal (once a minute per key)

@@ -36,26 +36,6 @@ std::string control_endpoint() {
   return "inproc://enact.bus.attach." + std::to_string(next++);
 }
 
-// sends every frame of a message, the last without sndmore
-void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames) {
-  std::size_t i = 0;
-  for (const std::string_view f : frames) {
-    const bool last = ++i == frames.size();
-    (void)socket.send(zmq::const_buffer(f.data(), f.size()), last ? zmq::send_flags::none : zmq::send_flags::sndmore);
-  }
-}
-
-// every frame of the next message (blocking)
-std::vector<std::string> receive_frames(zmq::socket_t& socket) {
-  std::vector<std::string> frames;
-  zmq::message_t frame;
-  do {
-    if (!socket.recv(frame)) break;
-    frames.push_back(frame.to_string());
-  } while (frame.more());
-  return frames;
-}
-
 }  // namespace
 
 AttachPoint::AttachPoint(std::string graph, AttachOptions options)
@@ -290,12 +270,15 @@ void AttachPoint::refuse_inbound(const std::vector<zmq::message_t>& frames, cons
   ack.set_request_id(update.request_id());
   ack.set_applied(false);
   ack.set_reason(reason);
-  const std::string payload = ack.SerializeAsString();
-  const std::string& type = msgs::ParamAck::descriptor()->full_name();
+  publish_own(refused_ack_topic_, msgs::ParamAck::descriptor()->full_name(), ack.SerializeAsString());
+}
+
+void AttachPoint::publish_own(std::string_view topic, const std::string& type, const std::string& payload) {
   constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
-  if (!xpub_.send(zmq::buffer(refused_ack_topic_), more)) return;
-  (void)xpub_.send(zmq::buffer(type), more);
-  (void)xpub_.send(zmq::buffer(payload), zmq::send_flags::dontwait);
+  // nobody subscribed or a full queue: this one is skipped
+  if (!xpub_.send(zmq::const_buffer(topic.data(), topic.size()), more)) return;
+  (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
+  (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
 }
 
 void AttachPoint::publish_graph() {
@@ -319,13 +302,8 @@ void AttachPoint::publish_graph() {
     *info.mutable_params() = launch_.params();
     *info.mutable_files() = launch_.files();
   }
-  const std::string payload = info.SerializeAsString();
-  const std::string& type = msgs::GraphInfo::descriptor()->full_name();
-  constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
-  // nobody subscribed or a full queue: this one is skipped, the next one follows in a period
-  if (!xpub_.send(zmq::const_buffer(kGraphTopic.data(), kGraphTopic.size()), more)) return;
-  (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
-  (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+  // skipped when nobody subscribed or the queue is full: the next one follows in a period
+  publish_own(kGraphTopic, msgs::GraphInfo::descriptor()->full_name(), info.SerializeAsString());
 }
 
 AttachSender::AttachSender(const std::string& endpoint, std::string source, const ClientKeys& keys)

@@ -117,6 +117,8 @@ class AttachPoint {
   void relay_inbound(zmq::message_t& first);
   void refuse_inbound(const std::vector<zmq::message_t>& frames, const std::string& reason);
   void publish_graph();
+  // a message of the attach point's own to the observers (dropped when none subscribed)
+  void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
 
   std::string graph_;
   std::string endpoint_;
