@@ -2,6 +2,7 @@
 """Attach to a running enact graph and print what it carries.
 
     attach_example.py [--graph NAME | --attach ENDPOINT] [TOPIC ...] [--count N] [--timeout S]
+                      [--key FILE.key --server-key FILE.pub]
 
 Finds the graph like every enact tool (README, "Graphs by name"): --graph NAME in this
 user's registry of running graphs, --attach ENDPOINT as printed by the graph (e.g.
@@ -9,7 +10,9 @@ tcp://127.0.0.1:40123; a first positional argument with "://" is taken as one to
 only graph running (several: they are listed, exit 2; none: it waits for one). It prints
 the graph and endpoint it attached to, connects a SUB socket there, reads one GraphInfo from "graph/topics" to list the topics and load every message schema,
 then prints N messages of each TOPIC given, decoded from those schemas alone: no .proto
-files, no generated code. Needs python3-zmq and python3-protobuf (Debian).
+files, no generated code. For a graph launched with --access, --key (your secret key) and
+--server-key (the graph's public key) make the connection a CURVE client's (files made by
+`enact keys new`). Needs python3-zmq and python3-protobuf (Debian).
 Wire format and protocol: core/bus/README.md.
 """
 import argparse
@@ -52,6 +55,25 @@ def pool_from(descriptor_set):
     for file_proto in descriptor_pb2.FileDescriptorSet.FromString(descriptor_set).file:
         pool.Add(file_proto)  # the files come after the files they import
     return pool
+
+
+def read_key(path):
+    """The key in an enact key file: the first line that is not a '#' comment (Z85)."""
+    with open(path, encoding="ascii") as f:
+        for line in f:
+            line = line.strip()
+            if line and not line.startswith("#"):
+                return line.encode()
+    sys.exit(f"{path}: holds no key (make one with `enact keys new NAME`)")
+
+
+def use_keys(sock, key_file, server_key_file):
+    """Makes `sock` a CURVE client: our secret key and its public key, the graph's public key."""
+    secret = read_key(key_file)
+    sock.curve_secretkey = secret
+    sock.curve_publickey = zmq.curve_public(secret)
+    server = read_key(server_key_file)
+    sock.curve_serverkey = zmq.curve_public(server) if server_key_file.endswith(".key") else server
 
 
 def receive(sub, topics, deadline):
@@ -128,7 +150,11 @@ def main():
     parser.add_argument("--attach", help="an attach endpoint, e.g. tcp://127.0.0.1:40123")
     parser.add_argument("--count", type=int, default=5, help="messages to print per topic (default 5)")
     parser.add_argument("--timeout", type=float, default=10.0, help="give up after this many seconds")
+    parser.add_argument("--key", help="your secret key (FILE.key), for a graph launched with --access")
+    parser.add_argument("--server-key", help="the graph's public key (FILE.pub)")
     args = parser.parse_args()
+    if (args.key is None) != (args.server_key is None):
+        parser.error("give both --key and --server-key, or neither")
     if not args.attach and args.topics and "://" in args.topics[0]:
         args.attach = args.topics.pop(0)
     if args.graph and args.attach:
@@ -140,6 +166,8 @@ def main():
 
     sub = zmq.Context.instance().socket(zmq.SUB)
     sub.linger = 0
+    if args.key:
+        use_keys(sub, args.key, args.server_key)
     sub.connect(args.endpoint)
 
     # the graph: topics and schemas

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <chrono>
 #include <exception>
+#include <iostream>
 #include <stdexcept>
 
 #include "core/bus/context.h"
@@ -13,6 +14,7 @@
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
 #include "msgs/graph.pb.h"
+#include "msgs/param_update.pb.h"
 
 namespace enact::bus {
 namespace {
@@ -36,26 +38,6 @@ std::string control_endpoint() {
   return "inproc://enact.bus.attach." + std::to_string(next++);
 }
 
-// sends every frame of a message, the last without sndmore
-void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames) {
-  std::size_t i = 0;
-  for (const std::string_view f : frames) {
-    const bool last = ++i == frames.size();
-    (void)socket.send(zmq::const_buffer(f.data(), f.size()), last ? zmq::send_flags::none : zmq::send_flags::sndmore);
-  }
-}
-
-// every frame of the next message (blocking)
-std::vector<std::string> receive_frames(zmq::socket_t& socket) {
-  std::vector<std::string> frames;
-  zmq::message_t frame;
-  do {
-    if (!socket.recv(frame)) break;
-    frames.push_back(frame.to_string());
-  } while (frame.more());
-  return frames;
-}
-
 }  // namespace
 
 AttachPoint::AttachPoint(std::string graph, AttachOptions options)
@@ -68,14 +50,16 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
       inbound_(make_socket(zmq::socket_type::pub)),
       inbound_topics_(options.inbound_topics),
       latched_topics_(options.latched_topics),
+      access_(std::move(options.access)),
+      refused_ack_topic_(options.refused_ack_topic),
       descriptor_set_(msgs_descriptor_set()) {
   // refuse a bad or exposed endpoint before binding it
   const std::string& bind = options.bind_endpoint;
   validate_endpoint(bind, "attach endpoint");
-  if (!is_local(bind) && !options.allow_remote) {
-    throw config::Error("attach endpoint '" + bind +
-                        "': other machines can reach it, and observers are not authenticated yet\n"
-                        "  fix: bind tcp://127.0.0.1:PORT (or ipc://PATH), or set allow_remote to expose every topic");
+  if (!is_local(bind) && !(options.allow_remote && access_)) {
+    throw config::Error("attach endpoint '" + bind + "': other machines can reach it" +
+                        (access_ ? ", and allow_remote is not set" : ", and there is no access file: anyone could see every topic and change parameters") +
+                        "\n  fix: bind tcp://127.0.0.1:PORT (or ipc://PATH), or set allow_remote with an access file (enact launch --allow-remote --access ACCESS.yaml)");
   }
   if (graph_period_ms_ < 1) {
     throw config::Error("attach point: graph_period_ms must be >= 1, got " + std::to_string(graph_period_ms_) +
@@ -88,6 +72,12 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
   // observer that pauses (a logger compressing a chunk) loses nothing
   xpub_.set(zmq::sockopt::sndhwm, kObserverQueue);
   xsub_.set(zmq::sockopt::rcvhwm, kObserverQueue);
+  // with an access file, only its keys connect, and what they send passes its gate
+  if (access_) {
+    LogFn log = options.log ? options.log : [](const std::string& line) { std::cerr << "attach point: " << line << "\n"; };
+    curve_ = std::make_unique<CurveServer>(xpub_, *access_, log);
+    gate_ = std::make_unique<InboundGate>(*access_, log);
+  }
   try {
     xpub_.bind(bind);
   } catch (const zmq::error_t& e) {
@@ -267,6 +257,16 @@ void AttachPoint::relay_inbound(zmq::message_t& first) {
   if (frames.size() != 3) return;
   const std::string_view topic = frames[0].to_string_view();
   if (std::find(inbound_topics_.begin(), inbound_topics_.end(), topic) == inbound_topics_.end()) return;
+  // with keys: the sender's role and rate decide; what passes names its key (audit trail)
+  const std::string key(sender_key(frames[0]));
+  if (gate_) {
+    const Verdict v = gate_->check(key, Clock::now());
+    if (!v.pass) {
+      if (v.answer) refuse_inbound(frames, v.reason);
+      return;
+    }
+  }
+  frames[2] = zmq::message_t(with_sender_key(frames[2].to_string_view(), key));
   // to the nodes, and to the observers of that topic
   for (zmq::socket_t* out : {&inbound_, &xpub_}) {
     for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -287,6 +287,29 @@ void AttachPoint::send_latched(std::string_view prefix) {
       if (!xpub_.send(zmq::const_buffer(frames[i].data(), frames[i].size()), flags)) break;
     }
   }
+}
+
+void AttachPoint::refuse_inbound(const std::vector<zmq::message_t>& frames, const std::string& reason) {
+  // only a parameter change has an answer to wait for: a ParamAck, refused, with the reason
+  msgs::ParamUpdate update;
+  if (frames[1].to_string_view() != msgs::ParamUpdate::descriptor()->full_name() || !update.ParseFromArray(frames[2].data(), static_cast<int>(frames[2].size()))) return;
+  msgs::ParamAck ack;
+  msgs::Header& h = *ack.mutable_header();
+  h.set_seq(++refused_seq_);
+  h.set_stamp_ns(rt::now_ns());
+  h.set_source(kSource);
+  ack.set_request_id(update.request_id());
+  ack.set_applied(false);
+  ack.set_reason(reason);
+  publish_own(refused_ack_topic_, msgs::ParamAck::descriptor()->full_name(), ack.SerializeAsString());
+}
+
+void AttachPoint::publish_own(std::string_view topic, const std::string& type, const std::string& payload) {
+  constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
+  // nobody subscribed or a full queue: this one is skipped
+  if (!xpub_.send(zmq::const_buffer(topic.data(), topic.size()), more)) return;
+  (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
+  (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
 }
 
 void AttachPoint::publish_graph() {
@@ -310,21 +333,15 @@ void AttachPoint::publish_graph() {
     *info.mutable_params() = launch_.params();
     *info.mutable_files() = launch_.files();
   }
-  const std::string payload = info.SerializeAsString();
-  const std::string& type = msgs::GraphInfo::descriptor()->full_name();
-  constexpr auto more = zmq::send_flags::sndmore | zmq::send_flags::dontwait;
-  // nobody subscribed or a full queue: this one is skipped, the next one follows in a period
-  if (!xpub_.send(zmq::const_buffer(kGraphTopic.data(), kGraphTopic.size()), more)) return;
-  (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
-  (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+  // skipped when nobody subscribed or the queue is full: the next one follows in a period
+  publish_own(kGraphTopic, msgs::GraphInfo::descriptor()->full_name(), info.SerializeAsString());
 }
 
-AttachSender::AttachSender(const std::string& endpoint, std::string source)
+AttachSender::AttachSender(const std::string& endpoint, std::string source, const ClientKeys& keys)
     : socket_(make_socket(zmq::socket_type::xsub)), source_(std::move(source)) {
-  validate_endpoint(endpoint, "attach endpoint");
   // it sends multipart messages: linger like a publisher (context.h)
   socket_.set(zmq::sockopt::linger, kPublisherLinger_ms);
-  socket_.connect(endpoint);
+  attach_connect(socket_, endpoint, keys);
 }
 
 bool AttachSender::send_bytes(std::string_view topic, std::string_view type, const std::string& payload) {

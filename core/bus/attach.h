@@ -20,7 +20,9 @@
 #include <cstdint>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -28,6 +30,8 @@
 
 #include <zmq.hpp>
 
+#include "core/bus/access.h"
+#include "core/bus/client.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
 #include "msgs/graph.pb.h"
@@ -40,9 +44,16 @@ inline constexpr std::string_view kGraphTopic = "graph/topics";
 struct AttachOptions {
   // where observers connect; loopback only by default
   std::string bind_endpoint = kLoopbackAnyPort;
-  // needed to bind an endpoint other machines can reach. There is no authentication yet
-  // (CURVE is a TODO): anyone who reaches the port sees every topic.
+  // needed to bind an endpoint other machines can reach, together with `access`
   bool allow_remote = false;
+  // who may attach (access.h): CURVE on the observers' socket, both directions, whatever its
+  // endpoint; inbound messages pass only from operate keys, at their rate limit, stamped
+  // with the key's name. None: no keys, loopback only.
+  std::optional<Access> access{};
+  // where refusals and drops of keyed clients are said (none: stderr)
+  LogFn log{};
+  // where an inbound ParamUpdate refused by its key's role is answered (ParamAck)
+  std::string refused_ack_topic = "param/ack";
   // period of the GraphInfo messages, ms
   int graph_period_ms = 1000;
   // where the attach point republishes what observers send (empty: observers only listen)
@@ -59,7 +70,7 @@ class AttachPoint {
  public:
   // binds the observers' endpoint and starts forwarding; `graph` names the graph in
   // GraphInfo. Throws config::Error for a malformed endpoint, one that cannot be bound, or
-  // a non-local one without allow_remote.
+  // a non-local one without allow_remote and access.
   explicit AttachPoint(std::string graph, AttachOptions options = {});
 
   // stop()
@@ -109,8 +120,11 @@ class AttachPoint {
   void forward_data();
   bool forward_from_observers();
   void relay_inbound(zmq::message_t& first);
+  void refuse_inbound(const std::vector<zmq::message_t>& frames, const std::string& reason);
   void publish_graph();
   void send_latched(std::string_view prefix);
+  // a message of the attach point's own to the observers (dropped when none subscribed)
+  void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
 
   std::string graph_;
   std::string endpoint_;
@@ -123,6 +137,11 @@ class AttachPoint {
   std::vector<std::string> inbound_topics_;
   std::vector<std::string> latched_topics_;
   std::map<std::string, std::vector<std::string>, std::less<>> latched_;  // topic -> frames of its last message (forwarding thread)
+  std::optional<Access> access_;
+  std::unique_ptr<CurveServer> curve_;   // the observers' socket's keys, while it lives
+  std::unique_ptr<InboundGate> gate_;    // inbound policy (with access only)
+  std::string refused_ack_topic_;
+  std::uint64_t refused_seq_ = 0;
   std::mutex request_mutex_;
   std::atomic<bool> failed_ = false;
   std::string failure_;       // why the thread stopped, set before failed_
@@ -142,9 +161,10 @@ class AttachPoint {
 // Used by one thread at a time.
 class AttachSender {
  public:
-  // connects to `endpoint` (an AttachPoint::endpoint()); `source` goes into header.source.
-  // Throws config::Error for a malformed endpoint.
-  AttachSender(const std::string& endpoint, std::string source);
+  // connects to `endpoint` (an AttachPoint::endpoint()) with `keys` (attach_connect);
+  // `source` goes into header.source. Throws config::Error for a malformed endpoint or a
+  // failed handshake.
+  AttachSender(const std::string& endpoint, std::string source, const ClientKeys& keys = {});
 
   // fills msg.header (seq +1 per call, stamp_ns now, source) and sends it on `topic`
   // without blocking; false when it could not be queued

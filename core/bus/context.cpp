@@ -43,4 +43,22 @@ zmq::socket_t make_socket(zmq::socket_type type) {
   return socket;
 }
 
+void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames) {
+  std::size_t i = 0;
+  for (const std::string_view f : frames) {
+    const bool last = ++i == frames.size();
+    (void)socket.send(zmq::const_buffer(f.data(), f.size()), last ? zmq::send_flags::none : zmq::send_flags::sndmore);
+  }
+}
+
+std::vector<std::string> receive_frames(zmq::socket_t& socket) {
+  std::vector<std::string> frames;
+  zmq::message_t frame;
+  do {
+    if (!socket.recv(frame)) break;
+    frames.push_back(frame.to_string());
+  } while (frame.more());
+  return frames;
+}
+
 }  // namespace enact::bus

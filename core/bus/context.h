@@ -1,6 +1,9 @@
 #pragma once
 // The process-wide ZeroMQ context every bus socket is made from. inproc:// endpoints only
 // join sockets of the same context, so there is exactly one per process.
+#include <initializer_list>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include <zmq.hpp>
@@ -30,5 +33,12 @@ zmq::context_t& context();
 // a socket of the context: linger kPublisherLinger_ms for PUB and XPUB, 0 for the others
 // (closing never waits)
 zmq::socket_t make_socket(zmq::socket_type type);
+
+// sends every frame of a message (blocking), the last without sndmore: for command and
+// control sockets, not the data path
+void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames);
+
+// every frame of the next message (blocking; those read before a timeout or an error)
+std::vector<std::string> receive_frames(zmq::socket_t& socket);
 
 }  // namespace enact::bus

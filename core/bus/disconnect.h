@@ -10,7 +10,8 @@ namespace enact::bus {
 
 class DisconnectWatch {
  public:
-  // watches `socket` (which must outlive this object) from now on: create it before connect()
+  // watches `socket` (which must outlive this object) from now on: create it before connect(),
+  // or after bus::attach_connect (whose own monitor is stopped when it returns)
   explicit DisconnectWatch(zmq::socket_t& socket);
   // stops watching
   ~DisconnectWatch();

@@ -61,9 +61,9 @@ std::string base64(const std::string& bytes) {
 Bridge::Bridge(BridgeOptions options) : options_(std::move(options)) {
   bus::validate_endpoint(options_.attach, "attach endpoint");
   // client publishing only where nobody from another machine can reach either side
-  if (bus::is_local(options_.attach) && loopback_host(options_.host)) sender_ = std::make_unique<bus::AttachSender>(options_.attach, "foxglove");
+  if (bus::is_local(options_.attach) && loopback_host(options_.host)) sender_ = std::make_unique<bus::AttachSender>(options_.attach, "foxglove", options_.keys);
   sub_.set_receive_hwm(100'000);
-  sub_.connect(options_.attach);
+  bus::attach_connect(sub_.socket(), options_.attach, options_.keys);
   sub_.subscribe(std::string(bus::kGraphTopic));
   WsHandlers h;
   h.on_open = [this](ClientId c) { on_open(c); };

@@ -21,6 +21,7 @@
 
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/foxglove/scene.h"
 #include "core/foxglove/ws_server.h"
 #include "msgs/graph.pb.h"
@@ -31,6 +32,7 @@ inline constexpr const char* kSubprotocol = "foxglove.websocket.v1";
 
 struct BridgeOptions {
   std::string attach;                          // the graph's attach endpoint
+  bus::ClientKeys keys;                        // for a graph with an access file (none: plain)
   std::string host = "127.0.0.1";              // where the WebSocket server listens
   int port = 8765;                             // 0: any free port
   double max_rate_hz = 100.0;                  // per client, on topics that run faster

@@ -82,8 +82,9 @@ void Logger::attach() {
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
   sub_.set_receive_hwm(1'000'000);
+  bus::attach_connect(sub_.socket(), endpoint_, options_.keys);
+  // attach_connect's own monitor is stopped by now: the socket can take this one
   watch_ = std::make_unique<bus::DisconnectWatch>(sub_.socket());
-  sub_.connect(endpoint_);
   sub_.subscribe(std::string(bus::kGraphTopic));
   const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(options_.wait_s * 1e9);
   bus::RawMessage m;

@@ -17,6 +17,7 @@
 
 #include "core/bus/bytes.h"
 #include "core/bus/disconnect.h"
+#include "core/bus/client.h"
 #include "core/record/writer.h"
 #include "core/launch/launch_file.h"
 #include "msgs/common.pb.h"
@@ -26,6 +27,7 @@ namespace enact::graph {
 
 struct LoggerOptions {
   std::string attach;                    // attach endpoint; "" = $ENACT_ATTACH, else the last local graph's
+  bus::ClientKeys keys;                  // for a graph with an access file (bus::client_keys)
   std::string output = "recording.mcap";  // file; with splitting, NAME_000.mcap, NAME_001.mcap, ...
   std::vector<std::string> topics;       // topics to keep; empty = every topic of the graph
   std::string regex;                     // ... only those it matches (ECMAScript, anywhere); "" = all

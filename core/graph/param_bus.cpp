@@ -164,7 +164,7 @@ void ParamPort::publish(msgs::ParamAck a) {
   if (answered_.size() > kAnswersKept) answered_.pop_front();
 }
 
-ParamClient::ParamClient(const std::string& endpoint, std::string source) : sender_(endpoint, std::move(source)) {
+ParamClient::ParamClient(const std::string& endpoint, std::string source, const bus::ClientKeys& keys) : sender_(endpoint, std::move(source), keys) {
   // ids from a random start: several senders on one graph do not collide
   std::random_device rd;
   next_id_ = (std::uint64_t{rd()} << 32 | rd()) | 1u;

@@ -97,8 +97,9 @@ struct ParamAnswer {
 
 class ParamClient {
  public:
-  // sends through the attach point at `endpoint`; `source` names the sender in headers
-  ParamClient(const std::string& endpoint, std::string source);
+  // sends through the attach point at `endpoint` with `keys` (none: plain); `source` names
+  // the sender in headers
+  ParamClient(const std::string& endpoint, std::string source, const bus::ClientKeys& keys = {});
 
   // sends `update` (name and value set) with a fresh request id, returned
   std::uint64_t send(msgs::ParamUpdate update);

@@ -22,10 +22,17 @@ std::string folder_prefix(bool supervised) {
   return (std::filesystem::temp_directory_path() / "enact-graph-").string();
 }
 
-bus::AttachOptions attach_options(const SessionOptions& o, const std::string& folder) {
+// the attach point's options; with an access file, the graph's own observers get a key in
+// `folder` first (its files into `own`)
+bus::AttachOptions attach_options(const SessionOptions& o, const std::string& folder, bus::OwnClientFiles& own) {
   bus::AttachOptions a;
   a.bind_endpoint = o.bind_endpoint;
   a.allow_remote = o.allow_remote;
+  if (o.access) {
+    bus::Access access = *o.access;
+    own = bus::add_own_client(access, folder, "graph:observer");
+    a.access = std::move(access);
+  }
   // observers may send parameter changes; the nodes find them at the inbound publisher
   a.inbound_endpoint = bus::ipc_endpoint(folder, kInboundNode);
   a.inbound_topics = {kParamSet};
@@ -37,7 +44,7 @@ bus::AttachOptions attach_options(const SessionOptions& o, const std::string& fo
 
 GraphSession::GraphSession(const std::string& name, const std::string& launch_file, const SessionOptions& options)
     : folder_(folder_prefix(options.supervised)),
-      attach_(name, attach_options(options, folder_.path())),
+      attach_(name, attach_options(options, folder_.path(), own_)),
       registration_(name, attach_.endpoint(), launch_file, folder_.path(), options.numbered) {
   // a later session removes the folder if this process is killed
   std::ofstream(folder_.path() + "/launcher") << getpid() << " " << process_start(getpid()) << "\n";
@@ -49,8 +56,15 @@ GraphSession::~GraphSession() { attach_.stop(); }
 std::string GraphSession::node_endpoint(const std::string& node) const { return bus::ipc_endpoint(folder_.path(), node); }
 
 std::vector<launch::Param> GraphSession::environment() const {
-  return {{"ENACT_GRAPH_DIR", folder_.path()}, {"ENACT_ATTACH", attach_.endpoint()}, {"ENACT_GRAPH", name()}};
+  std::vector<launch::Param> env{{"ENACT_GRAPH_DIR", folder_.path()}, {"ENACT_ATTACH", attach_.endpoint()}, {"ENACT_GRAPH", name()}};
+  if (!own_.key.empty()) {
+    env.push_back({bus::kKeyEnv, own_.key});
+    env.push_back({bus::kServerKeyEnv, own_.server_key});
+  }
+  return env;
 }
+
+bus::ClientKeys GraphSession::own_keys() const { return own_.key.empty() ? bus::ClientKeys{} : bus::client_keys(own_.key, own_.server_key); }
 
 int GraphSession::run(const launch::LaunchDescription& graph, const std::string& launch_path, launch::SupervisorOptions options, std::ostream& log) {
   // every node may publish: its endpoint is connected now, its topics listed as it declares them

@@ -7,16 +7,20 @@
 //   - the attach point, with its inbound path (param/set from observers to the nodes) and
 //     the latched state topics (graph/topics, task/state),
 //   - the graph's entry in the per-user registry (registry.h), under its name,
-//   - the environment of its processes ($ENACT_GRAPH_DIR, $ENACT_ATTACH, $ENACT_GRAPH),
+//   - the environment of its processes ($ENACT_GRAPH_DIR, $ENACT_ATTACH, $ENACT_GRAPH; with
+//     an access file, $ENACT_KEY and $ENACT_SERVER_KEY: the key of the graph's own observers),
 //   - a supervisor run that a stop() from any thread ends in order.
 // The topics come from the nodes themselves: each declares what it publishes on its ready
 // pipe (graph::announce_topics), and the session lists them in GraphInfo.
 #include <atomic>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/bus/access.h"
 #include "core/bus/attach.h"
+#include "core/bus/client.h"
 #include "core/graph/registry.h"
 #include "core/graph/temp_folder.h"
 #include "core/launch/launch_file.h"
@@ -28,6 +32,10 @@ struct SessionOptions {
   // where observers attach (loopback, a free port, by default)
   std::string bind_endpoint = bus::kLoopbackAnyPort;
   bool allow_remote = false;
+  // who may attach (bus::load_access; enact launch --access); none: anyone who reaches the
+  // endpoint. The graph's own observers (enact-logger in the launch file, the launcher) get
+  // a key of their own, role observe, in the graph's folder
+  std::optional<bus::Access> access;
   // a running graph has the name already: take NAME-2, NAME-3, ... (a default name) rather
   // than refuse (a name the user gave)
   bool numbered = false;
@@ -54,6 +62,8 @@ class GraphSession {
   std::string node_endpoint(const std::string& node) const;
   // the environment of the graph's processes
   std::vector<launch::Param> environment() const;
+  // the keys of the graph's own observers (none without an access file)
+  bus::ClientKeys own_keys() const;
 
   // runs `graph` under the supervisor (launch::supervise: its exit code) until it ends, a
   // stop signal, or stop(); the nodes' publishers are connected to the attach point and the
@@ -65,6 +75,7 @@ class GraphSession {
 
  private:
   TempFolder folder_;
+  bus::OwnClientFiles own_;  // the own observers' key files; empty without an access file
   bus::AttachPoint attach_;
   Registration registration_;
   std::atomic<bool> stop_{false};

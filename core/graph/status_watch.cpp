@@ -6,9 +6,9 @@
 
 namespace enact::graph {
 
-StatusWatch::StatusWatch(const std::string& attach_endpoint, double silence_s)
+StatusWatch::StatusWatch(const std::string& attach_endpoint, const bus::ClientKeys& keys, double silence_s)
     : statuses_(bytes_, kNodeStatus), silence_ns_(std::llround(silence_s * 1e9)) {
-  bytes_.connect(attach_endpoint);
+  bus::attach_connect(bytes_.socket(), attach_endpoint, keys);
 }
 
 std::vector<std::string> StatusWatch::hung(std::int64_t now_ns) {

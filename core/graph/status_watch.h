@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/bus/typed.h"
 #include "msgs/node_status.pb.h"
 
@@ -16,8 +17,8 @@ namespace enact::graph {
 
 class StatusWatch {
  public:
-  // subscribes to node/status at a graph's attach endpoint
-  explicit StatusWatch(const std::string& attach_endpoint, double silence_s = 3.0);
+  // subscribes to node/status at a graph's attach endpoint, with `keys` (bus::attach_connect)
+  explicit StatusWatch(const std::string& attach_endpoint, const bus::ClientKeys& keys = {}, double silence_s = 3.0);
 
   // reads what arrived (never waits) and returns the nodes silent for longer than silence_s
   // at now_ns while another node reported within the last silence_s / 2; each silence is

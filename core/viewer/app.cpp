@@ -120,7 +120,7 @@ int run_viewer(const ViewerOptions& o) {
   SceneInUse scene(o);
   Window window("enact viewer", o.width, o.height, !o.snapshot.empty());
   ViewModel model;
-  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.graph, "viewer");
+  std::unique_ptr<GraphLink> link = playback ? nullptr : std::make_unique<GraphLink>(o.graph, "viewer", o.keys);
   if (link && !link->endpoint().empty()) std::fprintf(stderr, "enact-viewer: attached to %s\n", link->describe().c_str());
   if (playback) {
     scene.offer(playback->scene());

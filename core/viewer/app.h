@@ -4,12 +4,14 @@
 // one snapshot of either and exit.
 #include <string>
 
+#include "core/bus/client.h"
 #include "core/graph/registry.h"
 
 namespace enact::viewer {
 
 struct ViewerOptions {
   graph::AttachChoice graph;  // which graph to attach to (an endpoint, a name, a trial prefix; none: the only one)
+  bus::ClientKeys keys;       // for a graph launched with an access file (none: plain)
   std::string recording;    // an MCAP recording to play instead of attaching ("" : live)
   std::string scene;        // the scene file; "" : the one the graph (or recording) names
   std::string sim;          // the simulator's name; "" : the one the graph names, else "sim"

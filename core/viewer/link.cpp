@@ -46,10 +46,13 @@ struct GraphLink::Connection {
   msgs::GraphInfo graph_msg;
   msgs::TaskState task_msg;
 
-  Connection(const std::string& endpoint, const std::string& source) : params(endpoint, source) { bytes.connect(endpoint); }
+  Connection(const std::string& endpoint, const std::string& source, const bus::ClientKeys& keys) : params(endpoint, source, keys) {
+    bus::attach_connect(bytes.socket(), endpoint, keys);
+  }
 };
 
-GraphLink::GraphLink(graph::AttachChoice choice, std::string source) : choice_(std::move(choice)), source_(std::move(source)) {
+GraphLink::GraphLink(graph::AttachChoice choice, std::string source, bus::ClientKeys keys)
+    : choice_(std::move(choice)), source_(std::move(source)), keys_(std::move(keys)) {
   if (!choice_.endpoint.empty()) connect(choice_.endpoint);
 }
 
@@ -58,7 +61,7 @@ GraphLink::~GraphLink() = default;
 void GraphLink::connect(const std::string& endpoint) {
   connection_.reset();
   endpoint_ = endpoint;
-  if (!endpoint.empty()) connection_ = std::make_unique<Connection>(endpoint, source_);
+  if (!endpoint.empty()) connection_ = std::make_unique<Connection>(endpoint, source_, keys_);
 }
 
 bool GraphLink::follow(std::int64_t now_ns) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/bus/typed.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/registry.h"
@@ -29,8 +30,8 @@ namespace enact::viewer {
 class GraphLink {
  public:
   // `choice`: which graph (an endpoint is kept as it is, the rest is followed); `source`
-  // names the viewer in the headers of what it sends
-  GraphLink(graph::AttachChoice choice, std::string source);
+  // names the viewer in the headers of what it sends; `keys` for a graph with an access file
+  GraphLink(graph::AttachChoice choice, std::string source, bus::ClientKeys keys = {});
   ~GraphLink();
   GraphLink(const GraphLink&) = delete;
   GraphLink& operator=(const GraphLink&) = delete;
@@ -57,6 +58,7 @@ class GraphLink {
 
   graph::AttachChoice choice_;
   std::string source_;
+  bus::ClientKeys keys_;
   std::string endpoint_;
   std::string name_;  // the graph's, "" while none
   std::int64_t next_look_ns_ = 0;

@@ -22,7 +22,8 @@ parameters:
   port=8765          WebSocket port (0: any free port)
   host=127.0.0.1     where it listens (clients may publish param/set only on loopback)
   max_rate_hz=100    per client, on topics that run faster (the loop-rate ones)
-  attach=            attach endpoint (default: $ENACT_ATTACH)
+  attach=            attach endpoint (default: $ENACT_ATTACH); keys: $ENACT_KEY and
+                     $ENACT_SERVER_KEY (set by `enact launch --access`)
 )";
 
 int run(int argc, char** argv) {
@@ -38,6 +39,7 @@ int run(int argc, char** argv) {
   o.max_rate_hz = p.number("max_rate_hz", o.max_rate_hz);
   const char* env = std::getenv("ENACT_ATTACH");
   o.attach = p.text("attach", env ? env : "");
+  o.keys = enact::bus::client_keys("", "");
   p.refuse_unread({"port", "host", "max_rate_hz", "attach"});
   if (o.attach.empty()) throw config::Error(args.name + ": no attach endpoint\n  fix: run it from `enact launch`, or give attach=ENDPOINT");
   if (o.port < 0 || o.port > 65535 || o.max_rate_hz <= 0.0) throw config::Error(args.name + ": port must be 0-65535 and max_rate_hz > 0\n  fix: e.g. port=8765 max_rate_hz=100");

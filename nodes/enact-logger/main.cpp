@@ -26,6 +26,7 @@ parameters:
   chunk_duration_s=1      a chunk reaches the file at least this often (the most a kill -9 loses)
   split_size_mb=0  split_duration_s=0   start a new file past this size / after this long
   attach=                 attach endpoint (default: $ENACT_ATTACH)
+                          keys: $ENACT_KEY and $ENACT_SERVER_KEY (set by `enact launch --access`)
   wait_s=10               how long to wait for the graph
 To record a graph from its first tick, list the logger before the drivers in the launch
 file and give the clock master `observers: 1` (README, "Recording and replay").
@@ -52,6 +53,7 @@ int run(int argc, char** argv) {
   o.split_size_mb = p.number("split_size_mb", 0.0);
   o.split_duration_s = p.number("split_duration_s", 0.0);
   o.attach = p.text("attach", "");
+  o.keys = bus::client_keys("", "");
   o.wait_s = p.number("wait_s", 10.0);
   p.refuse_unread({"output", "topics", "regex", "exclude", "compression", "chunk_duration_s", "split_size_mb", "split_duration_s", "attach", "wait_s"});
   if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0.0 || o.split_duration_s < 0.0) {

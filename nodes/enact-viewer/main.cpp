@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/config/yaml.h"
 #include "core/viewer/app.h"
 #include "nodes/enact/args.h"
 
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact-viewer [--graph NAME | --follow EXPERIMENT | --attach ENDPOINT] [--scene FILE] [--sim NAME]
+                    [--key FILE.key --server-key FILE.pub]
                     [--snapshot OUT.png [--after SECONDS]] [--size WxH]
        enact-viewer FILE.mcap [--at SECONDS] [--scene FILE] [--snapshot OUT.png [--after SECONDS]]
 
@@ -32,7 +34,8 @@ options:
   --follow EXPERIMENT  an experiment's current trial (graphs EXPERIMENT/SUBJECT_CONDITION),
                      the next one as each trial ends
   --attach ENDPOINT  the graph's attach point (printed by `enact launch`; from another
-                     machine: tcp://HOST:PORT of a graph launched with --allow-remote)
+                     machine: tcp://HOST:PORT of a graph launched with --allow-remote
+                     and --access)
   --scene FILE       the scene to draw (default: the one the graph's launch names, or the
                      one attached to the recording)
   --sim NAME         the simulator's node or component name (default: as the graph names
@@ -40,6 +43,9 @@ options:
   --at SECONDS       recording: start there, paused (default: play from the start)
   --snapshot OUT.png render, write OUT.png, print what it shows, exit
   --after SECONDS    when to take the snapshot, from the start (default 2)
+  --key FILE.key     your secret key, for a graph launched with --access (default $ENACT_KEY)
+  --server-key FILE.pub  the graph's public key (default $ENACT_SERVER_KEY; README,
+                     "Remote access")
   --size WxH         window size in pixels (default 1280x800)
   --fps N            frames drawn per second at most (default 60; the scene comes at 60 Hz;
                      with software OpenGL a lower rate saves processor time)
@@ -51,7 +57,7 @@ int main(int argc, char** argv) {
   using enact::cli::UsageError;
   enact::viewer::ViewerOptions o;
   try {
-    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"graph", "follow", "attach", "scene", "sim", "snapshot", "after", "size", "at", "fps"}, {});
+    const enact::cli::Args a = enact::cli::parse(argc, argv, 1, {"graph", "follow", "attach", "scene", "sim", "snapshot", "after", "size", "at", "fps", "key", "server-key"}, {});
     if (a.flag("help")) {
       std::fputs(kHelp, stdout);
       return 0;
@@ -65,6 +71,8 @@ int main(int argc, char** argv) {
     o.graph.graph = a.get("graph");
     o.graph.endpoint = a.get("attach");
     o.graph.prefix = a.has("follow") ? a.get("follow") + "/" : "";
+    if (!o.recording.empty() && (a.has("key") || a.has("server-key"))) throw UsageError("--key and --server-key are for a live graph, not a recording");
+    o.keys = enact::bus::client_keys(a.get("key"), a.get("server-key"));
     // none named: several running graphs are not guessed between
     if (o.recording.empty() && choices == 0) {
       const auto running = enact::graph::list_graphs();
@@ -89,6 +97,9 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "enact-viewer: %s\n  (enact-viewer --help lists the options)\n", e.what());
     return 2;
+  } catch (const enact::config::Error& e) {
+    std::fprintf(stderr, "enact-viewer: error: %s\n", e.what());
+    return 1;
   }
   try {
     return enact::viewer::run_viewer(o);

@@ -23,4 +23,6 @@ graph::GraphEntry attach_target(const Args& a, const std::string& tool) {
   }
 }
 
+bus::ClientKeys attach_keys(const Args& a) { return bus::client_keys(a.get("key"), a.get("server-key")); }
+
 }  // namespace enact::cli

@@ -12,6 +12,7 @@ namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact foxglove [--port 8765] [--host 127.0.0.1] [--max-rate HZ] [--graph NAME | --attach ENDPOINT]
+                      [--key FILE.key --server-key FILE.pub]
 
 Serve a running graph to Foxglove (https://foxglove.dev) over WebSocket (subprotocol
 foxglove.websocket.v1), like foxglove_bridge does for ROS 2. Foxglove sees every topic of the
@@ -35,7 +36,7 @@ void on_stop(int) { g_stop.store(true); }
 }  // namespace
 
 int foxglove_bridge(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "port", "host", "max-rate"}, {});
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "port", "host", "max-rate", "key", "server-key"}, {});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     std::fputs(kAttachOptionsHelp, stdout);
@@ -43,6 +44,7 @@ int foxglove_bridge(int argc, char** argv) {
   }
   if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
   foxglove::BridgeOptions o;
+  o.keys = attach_keys(a);
   o.attach = attach_target(a, "foxglove").endpoint;
   o.port = static_cast<int>(a.number("port", o.port));
   o.host = a.get("host", o.host);

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include <filesystem>
+#include <optional>
 
 #include "core/graph/session.h"
 #include "core/graph/status_watch.h"
@@ -17,7 +18,7 @@ namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
-                         [--check] [--attach ENDPOINT [--allow-remote]]
+                         [--check] [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
 
 Run a graph from a YAML launch file (format: README.md, "Launch files"): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
@@ -41,9 +42,10 @@ options:
                      always does before anything starts), start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
                      port; printed, and kept in the graph's registry entry)
-  --allow-remote     allow an --attach endpoint other machines can reach (no authentication
-                     yet: anyone who reaches the port sees every topic and can send
-                     param/set)
+  --access FILE      who may attach (README, "Remote access"; launch/access.example.yaml):
+                     the attach point then takes only the listed keys, encrypted (CURVE),
+                     and param/set only from operate keys, each at its rate limit
+  --allow-remote     allow an --attach endpoint other machines can reach (needs --access)
 
 A launch file's realtime: entry (every shipped graph has one) pins the loop's processes
 together, holds the CPU latency request and orders SCHED_FIFO before anything starts; what
@@ -71,12 +73,15 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name"}, {"check", "allow-remote"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name", "access"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one launch file");
+  if (a.flag("allow-remote") && !a.has("access")) throw UsageError("--allow-remote needs --access ACCESS.yaml: without keys anyone who reaches the port could change the forces on a hand");
+  std::optional<bus::Access> access;
+  if (a.has("access")) access = bus::load_access(a.get("access"));
   launch::SupervisorOptions options;
   options.duration_s = a.number("duration", 0.0);
   options.ready_timeout_s = a.number("ready-timeout", options.ready_timeout_s);
@@ -119,10 +124,15 @@ int launch(int argc, char** argv) {
   session_options.bind_endpoint = a.get("attach", session_options.bind_endpoint);
   session_options.allow_remote = a.flag("allow-remote");
   session_options.numbered = !a.has("name");
+  session_options.access = std::move(access);
+  if (session_options.access) {
+    const bus::Access& acc = *session_options.access;
+    std::cerr << "enact launch: access from " << acc.file << ": " << acc.clients.size() << " client keys; graph key " << acc.server_public_z85 << "\n";
+  }
   graph::GraphSession session(name, a.positional[0], session_options);
   std::cerr << "enact launch: graph " << session.name() << ": observers attach at " << session.endpoint() << std::endl;
   // a node whose node/status stops is handled as if it had exited
-  graph::StatusWatch statuses(session.endpoint());
+  graph::StatusWatch statuses(session.endpoint(), session.own_keys());
   options.hung_nodes = [&] { return statuses.hung(rt::now_ns()); };
   options.on_ready = [&] { std::cerr << "enact launch: graph " << session.name() << " ready; observers attach at " << session.endpoint() << std::endl; };
   return session.run(graph, a.positional[0], options, std::cerr);

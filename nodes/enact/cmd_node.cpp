@@ -19,8 +19,8 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact node list [--graph NAME | --attach ENDPOINT]
-       enact node info NODE [--graph NAME | --attach ENDPOINT]
+constexpr const char* kHelp = R"(usage: enact node list [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
+       enact node info NODE [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
 
 The nodes of a running graph (like `ros2 node`), through its attach point:
   list   every node: its state, rate and the topics it publishes (node/status, graph/topics)
@@ -49,9 +49,9 @@ Traffic measure(bus::ByteSubscriber& sub, const std::string& topic, std::int64_t
 }
 
 // the newest NodeStatus of every node heard within `window_ns` (they come at 1 Hz)
-std::map<std::string, msgs::NodeStatus> statuses(const std::string& endpoint, std::int64_t window_ns) {
+std::map<std::string, msgs::NodeStatus> statuses(const std::string& endpoint, const bus::ClientKeys& keys, std::int64_t window_ns) {
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(graph::kNodeStatus);
   std::map<std::string, msgs::NodeStatus> out;
   bus::RawMessage raw;
@@ -86,9 +86,9 @@ std::string published_by(const msgs::GraphInfo& info, const std::string& node) {
 
 const char* state_name(const msgs::NodeStatus& s) { return s.node().empty() ? "-" : msgs::NodeStatus::State_Name(s.state()).c_str(); }
 
-int list(const std::string& endpoint) {
-  const msgs::GraphInfo info = graph_info(endpoint);
-  const auto heard = statuses(endpoint, 1500'000'000);
+int list(const std::string& endpoint, const bus::ClientKeys& keys) {
+  const msgs::GraphInfo info = graph_info(endpoint, keys);
+  const auto heard = statuses(endpoint, keys, 1500'000'000);
   std::printf("%-14s %-12s %10s  %s\n", "node", "state", "rate (Hz)", "publishes");
   for (const std::string& n : node_names(info, heard)) {
     const auto it = heard.find(n);
@@ -98,9 +98,9 @@ int list(const std::string& endpoint) {
   return 0;
 }
 
-int info(const std::string& endpoint, const std::string& node) {
-  const msgs::GraphInfo graph = graph_info(endpoint);
-  const auto heard = statuses(endpoint, 2500'000'000);
+int info(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& node) {
+  const msgs::GraphInfo graph = graph_info(endpoint, keys);
+  const auto heard = statuses(endpoint, keys, 2500'000'000);
   const std::vector<std::string> names = node_names(graph, heard);
   if (std::find(names.begin(), names.end(), node) == names.end()) {
     throw UsageError("the graph has no node '" + node + "'" + config::did_you_mean(node, names) + " (enact node list)");
@@ -129,11 +129,11 @@ int info(const std::string& endpoint, const std::string& node) {
 
 std::string topic_name(const std::string& given) { return given.starts_with('/') ? given.substr(1) : given; }
 
-int topic_info_or_bw(const std::string& endpoint, const std::string& topic, bool bw, double duration_s) {
-  const msgs::GraphInfo graph = graph_info(endpoint);
+int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& topic, bool bw, double duration_s) {
+  const msgs::GraphInfo graph = graph_info(endpoint, keys);
   const std::string type = type_of(graph, topic);
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(topic);
   if (!bw) {
     std::string publishers;
@@ -158,7 +158,7 @@ int topic_info_or_bw(const std::string& endpoint, const std::string& topic, bool
 }
 
 int node(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait"}, {});
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "key", "server-key"}, {});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
     std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
@@ -168,8 +168,9 @@ int node(int argc, char** argv) {
   const bool listing = verb == "list" && a.positional.size() == 1;
   if (!listing && !(verb == "info" && a.positional.size() == 2)) throw UsageError("use: enact node list | info NODE");
   graph::install_stop_handlers();
+  const bus::ClientKeys keys = attach_keys(a);
   const std::string endpoint = attach_target(a, "node").endpoint;
-  return listing ? list(endpoint) : info(endpoint, a.positional[1]);
+  return listing ? list(endpoint, keys) : info(endpoint, keys, a.positional[1]);
 }
 
 }  // namespace enact::cli

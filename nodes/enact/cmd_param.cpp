@@ -14,7 +14,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--graph NAME | --attach ENDPOINT]
+constexpr const char* kHelp = R"(usage: enact param set NAME VALUE [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
 
 Send a parameter change to a running graph on param/set, through its attach point, and wait
 for the simulator's answer on param/ack: prints "applied from ffd/state seq N" (the state
@@ -35,7 +35,7 @@ options:
 }  // namespace
 
 int param(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait"}, {});
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "key", "server-key"}, {});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
     std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
@@ -43,12 +43,13 @@ int param(int argc, char** argv) {
   }
   if (a.positional[0] != "set" || a.positional.size() != 3) throw UsageError("use: enact param set NAME VALUE");
   graph::install_stop_handlers();
+  const bus::ClientKeys keys = attach_keys(a);
   const std::string endpoint = attach_target(a, "param").endpoint;
   // the answer comes on param/ack, through the same attach point
   bus::ByteSubscriber acks_bytes;
   bus::Subscriber<msgs::ParamAck> acks(acks_bytes, graph::kParamAck);
-  acks_bytes.connect(endpoint);
-  graph::ParamClient client(endpoint, "enact-param");
+  bus::attach_connect(acks_bytes.socket(), endpoint, keys);
+  graph::ParamClient client(endpoint, "enact-param", keys);
   msgs::ParamUpdate update;
   update.set_name(a.positional[1]);
   graph::set_value(update, a.positional[2]);

@@ -31,6 +31,7 @@ namespace {
 constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --topics T...] [--regex RE] [--exclude RE] [--split-size MB | --split-duration S]
                     [--compression zstd|lz4|none] [--chunk-duration S]
                     [--graph NAME | --attach ENDPOINT] [--duration S] [--wait S]
+                    [--key FILE.key --server-key FILE.pub]
 
 Attach to a running graph (--graph NAME, the only one running here, or --attach ENDPOINT,
 also on another machine) and keep every message of its topics in an MCAP file, until the
@@ -180,7 +181,7 @@ class GraphEnd {
 
 int record(int argc, char** argv) {
   const std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait", "regex", "exclude"}, {"all"});
+  const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait", "regex", "exclude", "key", "server-key"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
     std::fputs(kAttachOptionsHelp, stdout);
@@ -202,6 +203,7 @@ int record(int argc, char** argv) {
   o.writer.chunk_duration_ns = static_cast<std::int64_t>(a.number("chunk-duration", 1.0) * 1e9);
   o.split_size_mb = a.number("split-size", 0.0);
   o.split_duration_s = a.number("split-duration", 0.0);
+  o.keys = attach_keys(a);
   const double duration_s = a.number("duration", 0.0);
   if (o.writer.chunk_duration_ns <= 0 || o.split_size_mb < 0 || o.split_duration_s < 0 || duration_s < 0) {
     throw UsageError("--chunk-duration must be > 0; sizes and durations >= 0");

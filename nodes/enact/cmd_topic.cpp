@@ -39,9 +39,9 @@ options:
 
 }  // namespace
 
-msgs::GraphInfo graph_info(const std::string& endpoint) {
+msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& keys) {
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(std::string(bus::kGraphTopic));
   msgs::GraphInfo info;
   const std::int64_t give_up = rt::now_ns() + 3'000'000'000;
@@ -64,8 +64,8 @@ std::string type_of(const msgs::GraphInfo& info, const std::string& topic) {
 
 namespace {
 
-int list(const std::string& endpoint) {
-  const msgs::GraphInfo info = graph_info(endpoint);
+int list(const std::string& endpoint, const bus::ClientKeys& keys) {
+  const msgs::GraphInfo info = graph_info(endpoint, keys);
   std::printf("graph %s at %s\n", info.graph().c_str(), endpoint.c_str());
   for (const auto& t : info.topics()) std::printf("  %-16s %-28s %s\n", t.name().c_str(), t.type().c_str(), t.publisher().c_str());
   return 0;
@@ -93,11 +93,11 @@ std::uint64_t lost_in(const std::map<std::string, graph::SequenceCheck>& seqs) {
   return lost;
 }
 
-int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo, long count, double duration_s) {
-  const std::string type = type_of(graph_info(endpoint), topic);
+int echo_or_hz(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& topic, bool echo, long count, double duration_s) {
+  const std::string type = type_of(graph_info(endpoint, keys), topic);
   auto msg = make(type);
   bus::ByteSubscriber sub;
-  sub.connect(endpoint);
+  bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(topic);
   std::map<std::string, graph::SequenceCheck> seqs;
   std::uint64_t received = 0, window = 0;
@@ -136,7 +136,7 @@ int echo_or_hz(const std::string& endpoint, const std::string& topic, bool echo,
 }  // namespace
 
 int topic(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "count", "duration"}, {"once"});
+  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "count", "duration", "key", "server-key"}, {"once"});
   if (a.flag("help") || a.positional.empty()) {
     std::fputs(kHelp, a.flag("help") ? stdout : stderr);
     std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
@@ -148,12 +148,13 @@ int topic(int argc, char** argv) {
   if (!listing && !watching) throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC");
   if (a.flag("once") && (verb != "echo" || a.has("count"))) throw UsageError("--once is for echo, instead of --count");
   graph::install_stop_handlers();
+  const bus::ClientKeys keys = attach_keys(a);
   const std::string endpoint = attach_target(a, "topic").endpoint;
-  if (listing) return list(endpoint);
+  if (listing) return list(endpoint, keys);
   const std::string topic = topic_name(a.positional[1]);
-  if (verb == "info" || verb == "bw") return topic_info_or_bw(endpoint, topic, verb == "bw", a.number("duration", 0.0));
+  if (verb == "info" || verb == "bw") return topic_info_or_bw(endpoint, keys, topic, verb == "bw", a.number("duration", 0.0));
   const long count = a.flag("once") ? 1 : static_cast<long>(a.number("count", 0.0));
-  return echo_or_hz(endpoint, topic, verb == "echo", count, a.number("duration", 0.0));
+  return echo_or_hz(endpoint, keys, topic, verb == "echo", count, a.number("duration", 0.0));
 }
 
 }  // namespace enact::cli

@@ -2,6 +2,7 @@
 // The subcommands of the `enact` command line; each returns the process exit code.
 #include <string>
 
+#include "core/bus/client.h"
 #include "msgs/graph.pb.h"
 #include "nodes/enact/args.h"
 
@@ -27,15 +28,16 @@ int graph_list(int argc, char** argv);
 int foxglove_bridge(int argc, char** argv);
 int doctor(int argc, char** argv);
 int node(int argc, char** argv);
+int keys(int argc, char** argv);
 
-// the GraphInfo of the graph at `endpoint` (UsageError when none answers within 3 s)
-msgs::GraphInfo graph_info(const std::string& endpoint);
+// the GraphInfo of the graph at `endpoint`, attached with `keys` (UsageError when none answers within 3 s)
+msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& keys);
 // the message type of `topic` in `info` (UsageError naming the topics, and the closest, if absent)
 std::string type_of(const msgs::GraphInfo& info, const std::string& topic);
 // a topic as the graph names it: a leading '/' (ROS 2 habit) removed
 std::string topic_name(const std::string& given);
 // enact topic info TOPIC (type, publishers, rate) or bw TOPIC (bytes per second)
-int topic_info_or_bw(const std::string& endpoint, const std::string& topic, bool bw, double duration_s);
+int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& topic, bool bw, double duration_s);
 // enact export FILE --foxglove OUT.mcap (from export_csv)
 int export_foxglove(const Args& a);
 int experiment_run(int argc, char** argv);

@@ -34,6 +34,7 @@ commands:
   param set NAME VALUE  change a parameter of a running graph (answered: applied or refused)
   foxglove          serve a running graph to Foxglove (WebSocket): topics, schemas, the 3D scene
   doctor            is this machine ready for real-time haptics? one line per check, with the fix
+  keys new|show     CURVE keys for remote access (graphs launched with --access)
   experiment FILE   run an experiment's trials (virtual subjects or people), resumable
   metrics FILE      a trial's metrics recomputed from its recording
 
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
     if (command == "foxglove") return enact::cli::foxglove_bridge(argc, argv);
     if (command == "doctor") return enact::cli::doctor(argc, argv);
     if (command == "node") return enact::cli::node(argc, argv);
+    if (command == "keys") return enact::cli::keys(argc, argv);
     if (command == "experiment") return enact::cli::experiment_run(argc, argv);
     if (command == "metrics") return enact::cli::metrics(argc, argv);
     std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);

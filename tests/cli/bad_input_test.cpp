@@ -195,5 +195,37 @@ TEST_F(UnstableScene, SimulateForceRunsItAndCountsFaults) {
   EXPECT_FALSE(json_value(json, "faults").empty()) << json;
 }
 
+// `enact keys` and `enact launch --access`: wrong arguments exit 2, bad files 1 with file:line
+class KeysAndAccess : public ::testing::Test {
+ protected:
+  TempDir dir_;
+};
+
+TEST_F(KeysAndAccess, KeysNewWritesAPairOnceAndShowPrintsItsPublicKey) {
+  const RunResult made = enact("keys new lab --dir " + dir_.path());
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const RunResult shown = enact("keys show " + dir_.file("lab.key"));
+  EXPECT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_EQ(shown.out, enact("keys show " + dir_.file("lab.pub")).out);
+  EXPECT_EQ(shown.out.size(), 41u) << shown.out;
+  EXPECT_NE(made.out.find(shown.out.substr(0, 40)), std::string::npos) << made.out;
+  const RunResult again = enact("keys new lab --dir " + dir_.path());
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("never overwritten"), std::string::npos) << again.err;
+  EXPECT_EQ(enact("keys new").exit_code, 2);
+  EXPECT_EQ(enact("keys frobnicate x").exit_code, 2);
+  EXPECT_EQ(enact("keys show " + dir_.file("none.pub")).exit_code, 1);
+}
+
+TEST_F(KeysAndAccess, LaunchRefusesRemoteWithoutAccessAndABadAccessFile) {
+  const std::string launch = source_path("launch/bridge_rt.yaml");
+  const RunResult remote = enact("launch " + launch + " --attach 'tcp://*:0' --allow-remote");
+  EXPECT_EQ(remote.exit_code, 2);
+  EXPECT_NE(remote.err.find("--access"), std::string::npos) << remote.err;
+  ASSERT_EQ(enact("keys new graph --dir " + dir_.path()).exit_code, 0);
+  write_file(dir_.file("access.yaml"), "server_key: graph.key\nclients:\n  - {name: x, public_key: short, role: observe}\n");
+  expect_refused(enact("launch " + launch + " --access " + dir_.file("access.yaml")), dir_.file("access.yaml"), 3);
+}
+
 }  // namespace
 }  // namespace enact::test

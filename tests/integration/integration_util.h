@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/client.h"
 #include "core/bus/typed.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
@@ -86,9 +87,10 @@ inline pid_t spawn(std::vector<std::string> argv, const std::string& out, const 
 // (SIGTERM, then SIGKILL; its nodes die with it: PR_SET_PDEATHSIG in the supervisor).
 class Launcher {
  public:
-  // `endpoint`: the attach point's ("" : a free loopback port)
+  // `endpoint`: the attach point's ("" : a free loopback port); `options`: more options of
+  // `enact launch` (e.g. --access FILE)
   Launcher(const TempDir& dir, const std::string& file, double duration_s, const std::vector<std::string>& launch_args = {},
-           const std::string& endpoint = "")
+           const std::string& endpoint = "", const std::vector<std::string>& options = {})
       : out_(dir.file("launcher.out")), err_(dir.file("launcher.err")) {
     endpoint_ = endpoint.empty() ? "tcp://127.0.0.1:" + std::to_string(free_port()) : endpoint;
     std::vector<std::string> argv = {ENACT_CLI, "launch", file, "--duration", std::to_string(duration_s), "--attach", endpoint_};
@@ -96,6 +98,7 @@ class Launcher {
       argv.push_back("--arg");
       argv.push_back(a);
     }
+    argv.insert(argv.end(), options.begin(), options.end());
     pid_ = spawn(argv, out_, err_);
   }
   ~Launcher() {
@@ -202,9 +205,11 @@ struct Observed {
 // descheduled on a busy machine would otherwise lose messages).
 class Observer {
  public:
-  explicit Observer(const std::string& endpoint) {
+  // `keys`: for a graph launched with --access (bus::attach_connect)
+  explicit Observer(const std::string& endpoint, const bus::ClientKeys& keys = {}) {
     bytes_.set_receive_hwm(200000);
-    bytes_.connect(endpoint);
+    if (keys.enabled()) bus::attach_connect(bytes_.socket(), endpoint, keys);
+    else bytes_.connect(endpoint);
   }
 
   bus::ByteSubscriber& bytes() { return bytes_; }

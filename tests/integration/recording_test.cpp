@@ -93,7 +93,7 @@ TEST(Recording, ColocatedGraphRecordedFromItsFirstTickReplaysExactly) {
   const RunResult csv = run(kCli + " export " + file + " --topic ffd/state --csv " + dir.file("states.csv"));
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
   const std::string table = read_file(dir.file("states.csv"));
-  EXPECT_EQ(table.rfind("log_time_ns,header.seq,header.stamp_ns,header.source,position.x,position.y,position.z", 0), 0u) << table.substr(0, 200);
+  EXPECT_EQ(table.rfind("log_time_ns,header.seq,header.stamp_ns,header.source,header.sender_key,position.x,position.y,position.z", 0), 0u) << table.substr(0, 200);
   EXPECT_EQ(static_cast<std::uint64_t>(std::count(table.begin(), table.end(), '\n')), s.states + 1);
 
   // the simulator alone, fed by `enact play` of the recorded states with their timing,

@@ -37,6 +37,7 @@ void fill(msgs::Header& h, std::uint64_t seq) {
   h.set_seq(seq);
   h.set_stamp_ns(1'234'567'890'123);
   h.set_source("simulator");
+  h.set_sender_key("experimenter");
 }
 
 void fill(msgs::Vec3& v, double x, double y, double z) {

@@ -231,6 +231,23 @@ TEST_F(ViewerTest, AViewerAttachedLateShowsTheTrialsFallsAndCompletion) {
   EXPECT_NE(viewer_err().find("attached to graph bridge_rt at " + launcher.endpoint()), std::string::npos) << viewer_err();
 }
 
+TEST_F(ViewerTest, AGraphWithAnAccessFileIsShownOnlyToAViewerWithKeys) {
+  for (const char* name : {"graph", "desk"}) ASSERT_EQ(run(std::string(ENACT_CLI) + " keys new " + name + " --dir " + dir_.path()).exit_code, 0);
+  write_file(dir_.file("access.yaml"), "server_key: graph.key\nclients:\n  - {name: desk, public_key_file: desk.pub, role: operate}\n");
+  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0, {}, "", {"--access", dir_.file("access.yaml")});
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  // without keys: refused, and told why
+  const std::string png = dir_.file("snap.png");
+  EXPECT_EQ(viewer({"--attach", launcher.endpoint(), "--snapshot", png, "--after", "1"})->wait(30.0), 1);
+  EXPECT_NE(viewer_err().find("requires keys"), std::string::npos) << viewer_err();
+  // with keys: the scene, as on a graph without an access file
+  ASSERT_EQ(viewer({"--attach", launcher.endpoint(), "--key", dir_.file("desk.key"), "--server-key", dir_.file("graph.pub"), "--snapshot", png, "--after", "2.5"})->wait(30.0), 0)
+      << viewer_err();
+  const auto shown = parse_snapshot_line(viewer_out());
+  ASSERT_TRUE(shown) << "the viewer showed no scene: " << viewer_out();
+  EXPECT_EQ(shown->model, "CM1");
+}
+
 TEST_F(ViewerTest, ARecordingShowsTheSceneRecordedAtTheTimeAsked) {
   Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0);
   ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
