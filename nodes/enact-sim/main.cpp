@@ -146,12 +146,6 @@ int run(int argc, char** argv) {
     task::TaskEvent when = o.event;
     when.time_ns += first_ns;  // back on the device's clock
     task_state.step(last_step_ns, o);
-    // answered: now is between two steps
-    if (received >= next_params) {
-      next_params = received + kParamPoll_ns;
-      apply_params();
-      publish_restart();
-    }
     if (o.frame_due) {
       graph::fill(frame, body.rows, body.cols, o.frame);
       frame_pub.publish(frame);
@@ -170,6 +164,13 @@ int run(int argc, char** argv) {
                   physics::to_string(simulator.state().last_fault));
       graph::add_counters(status, out, &in);
       status_pub.publish(status);
+    }
+    // answered and every output of this step sent: now is between two steps (a change
+    // applied earlier would alter this step's tactile frame, which replay would not see)
+    if (received >= next_params) {
+      next_params = received + kParamPoll_ns;
+      apply_params();
+      publish_restart();
     }
   }
   simulator.deactivate();
