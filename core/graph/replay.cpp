@@ -15,6 +15,7 @@
 #include "core/graph/params.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
+#include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
@@ -28,6 +29,7 @@ struct State {
   std::uint64_t seq;
   std::int64_t stamp_ns;
   physics::Vec3 position_m;
+  bool watchdog;  // the driver's watchdog had cut the force (the simulator re-synchronises)
 };
 
 struct Force {
@@ -97,7 +99,8 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       changes.push_back(change_of(ack, pub == m.channel->metadata.end() ? "" : pub->second));
     }
     if (m.topic == kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position())});
+      states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()),
+                        (state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0});
     } else if (m.topic == kForceCommand && command.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       forces[command.answered_seq()] = {get(command.force()), command.zero()};
       if (pub != m.channel->metadata.end()) sim_publisher = pub->second;
@@ -136,6 +139,10 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   sim::Simulator sim;
   sim.configure(sim_params(p));
   sim.activate(0);
+  // as enact-sim: the body re-synchronises with the device at the first step and after
+  // every watchdog episode of the driver
+  sim::Reengagement reengage(p.number("reengage_s", sim::kReengageDefault_s));
+  reengage.interrupt();
   out.rate_hz = sim.model().rate_hz;
   out.first_state_seq = states.front().seq;
 
@@ -161,7 +168,9 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       if (plan.accepted) sim.apply(plan.change, 0);
       else diverge(out.steps, s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
     }
-    const sim::StepOutput& o = sim.step(s.stamp_ns - t0, s.position_m);
+    if (s.watchdog) reengage.interrupt();
+    const std::int64_t t_ns = s.stamp_ns - t0;
+    const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
     const auto f = forces.find(s.seq);
     if (f == forces.end()) {
       ++out.forces_missing;

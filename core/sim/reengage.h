@@ -14,10 +14,13 @@
 
 namespace enact::sim {
 
+// the simulator node's default duration (parameter reengage_s)
+constexpr double kReengageDefault_s = 0.100;
+
 class Reengagement {
  public:
   // duration_s >= 0: how long the body takes to return from out of the objects to the device
-  explicit Reengagement(double duration_s = 0.100);
+  explicit Reengagement(double duration_s = kReengageDefault_s);
 
   // the force path was interrupted: the next position() re-synchronises
   void interrupt() { pending_ = true; }

@@ -61,7 +61,7 @@ int run(int argc, char** argv) {
   const std::string ffd_node = p.text("ffd_node", "ffd");
   const double scene_rate_hz = p.number("scene_rate_hz", 60.0);
   const int observers = p.integer("observers", 0);
-  sim::Reengagement reengage(p.number("reengage_s", 0.1));
+  sim::Reengagement reengage(p.number("reengage_s", sim::kReengageDefault_s));
   std::vector<std::string> known = graph::kSimParams;
   known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers", "reengage_s"});
   p.refuse_unread(known);

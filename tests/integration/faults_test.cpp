@@ -24,12 +24,6 @@ namespace {
 constexpr double kReadyTimeout_s = 20.0;
 constexpr double kRate_hz = 5000.0;  // bridge.yaml's
 
-// SIGCONT on scope exit: a failed assertion must not leave a process stopped
-struct Continue {
-  pid_t pid;
-  ~Continue() { kill(pid, SIGCONT); }
-};
-
 // whether child `pid` exits within timeout_s (reaped); if not, it is killed (and reaped)
 bool exits_within(pid_t pid, double timeout_s) {
   const auto give_up = after(timeout_s);

@@ -244,12 +244,6 @@ TEST(IntegrationDistributed, KillingARequiredNodeStopsTheWholeGraph) {
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
 
-// SIGCONT on scope exit: a failed assertion must not leave the simulator stopped
-struct Continue {
-  pid_t pid;
-  ~Continue() { kill(pid, SIGCONT); }
-};
-
 TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   const auto t0 = Clock::now();
   TempDir dir;

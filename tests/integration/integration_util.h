@@ -82,6 +82,12 @@ inline pid_t spawn(std::vector<std::string> argv, const std::string& out, const 
   return pid;
 }
 
+// SIGCONT on scope exit: a failed assertion must not leave a process stopped
+struct Continue {
+  pid_t pid;
+  ~Continue() { kill(pid, SIGCONT); }
+};
+
 // `enact launch FILE --duration D --attach ENDPOINT [--arg K=V]...` in the background (fork
 // and exec), stdout and stderr into files of `dir`. The destructor makes sure it is gone
 // (SIGTERM, then SIGKILL; its nodes die with it: PR_SET_PDEATHSIG in the supervisor).

@@ -18,6 +18,7 @@ const std::string kCli = ENACT_CLI;
 
 struct Summary {
   std::uint64_t states = 0, forces = 0, first_state_seq = 0, state_gaps = 0;
+  std::uint64_t watchdog_states = 0;  // carrying DEVICE_FAULT_WATCHDOG
   std::map<std::uint64_t, msgs::Vec3> force_by_answer;  // answered_seq -> force
   bool complete = false;
   std::vector<std::string> damage;
@@ -35,6 +36,7 @@ Summary summarize(const std::string& path) {
       else if (state.header().seq() > last + 1) s.state_gaps += state.header().seq() - last - 1;
       last = state.header().seq();
       ++s.states;
+      s.watchdog_states += (state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0;
     }
     if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       s.force_by_answer[force.answered_seq()] = force.force();
@@ -210,6 +212,40 @@ void live_changes_replay_exactly(const std::string& graph_file, const std::strin
 TEST(Recording, LiveChangesOnTheColocatedGraphReplayExactly) { live_changes_replay_exactly("launch/bridge_rt.yaml", "started rt"); }
 
 TEST(Recording, LiveChangesOnTheDistributedGraphReplayExactly) { live_changes_replay_exactly("launch/bridge.yaml", "started ffd"); }
+
+// the simulator stalls (the driver's watchdog cuts the force and flags its states) while the
+// hand presses on the bridge, then resumes and re-synchronises its body with the device:
+// resim does the same where the recorded states say so, and is identical
+TEST(Recording, AWatchdogEpisodeReplaysExactly) {
+  TempDir dir;
+  const std::string file = dir.file("stall.mcap");
+  {
+    Launcher graph(dir, source_path("launch/bridge.yaml"), 6.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log("started ffd", 15.0)) << graph.log();
+    const pid_t sim = graph.pid_of("sim");
+    ASSERT_GT(sim, 0) << graph.log();
+    const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 10 >" + dir.file("rec.out") +
+                              " 2>&1 & echo $!");
+    const pid_t recorder = static_cast<pid_t>(std::stol(rec.out));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    {
+      Continue guard{sim};
+      ASSERT_EQ(kill(sim, SIGSTOP), 0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(60));  // the watchdog trips after 10 ms
+    }
+    const auto end = after(20.0);
+    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    ASSERT_NE(graph.log().find("re-synchronised with the device"), std::string::npos) << graph.log();
+  }
+  const Summary s = summarize(file);
+  EXPECT_EQ(s.first_state_seq, 1u);
+  EXPECT_EQ(s.state_gaps, 0u);
+  EXPECT_GT(s.watchdog_states, 0u) << "no ffd/state carries DEVICE_FAULT_WATCHDOG: the stall did not trip the driver";
+  const RunResult resim = run(kCli + " resim " + file);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("identical"), std::string::npos) << resim.out;
+}
 
 TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
   TempDir dir;
