@@ -225,9 +225,12 @@ void AttachPoint::forward_data() {
       keep = &latched_[frames_[0].to_string()];
       keep->clear();
     }
+    // copies, each of its own size: a received frame shares ZeroMQ's 8 kB receive buffer
+    // with its neighbours, which a slow observer's queue would otherwise keep whole
     for (std::size_t k = 0; k < n; ++k) {
       if (keep) keep->push_back(frames_[k].to_string());
-      (void)xpub_.send(frames_[k], k + 1 < n ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait);
+      const auto flags = k + 1 < n ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
+      (void)xpub_.send(zmq::const_buffer(frames_[k].data(), frames_[k].size()), flags);
     }
   }
 }

@@ -270,7 +270,7 @@ void Logger::close_file() {
 void Logger::close() { close_file(); }
 
 std::string format_write_failure(const Logger& logger) {
-  const std::string& file = logger.files().back();
+  const std::string file = logger.files().back();
   return logger.write_failure() + "\nrecording stopped; " + file +
          (logger.closed_whole() ? " is closed: it holds every message up to its last whole chunk (enact info " + file + ")"
                                 : " is readable but has no summary: enact recover " + file + " -o FIXED.mcap");
