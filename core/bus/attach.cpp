@@ -23,9 +23,6 @@ using Clock = std::chrono::steady_clock;
 
 // how long a caller waits for the forwarding thread to answer a command
 constexpr int kCommandTimeout_ms = 5000;
-// messages queued per observer (and from each publisher) at the attach point
-constexpr int kObserverQueue = 100000;
-
 // data messages forwarded per wake-up before commands and subscriptions get a turn
 constexpr int kForwardBatch = 256;
 
@@ -40,6 +37,11 @@ std::string control_endpoint() {
 
 }  // namespace
 
+int observer_queue_messages(std::size_t queue_bytes, std::size_t largest_cost_bytes) {
+  if (largest_cost_bytes == 0) return kObserverQueue;
+  return static_cast<int>(std::clamp<std::size_t>(queue_bytes / largest_cost_bytes, 1, kObserverQueue));
+}
+
 AttachPoint::AttachPoint(std::string graph, AttachOptions options)
     : graph_(std::move(graph)),
       graph_period_ms_(options.graph_period_ms),
@@ -52,7 +54,8 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
       latched_topics_(options.latched_topics),
       access_(std::move(options.access)),
       refused_ack_topic_(options.refused_ack_topic),
-      descriptor_set_(msgs_descriptor_set()) {
+      descriptor_set_(msgs_descriptor_set()),
+      queue_bytes_(options.observer_queue_bytes) {
   // refuse a bad or exposed endpoint before binding it
   const std::string& bind = options.bind_endpoint;
   validate_endpoint(bind, "attach endpoint");
@@ -68,8 +71,8 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
   // observers' side: every subscription reaches us (so each new observer of graph/topics
   // gets a GraphInfo at once); lossy, so a slow observer never holds the publishers back
   xpub_.set(zmq::sockopt::xpub_verbose, true);
-  // deep queues both ways (about 100 ms of a 5 kHz graph's every topic, times 10), so an
-  // observer that pauses (a logger compressing a chunk) loses nothing
+  // deep queues both ways (seconds of a 5 kHz graph's every topic, fewer as larger messages
+  // appear: fit_queue), so an observer that pauses (a logger compressing a chunk) loses nothing
   xpub_.set(zmq::sockopt::sndhwm, kObserverQueue);
   xsub_.set(zmq::sockopt::rcvhwm, kObserverQueue);
   // with an access file, only its keys connect, and what they send passes its gate
@@ -207,19 +210,27 @@ bool AttachPoint::handle_command() {
 
 void AttachPoint::forward_data() {
   // publishers -> observers, whole messages, a batch at a time; the last of a state topic kept
-  zmq::message_t frame;
-  for (int i = 0; i < kForwardBatch && xsub_.recv(frame, zmq::recv_flags::dontwait); ++i) {
+  for (int i = 0; i < kForwardBatch; ++i) {
+    // the whole message first: the queue limit fits it before any of its frames is queued
+    std::size_t n = 0, cost = 0;
+    for (bool more = true; more; ++n) {
+      if (n == frames_.size()) frames_.emplace_back();
+      if (!xsub_.recv(frames_[n], n == 0 ? zmq::recv_flags::dontwait : zmq::recv_flags::none)) return;
+      more = frames_[n].more();
+      cost += frames_[n].size() + kFrameCost_bytes;
+    }
+    fit_queue(cost);
     std::vector<std::string>* keep = nullptr;
-    if (std::find(latched_topics_.begin(), latched_topics_.end(), frame.to_string_view()) != latched_topics_.end()) {
-      keep = &latched_[frame.to_string()];
+    if (std::find(latched_topics_.begin(), latched_topics_.end(), frames_[0].to_string_view()) != latched_topics_.end()) {
+      keep = &latched_[frames_[0].to_string()];
       keep->clear();
     }
-    for (;;) {
-      const bool more = frame.more();
-      if (keep) keep->push_back(frame.to_string());
-      (void)xpub_.send(frame, more ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait);
-      if (!more) break;
-      (void)xsub_.recv(frame);
+    // copies, each of its own size: a received frame shares ZeroMQ's 8 kB receive buffer
+    // with its neighbours, which a slow observer's queue would otherwise keep whole
+    for (std::size_t k = 0; k < n; ++k) {
+      if (keep) keep->push_back(frames_[k].to_string());
+      const auto flags = k + 1 < n ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
+      (void)xpub_.send(zmq::const_buffer(frames_[k].data(), frames_[k].size()), flags);
     }
   }
 }
@@ -310,6 +321,16 @@ void AttachPoint::publish_own(std::string_view topic, const std::string& type, c
   if (!xpub_.send(zmq::const_buffer(topic.data(), topic.size()), more)) return;
   (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
   (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
+}
+
+void AttachPoint::fit_queue(std::size_t cost_bytes) {
+  if (cost_bytes <= largest_cost_) return;
+  largest_cost_ = cost_bytes;
+  const int messages = observer_queue_messages(queue_bytes_, largest_cost_);
+  if (messages == observer_queue_.load()) return;
+  // ZeroMQ applies a new limit to the connected observers' queues too
+  xpub_.set(zmq::sockopt::sndhwm, messages);
+  observer_queue_.store(messages);
 }
 
 void AttachPoint::publish_graph() {

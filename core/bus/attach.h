@@ -9,8 +9,16 @@
 // sent to it. It publishes the graph's topics and their schemas on "graph/topics"
 // (msgs/graph.proto, GraphInfo) every second and as soon as an observer subscribes to it.
 //
-// Observers are lossy: a slow observer loses messages at the attach point (it sees gaps),
-// and never slows the publishers. Wire format and a Python client: core/bus/README.md.
+// Observers are lossy: a slow observer loses messages at the attach point (it sees gaps,
+// and counts them by header.seq), and never slows the publishers. Each observer's queue
+// holds at most kObserverQueue messages, and the nodes' messages in it at most
+// observer_queue_bytes: each counted at the cost of the largest forwarded so far (frames
+// plus kFrameCost_bytes each), the message limit is lowered as larger ones appear, for every
+// observer at once. The attach point's own GraphInfo (one a second, with the launch files:
+// tens of kB) is not counted: a stopped observer's queue takes one a second beside the
+// nodes' messages, until the queue is full. What a slow observer's queue held goes back to
+// the system once it drained or left.
+// Wire format and a Python client: core/bus/README.md.
 //
 // Observers may also publish, on the few inbound topics the graph accepts (param/set): they
 // send bus messages upstream on the same connection (an XSUB socket: AttachSender), and the
@@ -41,6 +49,16 @@ namespace enact::bus {
 // the topic of GraphInfo messages
 inline constexpr std::string_view kGraphTopic = "graph/topics";
 
+// messages queued per observer (and from each publisher) at the attach point, at most
+inline constexpr int kObserverQueue = 100000;
+// what a queued frame costs beside its bytes (ZeroMQ's message slot and content header, and
+// malloc's own), an estimate
+inline constexpr std::size_t kFrameCost_bytes = 128;
+
+// the messages an observer's queue may hold when the largest message costs
+// largest_cost_bytes: as many as fit in queue_bytes, between 1 and kObserverQueue
+int observer_queue_messages(std::size_t queue_bytes, std::size_t largest_cost_bytes);
+
 struct AttachOptions {
   // where observers connect; loopback only by default
   std::string bind_endpoint = kLoopbackAnyPort;
@@ -56,6 +74,8 @@ struct AttachOptions {
   std::string refused_ack_topic = "param/ack";
   // period of the GraphInfo messages, ms
   int graph_period_ms = 1000;
+  // the most one observer's queue holds, bytes (counted as above)
+  std::size_t observer_queue_bytes = std::size_t{64} << 20;
   // where the attach point republishes what observers send (empty: observers only listen)
   std::string inbound_endpoint{};
   // the topics observers may send on; anything else they send is dropped
@@ -81,6 +101,10 @@ class AttachPoint {
 
   // the endpoint actually bound (tcp port resolved): print it for observers
   const std::string& endpoint() const { return endpoint_; }
+
+  // how many messages each observer's queue may hold now (observer_queue_bytes over the
+  // cost of the largest message forwarded so far, at most kObserverQueue). Thread-safe.
+  int observer_queue() const { return observer_queue_.load(); }
 
   // forwards the topics published at `endpoint` (a BytePublisher::endpoint() of node
   // `node`) to observers; the publisher may start later. Throws config::Error for a
@@ -125,6 +149,9 @@ class AttachPoint {
   void send_latched(std::string_view prefix);
   // a message of the attach point's own to the observers (dropped when none subscribed)
   void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
+  // a message of cost_bytes is about to be queued: lower every observer's queue if it is the
+  // largest so far
+  void fit_queue(std::size_t cost_bytes);
 
   std::string graph_;
   std::string endpoint_;
@@ -151,6 +178,10 @@ class AttachPoint {
   msgs::GraphInfo launch_;    // launch details, under launch_mutex_
   std::string descriptor_set_;
   std::uint64_t graph_seq_ = 0;
+  std::size_t queue_bytes_;
+  std::size_t largest_cost_ = 0;  // bytes, forwarding thread
+  std::vector<zmq::message_t> frames_;  // the message being forwarded
+  std::atomic<int> observer_queue_ = kObserverQueue;
   std::thread thread_;
 };
 

@@ -1,11 +1,13 @@
 #include "core/graph/colocated.h"
 
 #include "core/devices/hand.h"
+#include "core/graph/messages.h"
 
 namespace enact::graph {
 
-ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock)
-    : sim_(simulator), force_(force), tactile_(tactile), clock_(clock) {}
+ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock,
+                             double reengage_s)
+    : sim_(simulator), force_(force), tactile_(tactile), clock_(clock), reengage_(reengage_s) {}
 
 void ColocatedLoop::activate() {
   force_.activate();
@@ -15,6 +17,7 @@ void ColocatedLoop::activate() {
   hand_ = hand && hand->feels_pins() ? hand : nullptr;
   start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
   obs_ = {};
+  reengage_.interrupt();  // the force path starts here
 }
 
 void ColocatedLoop::connect_params(ParamQueue& changes, AppliedQueue& applied) {
@@ -23,13 +26,18 @@ void ColocatedLoop::connect_params(ParamQueue& changes, AppliedQueue& applied) {
 }
 
 const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
-  if (start_ns_ < 0) start_ns_ = now_ns;
+  if (start_ns_ < 0) start_ns_ = whole_ns_ = now_ns;
   // parameter changes, between the last step and this one
   sim::ParamChange change;
   while (changes_ && changes_->try_pop(change)) applied_->try_push(sim_.apply(change, now_ns));
   // read the device, step the model on that sample, write the force, in one tick
   force_.read(now_ns, obs_.sample);
-  obs_.step = sim_.step(now_ns - start_ns_, obs_.sample.position_m);
+  obs_.cut = force_path_cut(device_faults(obs_.sample.faults));
+  if (obs_.cut) reengage_.interrupt();
+  else whole_ns_ = now_ns;
+  obs_.cut_since_ns = obs_.cut ? whole_ns_ : 0;
+  const std::int64_t t_ns = now_ns - start_ns_;
+  obs_.step = sim_.step(t_ns, reengage_.position(sim_, t_ns, obs_.sample.position_m));
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_();
   // pins only at the down-sampled rate the cells can follow

@@ -11,6 +11,7 @@
 #include "core/rt/clock.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
+#include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 
 namespace enact::graph {
@@ -21,6 +22,11 @@ struct Observation {
   std::int64_t force_ns = 0;    // force written (sample-to-force latency = force_ns - sample.time_ns)
   devices::ForceSample sample;  // what the device read (position, velocity, buttons, fault bits)
   sim::StepOutput step;         // what the model made of it: force, pins, frame, contacts, task
+  // whether the force path is cut (the device's watchdog tripped, i.e. this tick came later
+  // than its watchdog time after the last, or the device could not be read), and since when:
+  // the time of the last tick before the cut that read the device well
+  bool cut = false;
+  std::int64_t cut_since_ns = 0;
 };
 
 // reads the monotonic clock (ns); a parameter so tests can drive time
@@ -33,7 +39,10 @@ using AppliedQueue = rt::SpscQueue<sim::ParamApplied, sim::kMaxParamsInFlight>;
 
 class ColocatedLoop {
  public:
-  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock);
+  // reengage_s: after a cut of the force path, how long the simulator's body takes to return
+  // from out of the objects to the device (sim::Reengagement)
+  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock,
+                double reengage_s = sim::kReengageDefault_s);
 
   // activate the devices and the simulator; zero force, pins down. The first tick is the
   // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
@@ -43,10 +52,14 @@ class ColocatedLoop {
   // and report them in `applied` (both outlive the loop; this thread pops `changes` and
   // pushes `applied`)
   void connect_params(ParamQueue& changes, AppliedQueue& applied);
-  // one tick of the zero-delay loop: parameter changes first, between two steps
+  // one tick of the zero-delay loop: parameter changes first, between two steps; after a cut
+  // of the force path (the sample's watchdog or device error bit) the body is re-synchronised
+  // with the device first, as enact-sim does, so the force comes back from zero
   const Observation& tick(std::int64_t now_ns);
   // zero the force and lower the pins first, then stop the simulator
   void deactivate() noexcept;
+  // the body's re-synchronisations (the first tick's included)
+  const sim::Reengagement& reengagement() const { return reengage_; }
 
  private:
   sim::Simulator& sim_;
@@ -58,7 +71,9 @@ class ColocatedLoop {
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
   float shown_[32] = {};
   Observation obs_;
+  sim::Reengagement reengage_;
   std::int64_t start_ns_ = -1;  // time of the first tick
+  std::int64_t whole_ns_ = 0;   // the last tick whose sample said the force path was whole
 };
 
 }  // namespace enact::graph

@@ -1,5 +1,6 @@
 #include "core/graph/logger.h"
 
+#include <csignal>
 #include <cstdlib>
 #include <algorithm>
 #include <filesystem>
@@ -127,6 +128,9 @@ void Logger::open_file() {
   const int index = static_cast<int>(files_.size());
   const bool split = options_.split_size_mb > 0.0 || options_.split_duration_s > 0.0;
   const std::string path = split ? numbered(options_.output, index) : options_.output;
+  // a file size limit (ulimit -f) then fails the write as a full disk does, instead of
+  // killing the logger before it closes its file
+  std::signal(SIGXFSZ, SIG_IGN);
   writer_ = std::make_unique<record::Writer>(path, options_.writer);
   files_.push_back(path);
   file_start_ns_ = rt::now_ns();
@@ -192,6 +196,15 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
 }
 
 void Logger::run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress) {
+  try {
+    receive(stop, progress);
+  } catch (const record::Error& e) {
+    // the disk is full: stop here, close what the file holds
+    write_failure_ = e.what();
+  }
+}
+
+void Logger::receive(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress) {
   bus::RawMessage m;
   std::int64_t next_progress = rt::now_ns() + 1'000'000'000;
   while (!stop()) {
@@ -207,6 +220,7 @@ void Logger::run(const std::function<bool()>& stop, const std::function<void(con
     const bool too_long = options_.split_duration_s > 0.0 && static_cast<double>(now - file_start_ns_) >= options_.split_duration_s * 1e9;
     if (too_big || too_long) {
       close_file();
+      if (!write_failure_.empty()) return;
       open_file();
     }
     if (progress && now >= next_progress) {
@@ -237,12 +251,30 @@ void Logger::close_file() {
   }
   stats["messages"] = std::to_string(messages_);
   stats["gaps"] = std::to_string(gaps);
-  writer_->add_metadata("enact.recording", stats);
-  writer_->close();
+  // after a write failure each part is tried on its own: the summary may still fit
+  closed_whole_ = false;
+  try {
+    writer_->add_metadata("enact.recording", stats);
+  } catch (const record::Error& e) {
+    if (write_failure_.empty()) write_failure_ = e.what();
+  }
+  try {
+    writer_->close();
+    closed_whole_ = true;
+  } catch (const record::Error& e) {
+    if (write_failure_.empty()) write_failure_ = e.what();
+  }
   writer_.reset();
 }
 
 void Logger::close() { close_file(); }
+
+std::string format_write_failure(const Logger& logger) {
+  const std::string file = logger.files().back();
+  return logger.write_failure() + "\nrecording stopped; " + file +
+         (logger.closed_whole() ? " is closed: it holds every message up to its last whole chunk (enact info " + file + ")"
+                                : " is readable but has no summary: enact recover " + file + " -o FIXED.mcap");
+}
 
 std::vector<ChannelReport> Logger::report() const {
   std::vector<ChannelReport> out;

@@ -82,8 +82,15 @@ class Logger {
   void run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress = {});
   // whether run() ended because the graph was gone
   bool graph_gone() const { return graph_gone_; }
-  // writes the statistics metadata and closes the file (complete and indexed)
+  // writes the statistics metadata and closes the file (complete and indexed); after a
+  // write failure, as much of that as the room left takes (the file stays readable)
   void close();
+  // why writing stopped (a full disk, a file size limit: the writer's error), "" if it did not;
+  // run() returns at the first failure
+  const std::string& write_failure() const { return write_failure_; }
+  // whether the last file was closed with its summary (false: readable, but `enact recover`
+  // indexes it); valid after close()
+  bool closed_whole() const { return closed_whole_; }
 
   const std::string& endpoint() const { return endpoint_; }
   std::vector<ChannelReport> report() const;
@@ -97,6 +104,8 @@ class Logger {
   };
   void open_file();
   void close_file();
+  // run() until the first write failure, which it throws
+  void receive(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress);
   void take(const bus::RawMessage& m, std::int64_t now_ns);
   void update_graph(const msgs::GraphInfo& info);
   std::uint16_t schema_for(const std::string& type);
@@ -117,7 +126,13 @@ class Logger {
   msgs::Header header_;
   std::uint64_t messages_ = 0;
   std::int64_t file_start_ns_ = 0, start_ns_ = 0;
+  std::string write_failure_;
+  bool closed_whole_ = false;
 };
+
+// what a logger says when its disk filled: the writer's error, and what the file holds now
+// (closed with its summary, or readable without one: the `enact recover` line)
+std::string format_write_failure(const Logger& logger);
 
 // one line of progress: "12.0 s  61234 messages  1.2 MB  0 gaps  -> FILE"
 std::string format(const LoggerProgress& p);

@@ -22,6 +22,8 @@ std::uint32_t device_faults(std::uint32_t f) {
   return out;
 }
 
+bool force_path_cut(std::uint32_t bus_faults) { return (bus_faults & (msgs::DEVICE_FAULT_WATCHDOG | msgs::DEVICE_FAULT_COMMUNICATION)) != 0; }
+
 void fill(msgs::DeviceState& m, const devices::ForceSample& s) {
   m.mutable_header()->set_stamp_ns(s.time_ns);
   set(*m.mutable_position(), s.position_m);

@@ -20,6 +20,10 @@ physics::Vec3 get(const msgs::Vec3& v);
 
 // device fault bits (devices::DeviceFault) as the bus's DeviceFault bits
 std::uint32_t device_faults(std::uint32_t faults);
+// whether a device state with these bus fault bits says the force path was cut (the
+// driver's watchdog, a failed transfer): the simulator then re-synchronises its body with
+// the device (enact-sim, enact-rt and enact resim alike)
+bool force_path_cut(std::uint32_t bus_faults);
 
 void fill(msgs::DeviceState& m, const devices::ForceSample& s);
 void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3& force_n, bool model_fault);

@@ -29,7 +29,7 @@ struct State {
   std::uint64_t seq;
   std::int64_t stamp_ns;
   physics::Vec3 position_m;
-  bool watchdog;  // the driver's watchdog had cut the force (the simulator re-synchronises)
+  bool cut;  // the force path was cut (the driver's watchdog, a device error): the simulator re-synchronises
 };
 
 struct Force {
@@ -100,7 +100,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
     }
     if (m.topic == kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()),
-                        (state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0});
+                        force_path_cut(state.faults())});
     } else if (m.topic == kForceCommand && command.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       forces[command.answered_seq()] = {get(command.force()), command.zero()};
       if (pub != m.channel->metadata.end()) sim_publisher = pub->second;
@@ -139,8 +139,8 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   sim::Simulator sim;
   sim.configure(sim_params(p));
   sim.activate(0);
-  // as enact-sim: the body re-synchronises with the device at the first step and after
-  // every watchdog episode of the driver
+  // as enact-sim and enact-rt: the body re-synchronises with the device at the first step
+  // and whenever the force path was cut
   sim::Reengagement reengage(p.number("reengage_s", sim::kReengageDefault_s));
   reengage.interrupt();
   out.rate_hz = sim.model().rate_hz;
@@ -168,7 +168,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       if (plan.accepted) sim.apply(plan.change, 0);
       else diverge(out.steps, s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
     }
-    if (s.watchdog) reengage.interrupt();
+    if (s.cut) reengage.interrupt();
     const std::int64_t t_ns = s.stamp_ns - t0;
     const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
     const auto f = forces.find(s.seq);

@@ -62,8 +62,16 @@ Writer::~Writer() {
 }
 
 void Writer::drain() {
+  try {
+    write_all(fd_, path_, out_.data(), out_.size());
+  } catch (...) {
+    // a full disk: the file ends at the last whole record again (readable, and closed if what
+    // is left of the room holds the summary)
+    if (::ftruncate(fd_, static_cast<off_t>(offset_)) == 0) (void)::lseek(fd_, static_cast<off_t>(offset_), SEEK_SET);
+    out_.clear();
+    throw;
+  }
   data_crc_ = crc32(data_crc_, out_.data(), out_.size());
-  write_all(fd_, path_, out_.data(), out_.size());
   offset_ += out_.size();
   out_.clear();
 }
@@ -96,7 +104,8 @@ std::uint16_t Writer::add_channel(std::uint16_t schema_id, std::string_view topi
   });
   out_ += rec;
   channels_.push_back(std::move(rec));
-  channel_counts_[id];
+  tally_.channel_counts[id];
+  written_.channel_counts[id];
   drain();
   return id;
 }
@@ -119,10 +128,11 @@ void Writer::write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_
   });
   chunk_start_ = std::min(chunk_start_, log_time_ns);
   chunk_end_ = std::max(chunk_end_, log_time_ns);
-  first_time_ = message_count_ == 0 ? log_time_ns : std::min(first_time_, log_time_ns);
-  last_time_ = message_count_ == 0 ? log_time_ns : std::max(last_time_, log_time_ns);
-  ++message_count_;
-  ++channel_counts_[channel_id];
+  Tally& t = tally_;
+  t.first_time = t.messages == 0 ? log_time_ns : std::min(t.first_time, log_time_ns);
+  t.last_time = t.messages == 0 ? log_time_ns : std::max(t.last_time, log_time_ns);
+  ++t.messages;
+  ++t.channel_counts[channel_id];
   if (chunk_.size() >= options_.chunk_size_bytes) flush();
 }
 
@@ -167,10 +177,16 @@ void Writer::flush() {
     entries.clear();
   }
   ci.index_length = out_.size() - ci.length;
-  chunk_indexes_.push_back(std::move(ci));
   chunk_.clear();
   chunk_open_ = false;
-  drain();
+  try {
+    drain();
+  } catch (...) {
+    tally_ = written_;  // the chunk's messages are not in the file
+    throw;
+  }
+  chunk_indexes_.push_back(std::move(ci));
+  written_ = tally_;
 }
 
 void Writer::add_metadata(std::string_view name, const StringMap& values) {
@@ -182,8 +198,8 @@ void Writer::add_metadata(std::string_view name, const StringMap& values) {
     map_field(o, values);
   });
   ix.length = offset_ + out_.size() - ix.offset;
-  metadata_.push_back(std::move(ix));
   drain();
+  metadata_.push_back(std::move(ix));
 }
 
 void Writer::add_attachment(std::string_view name, std::string_view media_type, std::string_view data, std::int64_t log_time_ns,
@@ -205,8 +221,8 @@ void Writer::add_attachment(std::string_view name, std::string_view media_type, 
     o.u32(crc32(0, o.s.data() + fields, o.s.size() - fields));  // of the fields before it
   });
   ix.length = offset_ + out_.size() - ix.offset;
-  attachments_.push_back(std::move(ix));
   drain();
+  attachments_.push_back(std::move(ix));
 }
 
 void Writer::close() {
@@ -224,15 +240,13 @@ void Writer::close() {
 
 void Writer::finish() {
   flush();  // drains: data_crc_ now covers every byte before the data end record
+  // the data end, the summary and the footer in one write: on a full disk the file ends
+  // at the last chunk or metadata record instead
   append_record(out_, Op::data_end, [&](Out& o) { o.u32(data_crc_); });
-  write_all(fd_, path_, out_.data(), out_.size());
-  offset_ += out_.size();
-  out_.clear();
-
   // summary: records grouped by opcode, each group located by a summary offset record
-  const std::uint64_t summary_start = offset_;
+  const std::uint64_t summary_start = offset_ + out_.size();
   std::vector<std::pair<Op, std::pair<std::uint64_t, std::uint64_t>>> groups;
-  std::string& s = out_;
+  std::string s;
   auto group = [&](Op op, auto&& body) {
     const std::size_t start = s.size();
     body();
@@ -242,16 +256,16 @@ void Writer::finish() {
   group(Op::channel, [&] { for (const auto& r : channels_) s += r; });
   group(Op::statistics, [&] {
     append_record(s, Op::statistics, [&](Out& o) {
-      o.u64(message_count_);
+      o.u64(written_.messages);
       o.u16(static_cast<std::uint16_t>(schemas_.size()));
       o.u32(static_cast<std::uint32_t>(channels_.size()));
       o.u32(static_cast<std::uint32_t>(attachments_.size()));
       o.u32(static_cast<std::uint32_t>(metadata_.size()));
       o.u32(static_cast<std::uint32_t>(chunk_indexes_.size()));
-      o.u64(u64(first_time_));
-      o.u64(u64(last_time_));
+      o.u64(u64(written_.first_time));
+      o.u64(u64(written_.last_time));
       const std::size_t at = o.begin_block();
-      for (const auto& [id, n] : channel_counts_) {
+      for (const auto& [id, n] : written_.channel_counts) {
         o.u16(id);
         o.u64(n);
       }
@@ -316,9 +330,8 @@ void Writer::finish() {
   o.u64(summary_offset_start);
   o.u32(crc32(0, s.data(), s.size()));
   s.append(kMagic);
-  write_all(fd_, path_, s.data(), s.size());
-  offset_ += s.size();
-  s.clear();
+  out_ += s;
+  drain();
 }
 
 }  // namespace enact::record

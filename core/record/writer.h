@@ -9,6 +9,11 @@
 // spans chunk_duration_ns of log time (checked on each message and by flush_if_due). A
 // process killed with SIGKILL so loses at most the open chunk; `enact recover` rebuilds an
 // indexed file from the rest (record::Reader reads files without a summary).
+//
+// A full disk (or a file size limit): a write that fails throws record::Error and leaves the
+// file ending at the last whole record (the failed chunk's messages are lost and not
+// counted); close() then still writes the summary if the room left holds it (the failed
+// chunk's bytes were given back), else the file stays readable without one.
 #include <cstdint>
 #include <map>
 #include <string>
@@ -62,7 +67,8 @@ class Writer {
 
   const std::string& path() const { return path_; }
   std::uint64_t bytes_written() const { return offset_; }
-  std::uint64_t message_count() const { return message_count_; }
+  // messages written so far (those of a chunk that failed to reach the disk excluded)
+  std::uint64_t message_count() const { return tally_.messages; }
   std::uint64_t chunk_count() const { return chunk_indexes_.size(); }
 
  private:
@@ -100,9 +106,13 @@ class Writer {
   // the summary
   std::vector<ChunkIndex> chunk_indexes_;
   std::vector<Index> attachments_, metadata_;
-  std::map<std::uint16_t, std::uint64_t> channel_counts_;
-  std::uint64_t message_count_ = 0;
-  std::int64_t first_time_ = 0, last_time_ = 0;
+  struct Tally {  // the statistics' counts
+    std::uint64_t messages = 0;
+    std::int64_t first_time = 0, last_time = 0;
+    std::map<std::uint16_t, std::uint64_t> channel_counts;
+  };
+  Tally tally_;    // of every message written
+  Tally written_;  // of those in chunks that reached the file
 };
 
 }  // namespace enact::record

@@ -69,7 +69,8 @@ int run(int argc, char** argv) {
   logger.run([] { return graph::stop_requested(); });
   logger.close();
   graph::say(args.name, "closed " + logger.files().back() + "\n" + graph::format(logger.report()));
-  return 0;
+  if (!logger.write_failure().empty()) graph::say(args.name, graph::format_write_failure(logger));
+  return logger.write_failure().empty() ? 0 : 1;
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
+#include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 #include "core/rt/profile.h"
@@ -49,6 +50,8 @@ container parameters:
                         recording from the first tick) before the loop starts
 component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
   sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
+            reengage_s=0.1 (after a cut of the force path: a tick later than the device's
+            watchdog_s, a device error: the body's return from out of the objects)
   ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s reengage_s
   tactile:  device rows cols rise_time_s
 )";
@@ -119,6 +122,7 @@ int run(int argc, char** argv) {
   const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
   graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
   sim::SimParams sp = graph::sim_params(sim_p);
+  const double reengage_s = sim_p.number("reengage_s", sim::kReengageDefault_s);
   sp.rate_hz = sched.rate_hz;
   sim::Simulator simulator;
   simulator.configure(sp);
@@ -148,7 +152,7 @@ int run(int argc, char** argv) {
   graph::ParamPort params(simulator, sim_name, out, event_pub);
   graph::TaskStateTracker task_state(out);
   graph::announce_topics(out);
-  graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
+  graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns, reengage_s);
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   struct Shown {
     std::int64_t time_ns;
@@ -251,6 +255,8 @@ int run(int argc, char** argv) {
     if (graph::fill(event_msg, o.step.event, params.model_name_at(o.sample.time_ns))) event_pub.publish(event_msg);
   };
   Felt felt;
+  // each cut of the force path (a late tick, a device error) said once, counted
+  graph::WatchdogLog cuts(args.name, "force path cut (a late tick or a device error): body re-synchronised, force back from zero");
   graph::Observation o;
   Scene scene;
   Shown levels;
@@ -261,6 +267,7 @@ int run(int argc, char** argv) {
     while (queue.try_pop(o)) {
       take_applied();
       consume(o, felt);
+      if (o.cut != cuts.tripped()) cuts.update(o.cut, o.cut ? o.cut_since_ns : o.sample.time_ns);
       task_state.step(o.sample.time_ns, o.step);
       publish(o);
     }
@@ -278,6 +285,7 @@ int run(int argc, char** argv) {
     }
     while (summaries.try_pop(summary)) {
       graph::fill(status_msg, args.name, summary, felt.device_faults + felt.sim_faults, "");
+      cuts.fill(status_msg);
       graph::add_counters(status_msg, out, &params.subscriber());
       status_pub.publish(status_msg);
     }
@@ -294,11 +302,11 @@ int run(int argc, char** argv) {
   std::printf("%s: %s\n", args.name.c_str(), rt::format(rt::summarize(stats, sched.rate_hz)).c_str());
   const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
   std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
-              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
+              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu; %s\n",
               args.name.c_str(), felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
               static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
-              static_cast<unsigned long long>(dropped.load()));
+              static_cast<unsigned long long>(dropped.load()), cuts.summary().c_str());
   std::fflush(stdout);
   return 0;
 }

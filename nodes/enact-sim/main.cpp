@@ -134,8 +134,8 @@ int run(int argc, char** argv) {
       next_scene = next_status = received;
     }
     // step on this sample and answer it at once; after an interruption (the driver's
-    // watchdog cut the force) from a body re-synchronised with the device
-    if ((state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0) reengage.interrupt();
+    // watchdog or a device error cut the force) from a body re-synchronised with the device
+    if (graph::force_path_cut(state.faults())) reengage.interrupt();
     last_step_ns = state.header().stamp_ns() - first_ns;
     const sim::StepOutput& o = simulator.step(last_step_ns, reengage.position(simulator, last_step_ns, graph::get(state.position())));
     graph::fill(command, state.header().seq(), o.force_n, o.fault);

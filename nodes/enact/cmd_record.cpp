@@ -39,7 +39,9 @@ graph ends (a registered graph: within a second of its end), Ctrl-C / SIGTERM or
 --duration: the file is then complete and indexed, exit 0. Started before its graph, it
 waits for it (saying so). A kill -9 loses at most the last chunk
 (--chunk-duration, 1 s by default); `enact recover` rebuilds the rest. Sequence gaps are
-counted per topic and reported at the end.
+counted per topic and reported at the end. A full disk (or a file size limit) stops it
+with exit 1, saying so: the file ends at its last whole chunk, closed with its summary if
+the room left holds one, else readable by `enact info` and `enact recover`.
 
 options:
   -o, --out FILE         default enact_YYYYmmdd_HHMMSS.mcap
@@ -228,6 +230,10 @@ int record(int argc, char** argv) {
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());
+  if (!logger.write_failure().empty()) {
+    std::fprintf(stderr, "enact record: %s\n", graph::format_write_failure(logger).c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -177,6 +177,40 @@ TEST_F(Graph, GraphInfoIsRepeatedAndFollowsDeclarations) {
   EXPECT_EQ(graph.counters().malformed, 0u);
 }
 
+TEST(ObserverQueue, HoldsWhatFitsInItsBytesAtTheLargestMessageCost) {
+  EXPECT_EQ(bus::observer_queue_messages(64 << 20, 0), bus::kObserverQueue);
+  EXPECT_EQ(bus::observer_queue_messages(64 << 20, 300), bus::kObserverQueue);  // small messages: the message limit
+  EXPECT_EQ(bus::observer_queue_messages(64 << 20, 2000), (64 << 20) / 2000);
+  EXPECT_EQ(bus::observer_queue_messages(1000, 5000), 1);
+}
+
+TEST(ObserverQueue, ShrinksAsLargerMessagesComeAndEveryMessageStillGoesThrough) {
+  enact::test::TempDir dir;
+  bus::BytePublisher node(bus::ipc_endpoint(dir.path(), "node"), {.node = "node"});
+  bus::AttachPoint attach("queue-test", {.observer_queue_bytes = 1 << 20});
+  attach.add_publisher("node", node.endpoint());
+  EXPECT_EQ(attach.observer_queue(), bus::kObserverQueue);
+  bus::ByteSubscriber reader;
+  reader.subscribe("big");
+  reader.connect(attach.endpoint());
+  ASSERT_TRUE(eventually([&] { return node.has_subscribers("big"); }));
+  // 10 kB messages: 1 MB holds about 100 of them (with their frames' cost)
+  const std::string payload(10'000, 'x');
+  const std::size_t cost = std::string("big").size() + std::string("raw").size() + payload.size() + 3 * bus::kFrameCost_bytes;
+  bus::RawMessage m;
+  int read = 0;
+  for (int i = 0; i < 50; ++i) {
+    ASSERT_TRUE(node.send("big", "raw", payload.data(), payload.size()));
+    while (reader.receive(m, 0)) ++read;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // a reader that keeps up loses nothing
+  }
+  ASSERT_TRUE(eventually([&] {
+    while (reader.receive(m, 0)) ++read;
+    return read == 50;
+  }));
+  EXPECT_EQ(attach.observer_queue(), static_cast<int>((1u << 20) / cost));
+}
+
 TEST_F(Graph, StopIsCleanAndIdempotent) {
   attach_.stop();
   attach_.stop();

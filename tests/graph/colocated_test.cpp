@@ -253,6 +253,138 @@ TEST(ColocatedNoJolt, AHostileBurstNeverStepsTheForcePastTheDeviceLimit) {
   }
 }
 
+// a device the test moves and breaks, with the ERGOS profile: it is where the test puts it,
+// a read fails while it is broken; it keeps the largest force step written, per ms
+class ScriptedDevice final : public devices::ForceDevice {
+ public:
+  physics::Vec3 position_m;
+  bool broken = false;
+  double largest_step_n_per_ms = 0.0;
+
+  void configure() override { profile_ = *haptics::find_device_profile("ergos"); }
+  void activate() override {}
+  bool read(std::int64_t now_ns, devices::ForceSample& out) noexcept override {
+    out = {};
+    out.time_ns = now_ns;
+    out.position_m = position_m;
+    if (broken) out.faults = devices::bit(devices::DeviceFault::device_error);
+    return !broken;
+  }
+  // the step over the time since the last write, counted as at most a millisecond (the
+  // profile's limit: a write after a silence may move one millisecond's worth)
+  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override {
+    const double ms = std::min(1.0, static_cast<double>(now_ns - written_ns_) * 1e-6);
+    if (written_any_ && ms > 0.0) largest_step_n_per_ms = std::max(largest_step_n_per_ms, physics::norm(force_n - written_n_) / ms);
+    written_n_ = force_n;
+    written_ns_ = now_ns;
+    written_any_ = true;
+  }
+  void deactivate() noexcept override {}
+  const haptics::DeviceProfile& profile() const override { return profile_; }
+
+ private:
+  haptics::DeviceProfile profile_;
+  physics::Vec3 written_n_;
+  std::int64_t written_ns_ = 0;
+  bool written_any_ = false;
+};
+
+// 1 mm into the middle of the bridge's first top (as in tests/sim/reengage_test.cpp), and
+// 4 mm deeper, where the hand pushes the device while the force path is cut
+const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
+const physics::Vec3 kDeep{0.0, -0.0148492, 0.007};
+
+enum class Cut { late_tick, long_overrun, device_error };
+
+// what the force did around one cut of the force path: the loop presses 1 mm into the bridge
+// for 200 ms; the cut comes while the device goes 4 mm deeper; then 300 ms of ticks there.
+// (At the cut the model's force drops to zero, as the device's already did: the watchdog
+// ramped it down, a failed read sent zero; from there on it must rise gently.)
+struct AroundCut {
+  double resting_n = 0.0;          // the model's force before the cut
+  double first_after_n = 0.0;      // the model's force at the first tick after the cut
+  double model_step_n = 0.0;       // the largest change of the model's force between two ticks after the first cut tick
+  double device_step_n_per_ms = 0.0;
+  double last_n = 0.0;
+  std::uint64_t cut_ticks = 0, resyncs = 0;
+  std::int64_t cut_since_ns = -1, last_whole_ns = 0;
+};
+
+AroundCut around(Cut cut) {
+  sim::Simulator simulator;
+  sim::SimParams p;
+  p.scene = test::source_path("launch/scenes/bridge.yaml");
+  simulator.configure(p);
+  auto inner = std::make_unique<ScriptedDevice>();
+  ScriptedDevice& device = *inner;
+  devices::SafeForceDevice force(std::move(inner));
+  force.configure();
+  devices::SimulatedTactileDevice tactile;
+  tactile.configure();
+  ColocatedLoop loop(simulator, force, tactile, &fake_clock);
+  loop.activate();
+  device.position_m = kPressed;
+  AroundCut r;
+  std::int64_t t = 0;
+  for (int n = 0; n < 1000; ++n, t += kPeriod_ns) r.resting_n = physics::norm(loop.tick(t).step.force_n);
+  r.last_whole_ns = t - kPeriod_ns;
+  device.position_m = kDeep;
+  if (cut == Cut::late_tick) t += 12'000'000;  // the watchdog's 10 ms passed
+  if (cut == Cut::long_overrun) t += 500'000'000;
+  device.broken = cut == Cut::device_error;
+  double last = 0.0;
+  for (int n = 0; n < 1500; ++n, t += kPeriod_ns) {
+    if (n == 50) device.broken = false;
+    const Observation& o = loop.tick(t);
+    const double f = physics::norm(o.step.force_n);
+    if (o.cut && r.cut_since_ns < 0) r.cut_since_ns = o.cut_since_ns;
+    if (r.cut_ticks > 0) r.model_step_n = std::max(r.model_step_n, std::abs(f - last));
+    r.cut_ticks += o.cut;
+    if (!o.cut && r.cut_ticks > 0 && r.first_after_n == 0.0) r.first_after_n = f;
+    last = f;
+  }
+  r.last_n = last;
+  r.device_step_n_per_ms = device.largest_step_n_per_ms;
+  r.resyncs = loop.reengagement().count();
+  return r;
+}
+
+TEST(ColocatedNoJolt, EachCutOfTheForcePathComesBackFromZeroWithinTheDeviceLimit) {
+  const double limit_n_per_ms = haptics::find_device_profile("ergos")->max_force_step_n_per_ms;
+  for (const Cut cut : {Cut::late_tick, Cut::long_overrun, Cut::device_error}) {
+    const AroundCut r = around(cut);
+    const int kind = static_cast<int>(cut);
+    std::printf("[ measure ] cut %d: resting %.2f N; first force after the cut %.3f N; largest model step %.3f N per tick, at the "
+                "device %.3f N/ms; %.1f N after 300 ms\n",
+                kind, r.resting_n, r.first_after_n, r.model_step_n, r.device_step_n_per_ms, r.last_n);
+    // the cut is seen, dated from the last tick before it, and the body re-synchronised
+    EXPECT_GE(r.cut_ticks, 1u) << kind;
+    EXPECT_EQ(r.cut_since_ns, r.last_whole_ns) << kind;
+    EXPECT_GE(r.resyncs, 2u) << kind;  // the start, then the cut
+    // the model's force comes back from (near) zero, where without re-synchronising it would
+    // answer the 4 mm at once, and rises no faster than the device may (0.2 ms a tick)
+    EXPECT_LT(r.first_after_n, 1.0) << kind;
+    EXPECT_LE(r.model_step_n, limit_n_per_ms * 0.2 + 1e-9) << kind;
+    EXPECT_GT(r.last_n, 2.0 * r.resting_n) << kind << ": the force returns to the model's, deeper";
+    EXPECT_LE(r.device_step_n_per_ms, limit_n_per_ms + 1e-9) << kind;
+  }
+}
+
+TEST(ColocatedNoJolt, ACutAllocatesNothing) {
+  Rig rig("CM1");
+  std::int64_t t = 0;
+  for (int n = 0; n < 100; ++n, t += kPeriod_ns) rig.loop->tick(t);
+  std::size_t allocations = 0;
+  {
+    test::AllocGuard guard;
+    t += 50'000'000;  // a tick 50 ms late: the watchdog cut the force
+    for (int n = 0; n < 1000; ++n, t += kPeriod_ns) rig.loop->tick(t);
+    allocations = guard.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(rig.loop->reengagement().count(), 2u);
+}
+
 TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {
   Rig rig("CM1");
   std::int64_t n = 0;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <regex>
 #include <string>
 
@@ -311,6 +312,148 @@ TEST(Faults, RespawnedSimulatorSaysSoAndItsForceStartsFromZero) {
               static_cast<unsigned long long>(seen.forces[first_new].header().seq()), largest_rise_n);
   EXPECT_LT(first_n, 1.0);
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+}
+
+// the resident memory of process `pid`, MB (/proc/PID/status VmRSS); -1 when gone
+double rss_mb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return -1.0;
+}
+
+// the messages `enact info FILE` says are missing, summed over its topics (the gaps column)
+std::uint64_t info_gaps(const std::string& file) {
+  const RunResult info = run(std::string(ENACT_CLI) + " info " + file);
+  std::uint64_t gaps = 0;
+  const std::regex row(R"(\n  \S+\s+\S+\s+enact\.msgs\.\S+\s+\d+\s+[0-9.]+\s+(\d+))");
+  for (auto it = std::sregex_iterator(info.out.begin(), info.out.end(), row); it != std::sregex_iterator(); ++it) gaps += std::stoull((*it)[1].str());
+  return gaps;
+}
+
+// the driver's loop over a window: samples without an answer in time, its watchdog episodes
+void expect_loop_kept(const msgs::NodeStatus& before, const msgs::NodeStatus& after, const char* what) {
+  const double window_s = static_cast<double>(after.header().stamp_ns() - before.header().stamp_ns()) * 1e-9;
+  const double samples = window_s * kRate_hz;
+  const std::uint64_t unanswered = after.faults() - before.faults();
+  std::printf("[ measure ] %s: %llu of %.0f samples (%.2f %%) without an answer in time; watchdog episodes %llu, longest %.3f s\n", what,
+              static_cast<unsigned long long>(unanswered), samples, 100.0 * static_cast<double>(unanswered) / samples,
+              static_cast<unsigned long long>(after.watchdog_episodes() - before.watchdog_episodes()), after.watchdog_longest_s());
+  // generous bounds for a loaded machine; a loop the observers held would miss about every
+  // sample of the window and have one episode as long as the stop
+  EXPECT_LT(static_cast<double>(unanswered), 0.2 * samples) << what;
+  EXPECT_LT(after.watchdog_longest_s(), 0.5) << what;
+}
+
+#ifdef ENACT_VIEWER  // (a build without the viewer skips it)
+// a logger (enact record --all), a viewer (SDL offscreen) and an `enact topic echo`, all
+// stopped 30 s at once: the loop keeps answering; the attach point's memory stays bounded
+// while their queues are full and goes back once they leave; the recording counts exactly
+// what it lost
+TEST(Faults, StoppedObserversCostTheLoopNothing) {
+  constexpr double kStop_s = 30.0;
+  TempDir dir;
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 120.0);
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  const std::string ep = launcher.endpoint(), file = dir.file("rec.mcap");
+  Observer obs(ep);
+  obs.statuses.emplace(obs.bytes(), "node/status");
+  Observed seen;
+  const pid_t logger = spawn({ENACT_CLI, "record", "--all", "-o", file, "--attach", ep}, dir.file("rec.out"), dir.file("rec.err"));
+  const pid_t echo = spawn({ENACT_CLI, "topic", "echo", "ffd/state", "--attach", ep}, "/dev/null", dir.file("echo.err"));
+  const pid_t viewer = spawn({ENACT_VIEWER, "--attach", ep, "--fps", "10", "--size", "320x200"}, dir.file("viewer.out"), dir.file("viewer.err"),
+                             {"SDL_VIDEODRIVER=offscreen", "LP_NUM_THREADS=1"});
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  for (const pid_t p : {logger, echo, viewer}) ASSERT_FALSE(process_gone(p)) << read_file(dir.file("viewer.err")) << read_file(dir.file("rec.err"));
+  const auto before = status_after(obs, seen, "ffd", 0, 5.0);
+  ASSERT_TRUE(before) << "no node/status from ffd";
+  const double rss_before_mb = rss_mb(launcher.pid());
+  double rss_peak_mb = rss_before_mb;
+  {
+    Continue c1{logger}, c2{echo}, c3{viewer};
+    for (const pid_t p : {logger, echo, viewer}) ASSERT_EQ(kill(p, SIGSTOP), 0);
+    const auto end = after(kStop_s);
+    while (Clock::now() < end) {
+      rss_peak_mb = std::max(rss_peak_mb, rss_mb(launcher.pid()));
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+  }
+  const auto resumed = status_after(obs, seen, "ffd", rt::now_ns(), 5.0);
+  ASSERT_TRUE(resumed) << "no node/status from ffd after the observers resumed\n" << launcher.log();
+  expect_loop_kept(*before, *resumed, "logger, viewer and echo stopped 30 s");
+
+  // they leave: each says what it lost
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  for (const pid_t p : {logger, echo}) kill(p, SIGINT);
+  kill(viewer, SIGTERM);
+  for (const pid_t p : {logger, echo, viewer}) EXPECT_TRUE(exits_within(p, 20.0));
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // the attach point trims every second
+  const double rss_after_mb = rss_mb(launcher.pid());
+  std::printf("[ measure ] attach point (launcher) RSS: %.1f MB before, at most %.1f MB while the observers were stopped, %.1f MB after they left\n",
+              rss_before_mb, rss_peak_mb, rss_after_mb);
+  // three observers' queues, the nodes' messages in each at most 64 MB (observer_queue_bytes),
+  // plus a GraphInfo a second: far below it, as the queues are bounded in messages as well
+  EXPECT_LT(rss_peak_mb - rss_before_mb, 3 * 64.0 + 16.0);
+  EXPECT_LT(rss_after_mb - rss_before_mb, 16.0) << "the stopped observers' queues were not given back";
+
+  std::smatch m;
+  const std::string echo_err = read_file(dir.file("echo.err"));
+  ASSERT_TRUE(std::regex_search(echo_err, m, std::regex("ffd/state: [0-9]+ messages in [0-9.]+ s, ([0-9]+) lost in gaps"))) << echo_err;
+  const std::string echo_lost = m[1].str();
+  EXPECT_GT(std::stoull(echo_lost), 0u) << "the echo lost nothing: it was not stopped long enough to test anything";
+  const std::string rec_out = read_file(dir.file("rec.out"));
+  ASSERT_TRUE(std::regex_search(rec_out, m, std::regex("total: [0-9]+ messages, ([0-9]+) gaps"))) << rec_out << read_file(dir.file("rec.err"));
+  const std::uint64_t logger_lost = std::stoull(m[1].str());
+  std::printf("[ measure ] the logger lost %llu messages, enact topic echo %s\n", static_cast<unsigned long long>(logger_lost), echo_lost.c_str());
+  EXPECT_GT(logger_lost, 0u);
+  EXPECT_EQ(info_gaps(file), logger_lost);
+  EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+}
+
+#endif
+
+// a logger whose disk fills (a file size limit: ulimit -f) stops, says so and leaves a
+// readable file holding every message from the first up to its last whole chunk; the loop
+// never notices
+TEST(Faults, LoggerWithAFullDiskClosesAReadableFileAndTheLoopGoesOn) {
+  TempDir dir;
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
+  ASSERT_TRUE(launcher.wait_log("waiting up to", kReadyTimeout_s)) << launcher.log();
+  const std::string file = dir.file("full.mcap");
+  Observer obs(launcher.endpoint());
+  obs.statuses.emplace(obs.bytes(), "node/status");
+  Observed seen;
+  // 2 MB: about three seconds of every topic
+  const RunResult rec = run("bash -c 'ulimit -f 2048; exec " + std::string(ENACT_CLI) + " record --all -o " + file + " --attach " +
+                            launcher.endpoint() + " --duration 30'");
+  std::printf("[ measure ] %s", rec.err.substr(rec.err.rfind("enact record: ")).c_str());
+  EXPECT_EQ(rec.exit_code, 1) << rec.err;
+  EXPECT_NE(rec.err.find("cannot write: File too large"), std::string::npos) << rec.err;
+  EXPECT_NE(rec.err.find("recording stopped"), std::string::npos) << rec.err;
+  const bool closed = rec.err.find(" is closed: ") != std::string::npos;
+
+  // readable: every device state from the first, none missing, and enact info says what
+  // the file holds (complete when the logger said it closed it)
+  const StateRecord states = read_states(file, 0);
+  EXPECT_EQ(states.first_seq, 1u);
+  EXPECT_EQ(states.gaps, 0u);
+  EXPECT_GT(states.states, 5000u);
+  const RunResult info = run(std::string(ENACT_CLI) + " info " + file);
+  EXPECT_NE(info.out.find(closed ? "complete" : "NOT closed"), std::string::npos) << info.out << info.err;
+  EXPECT_NE(info.out.find("ffd/state"), std::string::npos) << info.out;
+  const RunResult recover = run(std::string(ENACT_CLI) + " recover " + file + " -o " + dir.file("fixed.mcap"));
+  EXPECT_EQ(recover.exit_code, 0) << recover.out << recover.err;
+  EXPECT_EQ(read_states(dir.file("fixed.mcap"), 0).states, states.states);
+
+  // the loop went on as before
+  const auto first = status_after(obs, seen, "ffd", 0, 5.0);
+  ASSERT_TRUE(first);
+  const auto later = status_after(obs, seen, "ffd", first->header().stamp_ns() + 2'000'000'000, 5.0);
+  ASSERT_TRUE(later) << launcher.log();
+  expect_loop_kept(*first, *later, "after the logger's disk filled");
+  EXPECT_FALSE(process_gone(launcher.pid())) << launcher.log();
 }
 
 }  // namespace

@@ -213,30 +213,31 @@ TEST(Recording, LiveChangesOnTheColocatedGraphReplayExactly) { live_changes_repl
 
 TEST(Recording, LiveChangesOnTheDistributedGraphReplayExactly) { live_changes_replay_exactly("launch/bridge.yaml", "started ffd"); }
 
-// the simulator stalls (the driver's watchdog cuts the force and flags its states) while the
-// hand presses on the bridge, then resumes and re-synchronises its body with the device:
-// resim does the same where the recorded states say so, and is identical
-TEST(Recording, AWatchdogEpisodeReplaysExactly) {
+// the loop's node stalls 60 ms while the hand presses on the bridge (the driver's watchdog
+// cuts the force and flags its states: the simulator's stall on the distributed graph, a late
+// tick in the co-located one), then resumes and re-synchronises its body with the device,
+// saying so: resim does the same where the recorded states say so, and is identical
+void a_cut_replays_exactly(const std::string& graph_file, const std::string& started, const std::string& stalled, const std::string& said) {
   TempDir dir;
   const std::string file = dir.file("stall.mcap");
   {
-    Launcher graph(dir, source_path("launch/bridge.yaml"), 6.0, {"observers=1"});
-    ASSERT_TRUE(graph.wait_log("started ffd", 15.0)) << graph.log();
-    const pid_t sim = graph.pid_of("sim");
-    ASSERT_GT(sim, 0) << graph.log();
+    Launcher graph(dir, source_path(graph_file), 6.0, {"observers=1"});
+    ASSERT_TRUE(graph.wait_log(started, 15.0)) << graph.log();
+    const pid_t node = graph.pid_of(stalled);
+    ASSERT_GT(node, 0) << graph.log();
     const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 10 >" + dir.file("rec.out") +
                               " 2>&1 & echo $!");
     const pid_t recorder = static_cast<pid_t>(std::stol(rec.out));
     std::this_thread::sleep_for(std::chrono::milliseconds(2500));
     {
-      Continue guard{sim};
-      ASSERT_EQ(kill(sim, SIGSTOP), 0);
+      Continue guard{node};
+      ASSERT_EQ(kill(node, SIGSTOP), 0);
       std::this_thread::sleep_for(std::chrono::milliseconds(60));  // the watchdog trips after 10 ms
     }
     const auto end = after(20.0);
     while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
-    ASSERT_NE(graph.log().find("re-synchronised with the device"), std::string::npos) << graph.log();
+    ASSERT_NE(graph.log().find(said), std::string::npos) << graph.log();
   }
   const Summary s = summarize(file);
   EXPECT_EQ(s.first_state_seq, 1u);
@@ -245,6 +246,12 @@ TEST(Recording, AWatchdogEpisodeReplaysExactly) {
   const RunResult resim = run(kCli + " resim " + file);
   EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
   EXPECT_NE(resim.out.find("identical"), std::string::npos) << resim.out;
+}
+
+TEST(Recording, AWatchdogEpisodeReplaysExactly) { a_cut_replays_exactly("launch/bridge.yaml", "started ffd", "sim", "re-synchronised with the device"); }
+
+TEST(Recording, ALateTickOfTheColocatedGraphReplaysExactly) {
+  a_cut_replays_exactly("launch/bridge_rt.yaml", "started rt", "rt", "rt: watchdog: episode 1 ended after");
 }
 
 TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
