@@ -98,6 +98,10 @@ class AttachPoint {
     declare_topic(name, Msg::descriptor()->full_name(), publisher);
   }
 
+  // the graph's name in GraphInfo from now on (the registry may number it: bridge-2); sends
+  // an updated GraphInfo at once. Thread-safe.
+  void set_graph_name(const std::string& graph);
+
   // how the graph was started, sent in every GraphInfo (launch_file, launch_text, params,
   // files; its header, graph, topics and descriptor_set are ignored). Thread-safe.
   void set_launch_info(const msgs::GraphInfo& launch);
@@ -126,7 +130,7 @@ class AttachPoint {
   // a message of the attach point's own to the observers (dropped when none subscribed)
   void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
 
-  std::string graph_;
+  std::string graph_;         // owned by the forwarding thread
   std::string endpoint_;
   int graph_period_ms_;
   zmq::socket_t xpub_;        // observers connect here
