@@ -120,6 +120,8 @@ void AttachPoint::declare_topic(const std::string& name, const std::string& type
   request({"topic", name, type, publisher});
 }
 
+void AttachPoint::set_graph_name(const std::string& graph) { request({"name", graph}); }
+
 void AttachPoint::set_launch_info(const msgs::GraphInfo& launch) {
   const std::lock_guard lock(launch_mutex_);
   launch_.set_launch_file(launch.launch_file());
@@ -199,6 +201,8 @@ bool AttachPoint::handle_command() {
   } else if (command.size() == 4 && command[0] == "topic") {
     const bool known = std::any_of(topics_.begin(), topics_.end(), [&](const Topic& t) { return t.name == command[1] && t.publisher == command[3]; });
     if (!known) topics_.push_back({command[1], command[2], command[3]});
+  } else if (command.size() == 2 && command[0] == "name") {
+    graph_ = command[1];
   } else if (command.size() == 1 && command[0] == "stop") {
     keep_running = false;
   } else {

@@ -122,6 +122,10 @@ class AttachPoint {
     declare_topic(name, Msg::descriptor()->full_name(), publisher);
   }
 
+  // the graph's name in GraphInfo from now on (the registry may number it: bridge-2); sends
+  // an updated GraphInfo at once. Thread-safe.
+  void set_graph_name(const std::string& graph);
+
   // how the graph was started, sent in every GraphInfo (launch_file, launch_text, params,
   // files; its header, graph, topics and descriptor_set are ignored). Thread-safe.
   void set_launch_info(const msgs::GraphInfo& launch);
@@ -153,7 +157,7 @@ class AttachPoint {
   // largest so far
   void fit_queue(std::size_t cost_bytes);
 
-  std::string graph_;
+  std::string graph_;         // owned by the forwarding thread
   std::string endpoint_;
   int graph_period_ms_;
   zmq::socket_t xpub_;        // observers connect here

@@ -48,6 +48,8 @@ GraphSession::GraphSession(const std::string& name, const std::string& launch_fi
       registration_(name, attach_.endpoint(), launch_file, folder_.path(), options.numbered) {
   // a later session removes the folder if this process is killed
   std::ofstream(folder_.path() + "/launcher") << getpid() << " " << process_start(getpid()) << "\n";
+  // observers see the name the registry gave (NAME-2 when NAME runs already)
+  attach_.set_graph_name(registration_.entry().name);
   attach_.declare_topic<msgs::ParamUpdate>(kParamSet, "attach");
 }
 

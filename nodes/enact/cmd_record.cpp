@@ -4,7 +4,6 @@
 #include <cinttypes>
 #include <cstdio>
 #include <ctime>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -17,7 +16,6 @@
 #include "core/config/yaml.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
-#include "core/graph/registry.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "core/record/writer.h"
@@ -35,7 +33,7 @@ constexpr const char* kRecordHelp = R"(usage: enact record [-o FILE] [--all | --
 
 Attach to a running graph (--graph NAME, the only one running here, or --attach ENDPOINT,
 also on another machine) and keep every message of its topics in an MCAP file, until the
-graph ends (a registered graph: within a second of its end), Ctrl-C / SIGTERM or
+graph ends (stopped or killed: within a second), Ctrl-C / SIGTERM or
 --duration: the file is then complete and indexed, exit 0. Started before its graph, it
 waits for it (saying so). A kill -9 loses at most the last chunk
 (--chunk-duration, 1 s by default); `enact recover` rebuilds the rest. Sequence gaps are
@@ -160,25 +158,6 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
   }
 }
 
-// a registered graph's end, seen from its registry entry (looked at every 0.5 s); the
-// messages it sent last are taken for a further 0.5 s
-class GraphEnd {
- public:
-  explicit GraphEnd(graph::GraphEntry entry) : entry_(std::move(entry)) {}
-  bool ended(std::int64_t now_ns) {
-    if (entry_.pid <= 0) return false;
-    if (gone_ns_ < 0 && now_ns >= next_check_ns_) {
-      next_check_ns_ = now_ns + 500'000'000;
-      if (!graph::alive(entry_) || !std::filesystem::exists(entry_.file)) gone_ns_ = now_ns;
-    }
-    return gone_ns_ >= 0 && now_ns >= gone_ns_ + 500'000'000;
-  }
-
- private:
-  graph::GraphEntry entry_;
-  std::int64_t next_check_ns_ = 0, gone_ns_ = -1;
-};
-
 }  // namespace
 
 int record(int argc, char** argv) {
@@ -218,13 +197,12 @@ int record(int argc, char** argv) {
   std::fprintf(stderr, "enact record: recording %s to %s (Ctrl-C stops)\n", topics.empty() ? "every topic" : "the topics given", logger.files().back().c_str());
   const std::int64_t end_ns = duration_s > 0 ? rt::now_ns() + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
   const bool tty = isatty(2);
-  GraphEnd graph_end(target);
-  logger.run([&] { return graph::stop_requested() || rt::now_ns() >= end_ns || graph_end.ended(rt::now_ns()); },
+  logger.run([&] { return graph::stop_requested() || rt::now_ns() >= end_ns; },
              [&](const graph::LoggerProgress& p) { std::fprintf(stderr, tty ? "\r%s   " : "%s\n", graph::format(p).c_str()); });
   logger.close();
   if (tty) std::fputs("\n", stderr);
-  // its registry entry went, or its attach point closed the connection (an unregistered graph)
-  if (graph_end.ended(rt::now_ns()) || logger.graph_gone()) {
+  // its attach point closed the connection: the graph stopped, or its launcher was killed
+  if (logger.graph_gone()) {
     std::fprintf(stderr, "enact record: graph %s ended; file closed\n", (target.name.empty() ? target.endpoint : target.name).c_str());
   }
   std::string files;

@@ -211,6 +211,23 @@ TEST(ObserverQueue, ShrinksAsLargerMessagesComeAndEveryMessageStillGoesThrough) 
   EXPECT_EQ(attach.observer_queue(), static_cast<int>((1u << 20) / cost));
 }
 
+TEST_F(Graph, GraphInfoCarriesTheNameGivenLater) {
+  bus::ByteSubscriber observer;
+  bus::Subscriber<msgs::GraphInfo> graph(observer, std::string(bus::kGraphTopic));
+  observer.connect(attach_.endpoint());
+  const auto first = graph.receive(3 * kWait_ms);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->graph(), "bridge-test");
+  attach_.set_graph_name("bridge-test-2");
+  // the next GraphInfo has the new name, without waiting for the period
+  std::optional<msgs::GraphInfo> next;
+  ASSERT_TRUE(eventually([&] {
+    next = graph.receive(0);
+    return next && next->graph() == "bridge-test-2";
+  }));
+  EXPECT_EQ(next->topics_size(), 2);
+}
+
 TEST_F(Graph, StopIsCleanAndIdempotent) {
   attach_.stop();
   attach_.stop();

@@ -128,6 +128,22 @@ TEST_F(Sessions, WithTwoGraphsToolsRefuseToGuessAndGraphPicksTheRightOne) {
   EXPECT_NE(list.err.find("attached to graph left at " + left), std::string::npos) << list.err;
 }
 
+// two graphs of one launch file, no --name: the registry numbers the second, and each
+// announces on graph/topics the name `enact graph list` shows
+TEST_F(Sessions, TwoGraphsOfOneLaunchFileAnnounceTheirRegistryNames) {
+  Background a(dir_, "a", {"launch", kRt, "--duration", "30"});
+  ASSERT_TRUE(a.wait_err("graph bridge_rt ready", 30.0)) << a.err();
+  Background b(dir_, "b", {"launch", kRt, "--duration", "30"});
+  ASSERT_TRUE(b.wait_err("graph bridge_rt-2 ready", 30.0)) << b.err();
+  for (const std::string name : {"bridge_rt", "bridge_rt-2"}) {
+    const std::string endpoint = endpoint_of(name);
+    ASSERT_FALSE(endpoint.empty()) << name << " not in enact graph list";
+    const RunResult list = enact("topic list --graph " + name);
+    ASSERT_EQ(list.exit_code, 0) << list.err;
+    EXPECT_NE(list.out.find("graph " + name + " at " + endpoint + "\n"), std::string::npos) << list.out;
+  }
+}
+
 TEST_F(Sessions, ObserversWaitKeepsTheGraphForALateRecorderThatGetsTheFirstTick) {
   Background launch(dir_, "launch", {"launch", kRt, "--name", "waits", "--duration", "2", "--arg", "observers=1"});
   // the endpoint is known before the wait, and the node says it waits

@@ -1,0 +1,127 @@
+// enact bench loop, the distributed arm's second process: a simulator answering DeviceStates
+// on the bus and a raw ZeroMQ echo, on ipc and tcp, like the graph's simulator process.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/bus/context.h"
+#include "core/bus/typed.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/rt/profile.h"
+#include "core/sim/simulator.h"
+#include "nodes/enact/args.h"
+#include "nodes/enact/bench_loop.h"
+
+namespace enact::cli::loop {
+
+int run_peer(const std::string& dir, const std::string& scene, const std::string& parent_list) {
+  graph::install_stop_handlers();
+  graph::apply_rt_profile("peer");
+  std::vector<std::string> parent;
+  std::stringstream in(parent_list);
+  for (std::string e; std::getline(in, e, ',');) parent.push_back(e);
+  if (parent.size() != 4) throw UsageError("--peer-of needs 4 endpoints");
+  sim::SimParams p;
+  p.scene = scene;
+  sim::Simulator simulator;
+  simulator.configure(p);
+  simulator.activate(0);
+  struct Side {
+    std::unique_ptr<bus::BytePublisher> out;
+    std::unique_ptr<bus::Publisher<msgs::ForceCommand>> forces;
+    bus::ByteSubscriber in;
+    std::unique_ptr<bus::Subscriber<msgs::DeviceState>> states;
+    zmq::socket_t raw_pub{bus::context(), zmq::socket_type::pub}, raw_sub{bus::context(), zmq::socket_type::sub};
+  } sides[2];
+  const std::string binds[2][2] = {{"ipc://" + dir + "/peer-bus", "ipc://" + dir + "/peer-raw"}, {"tcp://127.0.0.1:*", "tcp://127.0.0.1:*"}};
+  for (int i = 0; i < 2; ++i) {
+    Side& s = sides[i];
+    s.out = std::make_unique<bus::BytePublisher>(binds[i][0], bus::PublisherOptions{.node = "sim", .send_hwm = 10000});
+    s.forces = std::make_unique<bus::Publisher<msgs::ForceCommand>>(*s.out, "ffd/force");
+    s.states = std::make_unique<bus::Subscriber<msgs::DeviceState>>(s.in, "ffd/state");
+    s.in.connect(parent[2 * i]);
+    for (zmq::socket_t* z : {&s.raw_pub, &s.raw_sub}) z->set(zmq::sockopt::linger, 0);
+    s.raw_pub.bind(binds[i][1]);
+    s.raw_sub.set(zmq::sockopt::subscribe, "");
+    s.raw_sub.connect(parent[2 * i + 1]);
+  }
+  std::printf("%s %s %s %s\n", sides[0].out->endpoint().c_str(), sides[0].raw_pub.get(zmq::sockopt::last_endpoint).c_str(),
+              sides[1].out->endpoint().c_str(), sides[1].raw_pub.get(zmq::sockopt::last_endpoint).c_str());
+  std::fflush(stdout);
+  msgs::DeviceState state;
+  msgs::ForceCommand command;
+  zmq::message_t m;
+  zmq::pollitem_t items[4] = {{sides[0].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[0].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
+                              {sides[1].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[1].raw_sub.handle(), 0, ZMQ_POLLIN, 0}};
+  // answer until told to stop (SIGTERM) or the parent is gone (its stdin pipe closed)
+  while (!graph::stop_requested() && getppid() != 1) {
+    try {
+      if (zmq::poll(items, 4, std::chrono::milliseconds(100)) == 0) continue;
+    } catch (const zmq::error_t&) {
+      continue;
+    }
+    for (int i = 0; i < 2; ++i) {
+      Side& s = sides[i];
+      while (s.states->receive(state, 0)) {
+        const sim::StepOutput& o = simulator.step(state.header().stamp_ns(), graph::get(state.position()));
+        graph::fill(command, state.header().seq(), o.force_n, o.fault);
+        s.forces->publish(command);
+      }
+      while (s.raw_sub.recv(m, zmq::recv_flags::dontwait)) s.raw_pub.send(zmq::buffer(m.data(), m.size()), zmq::send_flags::dontwait);
+    }
+  }
+  return 0;
+}
+
+Peer::Peer(const std::string& dir, const std::string& scene, const std::string& parent_list, const std::string& profile_env) {
+  // its command line and environment, made before fork (the child only execs)
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  std::vector<std::string> args = {self, "bench", "loop", "--peer", dir, "--scene", scene, "--peer-of", parent_list};
+  std::vector<std::string> env;
+  const std::string profile_key = std::string(rt::kProfileEnv) + "=";
+  for (char** e = environ; *e; ++e) {
+    if (std::strncmp(*e, profile_key.c_str(), profile_key.size()) != 0) env.emplace_back(*e);
+  }
+  if (!profile_env.empty()) env.push_back(profile_key + profile_env);
+  std::vector<char*> argv, envp;
+  for (std::string& s : args) argv.push_back(s.data());
+  for (std::string& s : env) envp.push_back(s.data());
+  argv.push_back(nullptr);
+  envp.push_back(nullptr);
+  int out[2];
+  if (pipe(out) != 0) throw std::runtime_error("bench loop: pipe failed");
+  pid_ = fork();
+  if (pid_ == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    close(out[1]);
+    execve(self.c_str(), argv.data(), envp.data());
+    _exit(127);
+  }
+  close(out[1]);
+  // the peer's endpoints: the first line it prints, once bound
+  FILE* f = fdopen(out[0], "r");
+  char line[4096] = {};
+  const bool got = f && std::fgets(line, sizeof line, f);
+  if (f) std::fclose(f);
+  std::stringstream words(got ? line : "");
+  words >> ends_.bus[0] >> ends_.raw[0] >> ends_.bus[1] >> ends_.raw[1];
+  if (ends_.raw[1].empty()) throw std::runtime_error("bench loop: the peer process did not start (see above)");
+}
+
+Peer::~Peer() {
+  kill(pid_, SIGTERM);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+}
+
+}  // namespace enact::cli::loop
