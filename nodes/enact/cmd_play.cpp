@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "core/bus/bytes.h"
+#include "core/config/suggest.h"
 #include "core/graph/session.h"
 #include "core/graph/node.h"
 #include "core/graph/params.h"
@@ -49,16 +50,33 @@ options:
   --check           check the options and the recording, play nothing
 )";
 
+// every topic of `topics` is in the recording (UsageError naming the closest and the rest)
+void require_topics(const record::Reader& r, const std::vector<std::string>& topics) {
+  std::vector<std::string> recorded;
+  std::string list;
+  for (const auto& [id, c] : r.channels()) {
+    if (std::find(recorded.begin(), recorded.end(), c.topic) != recorded.end()) continue;
+    recorded.push_back(c.topic);
+    list += (list.empty() ? "" : ", ") + c.topic;
+  }
+  for (const std::string& t : topics) {
+    if (std::find(recorded.begin(), recorded.end(), t) == recorded.end()) {
+      throw UsageError("no topic '" + t + "' in " + r.path() + config::did_you_mean(t, recorded) + " (topics: " + list + ")");
+    }
+  }
+}
+
 }  // namespace
 
 int play(int argc, char** argv) {
   // list and repeatable options first
-  const std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  for (std::string& t : topics) t = topic_name(t);
   std::map<std::string, std::string> remap;
   for (const std::string& r : take_repeated(argc, argv, "--remap")) {
     const std::size_t at = r.find(":=");
     if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
-    remap[r.substr(0, at)] = r.substr(at + 2);
+    remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
   }
   const Args a = parse(argc, argv, 2, {"rate", "start-offset", "name", "wait", "delay"}, {"loop", "paused", "check"});
   if (a.flag("help")) {
@@ -70,6 +88,7 @@ int play(int argc, char** argv) {
   if (rate < 0.0 || offset_s < 0.0 || wait_s < 0.0 || delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
   const std::string as_node = a.get("name", "");
   record::Reader r(a.positional[0]);
+  require_topics(r, topics);
   if (a.flag("check")) return 0;  // options and recording are good (enact launch checks its nodes)
   auto wanted = [&](std::string_view topic) {
     if (topics.empty()) return true;
@@ -113,7 +132,6 @@ int play(int argc, char** argv) {
   for (const auto& [id, c] : r.channels()) {
     if (wanted(c.topic)) by_channel[id] = &publisher(c);
   }
-  if (by_channel.empty() && !r.channels().empty()) throw UsageError("none of the topics given is in " + r.path());
   for (const auto& [node, pub] : pubs) graph::announce_topics(*pub);
   graph::report_ready();
   if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";

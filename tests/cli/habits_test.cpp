@@ -129,6 +129,13 @@ TEST(RosHabits, MisspellingsGetTheClosestName) {
   const RunResult flag = enact("topic hz ffd/state --duratoin 1");
   EXPECT_EQ(flag.exit_code, 2);
   EXPECT_NE(flag.err.find("unknown option --duratoin (did you mean --duration?)"), std::string::npos) << flag.err;
+  // commands and their verbs too
+  const RunResult command = enact("topc list");
+  EXPECT_EQ(command.exit_code, 2);
+  EXPECT_NE(command.err.find("unknown command 'topc' (did you mean topic?)"), std::string::npos) << command.err;
+  const RunResult verb = enact("node lst");
+  EXPECT_EQ(verb.exit_code, 2);
+  EXPECT_NE(verb.err.find("unknown verb 'lst' (did you mean list?)"), std::string::npos) << verb.err;
   // an unknown preset is named as one, and no empty table is printed after the error
   const RunResult sim = enact("simulate " + bridge_scene() + " --model CM5");
   EXPECT_EQ(sim.exit_code, 1);

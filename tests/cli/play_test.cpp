@@ -193,5 +193,14 @@ TEST(PlayKeys, DelayHoldsTheFirstMessageAndProgressComesAsLines) {
   EXPECT_EQ(log.find("Space"), std::string::npos) << log;
 }
 
+TEST(PlayKeys, TopicsTakeASlashAndMisspellingsGetTheClosest) {
+  const TempDir dir;
+  const std::string file = make_recording(dir, 1);
+  EXPECT_EQ(run(std::string(ENACT_CLI) + " play " + file + " --topics /ffd/state --remap /ffd/state:=/replayed --check").exit_code, 0);
+  const RunResult wrong = run(std::string(ENACT_CLI) + " play " + file + " --topics ffd/stat --check");
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("no topic 'ffd/stat' in " + file + " (did you mean ffd/state?) (topics: ffd/state)"), std::string::npos) << wrong.err;
+}
+
 }  // namespace
 }  // namespace enact::test
