@@ -148,7 +148,7 @@ int play(int argc, char** argv) {
   const auto [first_ns, last_ns] = r.time_span();
   const double total_s = static_cast<double>(last_ns - first_ns) * 1e-9;
   const bool tty = isatty(2);
-  TerminalKeys keys;
+  TerminalKeys keys(standalone);
   std::uint64_t sent = 0;
   std::int64_t last_log = first_ns, next_progress = 0;
   bool paused_shown = false;

@@ -242,6 +242,7 @@ int topic(int argc, char** argv) {
   if ((!fields.empty() || a.flag("csv")) && verb != "echo") throw UsageError("--field and --csv are for echo");
   if (a.flag("csv") && fields.empty()) throw UsageError("--csv needs the columns: --field PATH (one or more)");
   if (a.has("rate") && verb != "pub") throw UsageError("--rate is for pub (hz measures a rate)");
+  if (verb == "pub" && a.has("count") && !a.has("rate")) throw UsageError("pub --count N needs --rate HZ (without it: --once)");
   Attached graph;
   if (const auto code = start_attached(a, "topic", kHelp, "list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC | pub TOPIC YAML",
                                        {"list", "echo", "hz", "info", "bw", "pub"}, listing || watching || publishing, graph)) {

@@ -35,8 +35,8 @@ constexpr int kRestoringSignals[] = {SIGHUP, SIGQUIT, SIGABRT, SIGTSTP};
 
 }  // namespace
 
-TerminalKeys::TerminalKeys() {
-  if (!isatty(STDIN_FILENO) || tcgetattr(STDIN_FILENO, &g_saved) != 0) return;
+TerminalKeys::TerminalKeys(bool enabled) {
+  if (!enabled || !isatty(STDIN_FILENO) || tcgetattr(STDIN_FILENO, &g_saved) != 0) return;
   g_raw = g_saved;
   g_raw.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);
   g_raw.c_cc[VMIN] = 1;

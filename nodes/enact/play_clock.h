@@ -16,7 +16,8 @@ namespace enact::cli {
 // and Ctrl-Z (restored while stopped, raw again on SIGCONT). One at a time per process.
 class TerminalKeys {
  public:
-  TerminalKeys();
+  // nothing when not `enabled` (a node of a launched graph leaves the terminal to the launcher)
+  explicit TerminalKeys(bool enabled);
   ~TerminalKeys();
   TerminalKeys(const TerminalKeys&) = delete;
   TerminalKeys& operator=(const TerminalKeys&) = delete;
