@@ -184,9 +184,9 @@ void print_answer(const graph::ParamAnswer& a) {
   std::fflush(stdout);
 }
 
-// enact topic pub param/set YAML: `count` requests (0: until Ctrl-C), `rate_hz` apart, each
-// answered by the simulator on param/ack; 0 when every one was applied
-int pub(const Attached& graph, const std::string& topic, const std::string& yaml, long count, double rate_hz) {
+// the message of enact topic pub TOPIC YAML, checked before anything attaches: TOPIC one
+// of the graph's inbound topics, YAML mapped onto its message by field name
+msgs::ParamUpdate pub_message(const std::string& topic, const std::string& yaml) {
   const auto inbound = std::find(std::begin(graph::kInboundTopics), std::end(graph::kInboundTopics), topic);
   if (inbound == std::end(graph::kInboundTopics)) {
     throw UsageError("'" + topic + "' is not an inbound topic: a graph takes messages from observers on param/set only (its own nodes publish the others)");
@@ -197,6 +197,12 @@ int pub(const Attached& graph, const std::string& topic, const std::string& yaml
   } catch (const YAML::Exception& e) {
     throw UsageError("YAML '" + yaml + "': " + e.msg + " (write a mapping: '{name: sim.model, text: CM2}')");
   }
+  return update;
+}
+
+// enact topic pub: `count` requests (0: until Ctrl-C), `rate_hz` apart, each answered by
+// the simulator on param/ack; 0 when every one was applied
+int pub(const Attached& graph, const msgs::ParamUpdate& update, long count, double rate_hz) {
   // the answers come on param/ack, through the same attach point
   bus::ByteSubscriber acks_bytes;
   bus::Subscriber<msgs::ParamAck> acks(acks_bytes, graph::kParamAck);
@@ -243,6 +249,11 @@ int topic(int argc, char** argv) {
   if (a.flag("csv") && fields.empty()) throw UsageError("--csv needs the columns: --field PATH (one or more)");
   if (a.has("rate") && verb != "pub") throw UsageError("--rate is for pub (hz measures a rate)");
   if (verb == "pub" && a.has("count") && !a.has("rate")) throw UsageError("pub --count N needs --rate HZ (without it: --once)");
+  // what pub sends, checked before attaching
+  const bool sending = publishing && !a.flag("help");
+  const std::optional<msgs::ParamUpdate> message = sending ? std::optional(pub_message(topic_name(a.positional[1]), a.positional[2])) : std::nullopt;
+  const double rate_hz = a.number("rate", 0.0);
+  if (a.has("rate") && rate_hz <= 0.0) throw UsageError("--rate must be > 0 Hz");
   Attached graph;
   if (const auto code = start_attached(a, "topic", kHelp, "list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC | pub TOPIC YAML",
                                        {"list", "echo", "hz", "info", "bw", "pub"}, listing || watching || publishing, graph)) {
@@ -251,10 +262,8 @@ int topic(int argc, char** argv) {
   if (listing) return list(graph.endpoint, graph.keys);
   const std::string topic = topic_name(a.positional[1]);
   if (publishing) {
-    const double rate_hz = a.number("rate", 0.0);
-    if (a.has("rate") && rate_hz <= 0.0) throw UsageError("--rate must be > 0 Hz");
     const long count = a.has("rate") ? static_cast<long>(a.number("count", 0.0)) : 1;
-    return pub(graph, topic, a.positional[2], count, rate_hz);
+    return pub(graph, *message, count, rate_hz);
   }
   if (verb == "info" || verb == "bw") return topic_info_or_bw(graph.endpoint, graph.keys, topic, verb == "bw", a.number("duration", 0.0));
   Watch w{.echo = verb == "echo", .count = a.flag("once") ? 1 : static_cast<long>(a.number("count", 0.0)), .duration_s = a.number("duration", 0.0),
