@@ -35,7 +35,7 @@ bus::AttachOptions attach_options(const SessionOptions& o, const std::string& fo
   }
   // observers may send parameter changes; the nodes find them at the inbound publisher
   a.inbound_endpoint = bus::ipc_endpoint(folder, kInboundNode);
-  a.inbound_topics = {kParamSet};
+  a.inbound_topics.assign(std::begin(kInboundTopics), std::end(kInboundTopics));
   a.latched_topics = {kTaskState};
   return a;
 }

@@ -13,6 +13,9 @@ inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, vi
 inline constexpr const char* kParamAck = "param/ack";         // ParamAck, simulator, one per ParamUpdate
 inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
 
+// the topics observers may send on, through the attach point (the graph's nodes publish
+// every other)
+inline constexpr const char* kInboundTopics[] = {kParamSet};
 
 // the attach point's inbound publisher (what observers send: param/set) is at
 // node_endpoint(kInboundNode); ':' keeps it apart from every node name

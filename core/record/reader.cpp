@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -172,6 +173,22 @@ void Reader::index() {
               static_cast<Op>(file_[file_.size() - tail]) == Op::footer;
   if (!data_end && damage_.empty()) report(at, "no data end record: the recording was not closed (`enact recover` rebuilds its index)");
   index_damage_ = damage_;
+}
+
+std::pair<std::int64_t, std::int64_t> Reader::time_span() const {
+  std::int64_t first = INT64_MAX, last = INT64_MIN;
+  for (const Item& item : items_) {
+    In in{item.content};
+    // a chunk begins with its messages' start and end times; a message has its channel
+    // and sequence before its log time
+    if (item.op == Op::message) in.u16(), in.u32();
+    const std::int64_t begin = i64(in.u64());
+    const std::int64_t end = item.op == Op::chunk ? i64(in.u64()) : begin;
+    if (in.bad || (item.op == Op::chunk && end == 0)) continue;
+    first = std::min(first, begin);
+    last = std::max(last, end);
+  }
+  return first <= last ? std::pair{first, last} : std::pair<std::int64_t, std::int64_t>{0, 0};
 }
 
 bool Reader::emit_message(std::uint64_t offset, std::string_view content, const std::function<bool(const Message&)>& fn, bool& go_on) {

@@ -70,6 +70,10 @@ class Reader {
   // every readable message in file order; `fn` returns false to stop early
   void for_each(const std::function<bool(const Message&)>& fn);
 
+  // the log times of the first and the last message, from the chunks' headers and the
+  // messages outside chunks (nothing is decompressed); {0, 0} when there is none
+  std::pair<std::int64_t, std::int64_t> time_span() const;
+
   // problems found so far ("offset N: what"); empty for a sound file
   const std::vector<std::string>& damage() const { return damage_; }
   // the data end, the footer and the closing magic are there: the file was closed

@@ -96,37 +96,76 @@ void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const 
 }
 
 void draw_side_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const ViewModel& model) {
-  draw_panel(dl, r, "side view along the path: height vs the top surface, per-mass force");
+  draw_panel(dl, r, "side view: height vs the top surface (mm) along the path (mm), per-mass force");
   if (!g.has_path) {
     text(dl, r.x0 + kTitleX, r.y0 + 24, palette::kTitle, "the scene has no task path");
     return;
   }
   const SideView view(g, r);
   const double length = g.path.length_m();
-  // the bridge under its top surface
-  dl.AddRectFilled(im(view.to_screen(0.0, g.top_z_m)), im(view.to_screen(length, g.top_z_m - SideView::kBelow_m)), palette::kBridge);
-  // millimetre marks above and below the top
-  for (int mm = -8; mm <= 4; mm += 2) {
-    const Pixel p = view.to_screen(0.0, g.top_z_m + mm * 1e-3);
-    char label[16];
-    std::snprintf(label, sizeof label, "%+d mm", mm);
-    text(dl, r.x0 + 2, p.y - 7, palette::kWorkspace, label);
+  // the bridge under its top surface; see-through where the body is beside it (in front of
+  // or behind it in this projection, never inside it)
+  const bool body_beside = model.has_scene() && beside_path(g, model.scene().body_position().x(), model.scene().body_position().y());
+  dl.AddRectFilled(im(view.to_screen(0.0, g.top_z_m)), im(view.to_screen(length, g.top_z_m - SideView::kBelow_m)), body_beside ? palette::kBridgeBehind : palette::kBridge);
+  // height marks above and below the top, and the distance along the path
+  for (const AxisMark& m : axis_marks(-SideView::kBelow_m * 1e3, SideView::kAbove_m * 1e3, 6, "mm")) {
+    text(dl, r.x0 + 2, view.to_screen(0.0, g.top_z_m + m.value * 1e-3).y - 7, palette::kWorkspace, m.label.c_str());
+  }
+  const auto along = axis_marks(0.0, std::floor(length * 1e2) * 10.0, 4, "mm");
+  for (std::size_t i = 1; i < along.size(); ++i) {
+    const Pixel p = view.to_screen(along[i].value * 1e-3, g.top_z_m - SideView::kBelow_m);
+    const float w = ImGui::CalcTextSize(along[i].label.c_str()).x;
+    dl.AddLine({p.x, p.y}, {p.x, p.y - 4}, palette::kTitle);
+    text(dl, std::min(p.x - w / 2, r.x1 - w - 4), p.y - 18, palette::kTitle, along[i].label.c_str());
   }
   // the trail: height of the body centre against the distance along the path (off the
-  // path, the closest point may jump to another segment: no line across such a jump)
+  // path, the closest point may jump to another segment: no line across such a jump);
+  // beside the bridge in its own colour
   const auto& trail = model.trail();
   for (std::size_t i = 1; i < trail.size(); ++i) {
     const auto a = g.path.project(trail[i - 1].x, trail[i - 1].y), b = g.path.project(trail[i].x, trail[i].y);
     if (std::abs(b.arc_length_m - a.arc_length_m) > kTrailJump_m) continue;
-    dl.AddLine(im(view.to_screen(a.arc_length_m, trail[i - 1].z)), im(view.to_screen(b.arc_length_m, trail[i].z)), palette::kTrail, 2.0f);
+    const ImU32 colour = beside_path(g, trail[i].x, trail[i].y) ? palette::kBeside : palette::kTrail;
+    dl.AddLine(im(view.to_screen(a.arc_length_m, trail[i - 1].z)), im(view.to_screen(b.arc_length_m, trail[i].z)), colour, 2.0f);
   }
   if (!model.has_scene()) return;
-  // the grid masses and their contact force, 100 px per N upwards
+  // the grid masses and their contact force, 100 px per N upwards; beside the bridge: rings
   for (const Mass& m : masses(g, model.scene())) {
     const Pixel p = view.to_screen(g.path.project(m.at_m.x, m.at_m.y).arc_length_m, m.at_m.z);
     dl.AddLine(im(p), {p.x, p.y - std::min(100.0f * static_cast<float>(m.force_n.z), r.height())}, palette::kForce, 2.0f);
-    dl.AddCircleFilled(im(p), 3.0f, m.touching ? palette::kMassContact : palette::kMassFree, 8);
+    if (beside_path(g, m.at_m.x, m.at_m.y)) dl.AddCircle(im(p), 3.5f, palette::kBeside, 8, 1.5f);
+    else dl.AddCircleFilled(im(p), 3.0f, m.touching ? palette::kMassContact : palette::kMassFree, 8);
   }
+  if (body_beside) {
+    const auto side = g.path.project(model.scene().body_position().x(), model.scene().body_position().y());
+    char line[96];
+    std::snprintf(line, sizeof line, "body beside the bridge, %.1f mm off its edge", (std::abs(side.lateral_m) - g.path_width_m / 2) * 1e3);
+    text(dl, r.x1 - 300, r.y0 + kTitleY + 16, palette::kBeside, line);
+  }
+}
+
+void draw_plot(ImDrawList& dl, const Rect& r, const std::vector<float>& values, std::size_t slots, double y_max, const char* unit, const char* title, double span_s) {
+  // the plot area: room for the y marks on the left, the time marks below, the title above
+  constexpr float kLeft = 52.0f, kBelow = 16.0f, kAbove = 18.0f;
+  const Rect area{r.x0 + kLeft, r.y0 + kAbove, r.x1 - 8.0f, r.y1 - kBelow};
+  text(dl, r.x0 + 4, r.y0 + 1, palette::kTitle, title);
+  dl.AddRect({area.x0, area.y0}, {area.x1, area.y1}, palette::kWorkspace);
+  auto y_of = [&](double v) { return area.y1 - static_cast<float>(std::clamp(v / y_max, 0.0, 1.0)) * area.height(); };
+  for (const AxisMark& m : axis_marks(0.0, y_max, 2, unit)) {
+    const float y = y_of(m.value);
+    dl.AddLine({area.x0 - 3, y}, {area.x1, y}, palette::kWorkspace);
+    text(dl, r.x0 + 2, y - 7, palette::kTitle, m.label.c_str());
+  }
+  for (const AxisMark& m : axis_marks(-span_s, 0.0, 2, "s")) {
+    const float x = area.x0 + static_cast<float>((m.value + span_s) / span_s) * area.width();
+    dl.AddLine({x, area.y1}, {x, area.y1 + 3}, palette::kWorkspace);
+    text(dl, std::min(x - 12, area.x1 - 28), area.y1 + 2, palette::kTitle, m.label.c_str());
+  }
+  // the values, the newest at the right edge
+  const std::size_t n = values.size();
+  const float dx = area.width() / static_cast<float>(std::max<std::size_t>(slots, 2) - 1);
+  auto x_of = [&](std::size_t i) { return area.x1 - static_cast<float>(n - 1 - i) * dx; };
+  for (std::size_t i = 1; i < n; ++i) dl.AddLine({x_of(i - 1), y_of(values[i - 1])}, {x_of(i), y_of(values[i])}, palette::kTrail, 1.5f);
 }
 
 void draw_pins(ImDrawList& dl, const Rect& r, const ViewModel& model) {

@@ -5,6 +5,8 @@
 // geometry through layout.h, so tests can find what was drawn where.
 #include <imgui.h>
 
+#include <vector>
+
 #include "core/viewer/layout.h"
 #include "core/viewer/scene_geometry.h"
 #include "core/viewer/view_model.h"
@@ -26,6 +28,8 @@ inline constexpr ImU32 kMassContact = IM_COL32(255, 90, 40, 255);
 inline constexpr ImU32 kForce = IM_COL32(90, 220, 120, 255);
 inline constexpr ImU32 kPinDown = IM_COL32(60, 60, 66, 255);
 inline constexpr ImU32 kPinUp = IM_COL32(250, 250, 250, 255);
+inline constexpr ImU32 kBeside = IM_COL32(190, 120, 230, 255);    // the body beside the bridge
+inline constexpr ImU32 kBridgeBehind = IM_COL32(70, 110, 170, 90); // the bridge behind it
 }  // namespace palette
 
 // the radius of a grid mass in the top view, px
@@ -35,6 +39,11 @@ float mass_radius(const SceneGeometry& geometry, const TopView& view);
 void draw_panel(ImDrawList& dl, const Rect& r, const char* title);
 void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
 void draw_side_view(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
+// a plot of `values` (oldest first, the newest at the right edge; `slots` of them fill the
+// width, `span_s` of time) from 0 to y_max in `unit`, in `r`: `title` above, marks with
+// their units on both axes (time in s, 0 the newest)
+void draw_plot(ImDrawList& dl, const Rect& r, const std::vector<float>& values, std::size_t slots, double y_max, const char* unit, const char* title,
+               double span_s);
 void draw_pins(ImDrawList& dl, const Rect& r, const ViewModel& model);
 void draw_forces(ImDrawList& dl, const Rect& r, const SceneGeometry& geometry, const ViewModel& model);
 

@@ -1,6 +1,7 @@
 #include "core/viewer/layout.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <algorithm>
 
@@ -53,6 +54,21 @@ SideView::SideView(const SceneGeometry& g, const Rect& r)
 Pixel SideView::to_screen(double along_m, double z_m) const {
   const float fz = static_cast<float>((z_m - z0_m_) / (z1_m_ - z0_m_));
   return {plot_.x0 + static_cast<float>(along_m) * sx_, plot_.y1 - fz * plot_.height()};
+}
+
+std::vector<AxisMark> axis_marks(double from, double to, int divisions, const std::string& unit) {
+  std::vector<AxisMark> marks;
+  for (int i = 0; i <= divisions; ++i) {
+    const double v = from + (to - from) * i / divisions;
+    char label[32];
+    std::snprintf(label, sizeof label, "%g %s", std::abs(v) < 1e-12 ? 0.0 : v, unit.c_str());
+    marks.push_back({v, label});
+  }
+  return marks;
+}
+
+bool beside_path(const SceneGeometry& g, double x_m, double y_m) {
+  return g.has_path && std::abs(g.path.project(x_m, y_m).lateral_m) > g.path_width_m / 2;
 }
 
 double round_scale(double value, double floor) {

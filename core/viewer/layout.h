@@ -2,6 +2,9 @@
 // Where the viewer draws what, in window pixels (origin top-left, y down), for any window
 // size, and the mappings from scene coordinates (m) to those pixels. Tests use the same
 // functions to find the bridge and the grid in a snapshot.
+#include <string>
+#include <vector>
+
 #include "core/task/polyline.h"
 #include "core/viewer/scene_geometry.h"
 
@@ -28,6 +31,19 @@ Layout layout(float width, float height);
 // a plot's round upper bound: the smallest 1, 2 or 5 x 10^k at or above `value` (`floor`
 // when value is not above it), so the scale printed with the plot reads at a glance
 double round_scale(double value, double floor);
+
+// a labelled mark of a plot axis: where (in the axis' unit) and its text with the unit
+struct AxisMark {
+  double value = 0.0;
+  std::string label;
+};
+// `divisions` + 1 marks evenly from `from` to `to`, each labelled with `unit` ("2.5 N",
+// "-10 s"), the shortest text that tells them apart
+std::vector<AxisMark> axis_marks(double from, double to, int divisions, const std::string& unit);
+
+// a point of the task's plane is beside the path (farther from its centreline than half its
+// width), not on it
+bool beside_path(const SceneGeometry& geometry, double x_m, double y_m);
 
 // the top view: x to the right, y (forward) up, the scene's view extent fitted into the
 // rect with a margin, one scale for both axes

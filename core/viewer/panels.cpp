@@ -7,6 +7,7 @@
 #include <exception>
 
 #include "core/sim/simulator.h"
+#include "core/viewer/draw.h"
 
 namespace enact::viewer {
 namespace {
@@ -99,19 +100,24 @@ void status_window(const Rect& r, const ViewModel& model, std::int64_t now_ns) {
 
 void plot_window(const Rect& r, const ViewModel& model) {
   begin_fixed("force and contacts", r);
-  const ImVec2 room = ImGui::GetContentRegionAvail();
-  const ImVec2 size{room.x, (room.y - ImGui::GetStyle().ItemSpacing.y) / 2};
-  const auto& f = model.force_history();
-  const auto& c = model.contact_history();
-  // |F| on a round scale from 0 N, printed with the plot; time runs left to right, newest at the right
-  const int nf = static_cast<int>(f.size() < f.capacity() ? f.size() : f.capacity());
-  const double peak_n = nf ? static_cast<double>(*std::max_element(f.data(), f.data() + nf)) : 0.0;
-  const double scale_n = round_scale(peak_n, 0.1);
-  char overlay[96];
-  std::snprintf(overlay, sizeof overlay, "|F| now %.3f N   (axis 0 to %g N, time ->)", f.empty() ? 0.0 : static_cast<double>(f.back()), scale_n);
-  ImGui::PlotLines("##force", f.data(), nf, static_cast<int>(f.offset()), overlay, 0.0f, static_cast<float>(scale_n), size);
-  std::snprintf(overlay, sizeof overlay, "masses in contact now %.0f   (axis 0 to 16, time ->)", c.empty() ? 0.0 : static_cast<double>(c.back()));
-  ImGui::PlotLines("##contacts", c.data(), static_cast<int>(c.size() < c.capacity() ? c.size() : c.capacity()), static_cast<int>(c.offset()), overlay, 0.0f, 16.0f, size);
+  const ImVec2 at = ImGui::GetCursorScreenPos(), room = ImGui::GetContentRegionAvail();
+  const float half = room.y / 2;
+  const double span_s = static_cast<double>(ViewModel::kHistory) / ViewModel::kSceneRate_hz;
+  // oldest first
+  auto values = [](const auto& ring) {
+    std::vector<float> v(ring.size());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = ring[i];
+    return v;
+  };
+  const std::vector<float> f = values(model.force_history()), c = values(model.contact_history());
+  // |F| on a round scale from 0 N; contacts from 0 to 16
+  const double scale_n = round_scale(f.empty() ? 0.0 : static_cast<double>(*std::max_element(f.begin(), f.end())), 0.1);
+  char title[96];
+  std::snprintf(title, sizeof title, "|F| (N), now %.3f N", f.empty() ? 0.0 : static_cast<double>(f.back()));
+  ImDrawList& dl = *ImGui::GetWindowDrawList();
+  draw_plot(dl, {at.x, at.y, at.x + room.x, at.y + half - 4}, f, ViewModel::kHistory, scale_n, "N", title, span_s);
+  std::snprintf(title, sizeof title, "masses in contact, now %.0f of 16", c.empty() ? 0.0 : static_cast<double>(c.back()));
+  draw_plot(dl, {at.x, at.y + half + 4, at.x + room.x, at.y + room.y}, c, ViewModel::kHistory, 16.0, "", title, span_s);
   ImGui::End();
 }
 

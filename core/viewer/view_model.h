@@ -49,6 +49,7 @@ struct TaskView {
 class ViewModel {
  public:
   static constexpr std::size_t kHistory = 600;  // scene samples kept (10 s at 60 Hz)
+  static constexpr double kSceneRate_hz = 60.0;  // sim/scene as the graph sends it to observers
   static constexpr std::size_t kLog = 8;        // log lines kept
   static constexpr std::int64_t kLost_ns = 3'000'000'000;  // no GraphInfo for this long: lost
 

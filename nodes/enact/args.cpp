@@ -75,6 +75,24 @@ std::vector<std::string> take_list(int& argc, char** argv, const std::string& na
   return out;
 }
 
+std::vector<std::string> take_repeated(int& argc, char** argv, const std::string& name) {
+  std::vector<std::string> out;
+  int kept = 0;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.starts_with(name + "=")) {
+      out.push_back(arg.substr(name.size() + 1));
+    } else if (arg == name) {
+      if (i + 1 >= argc) throw UsageError(name + " needs a value");
+      out.emplace_back(argv[++i]);
+    } else {
+      argv[kept++] = argv[i];
+    }
+  }
+  argc = kept;
+  return out;
+}
+
 std::string find_file(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;

@@ -37,6 +37,10 @@ using config::split_commas;
 // (argc shrinks); empty when NAME is absent
 std::vector<std::string> take_list(int& argc, char** argv, const std::string& name);
 
+// the values of a repeatable option "NAME VALUE" (or "NAME=VALUE"), in order, removed from
+// argv (argc shrinks); UsageError when one has no value
+std::vector<std::string> take_repeated(int& argc, char** argv, const std::string& name);
+
 // a file as given, else relative to the source tree above the executable
 // (build/nodes/enact/enact): so that benchmarks find launch/scenes/... from anywhere
 std::string find_file(const std::string& path);

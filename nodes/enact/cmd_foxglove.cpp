@@ -1,10 +1,8 @@
 // enact foxglove: serve a running graph to Foxglove over WebSocket (core/foxglove/bridge.h).
-#include <signal.h>
-
-#include <atomic>
 #include <cstdio>
 
 #include "core/foxglove/bridge.h"
+#include "core/graph/node.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 
@@ -30,32 +28,23 @@ the graph and this server are reachable from this machine alone. Runs until Ctrl
 In a launch file: a node with exec: enact-foxglove (parameters: enact-foxglove --help).
 )";
 
-std::atomic<bool> g_stop{false};
-void on_stop(int) { g_stop.store(true); }
-
 }  // namespace
 
 int foxglove_bridge(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "port", "host", "max-rate", "key", "server-key"}, {});
-  if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
-    std::fputs(kAttachOptionsHelp, stdout);
-    return 0;
-  }
-  if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
+  const Args a = parse(argc, argv, 2, attach_options({"port", "host", "max-rate"}), {});
+  Attached graph;
+  if (const auto code = start_attached(a, "foxglove", kHelp, "", {}, a.positional.empty(), graph)) return *code;
   foxglove::BridgeOptions o;
-  o.keys = attach_keys(a);
-  o.attach = attach_target(a, "foxglove").endpoint;
+  o.keys = graph.keys;
+  o.attach = graph.endpoint;
   o.port = static_cast<int>(a.number("port", o.port));
   o.host = a.get("host", o.host);
   o.max_rate_hz = a.number("max-rate", o.max_rate_hz);
   if (o.port < 0 || o.port > 65535) throw UsageError("--port must be 0-65535");
   if (o.max_rate_hz <= 0.0) throw UsageError("--max-rate must be > 0");
-  signal(SIGINT, on_stop);
-  signal(SIGTERM, on_stop);
   foxglove::Bridge bridge(o);
   std::fprintf(stderr, "enact foxglove: %s\n", foxglove::describe(bridge, o).c_str());
-  bridge.run([] { return g_stop.load(); });
+  bridge.run([] { return graph::stop_requested(); });
   std::fprintf(stderr, "enact foxglove: %s\n", foxglove::format(bridge.stats()).c_str());
   return 0;
 }

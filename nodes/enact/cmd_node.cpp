@@ -158,19 +158,12 @@ int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, c
 }
 
 int node(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "key", "server-key"}, {});
-  if (a.flag("help") || a.positional.empty()) {
-    std::fputs(kHelp, a.flag("help") ? stdout : stderr);
-    std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
-    return a.flag("help") ? 0 : 2;
-  }
-  const std::string& verb = a.positional[0];
-  const bool listing = verb == "list" && a.positional.size() == 1;
-  if (!listing && !(verb == "info" && a.positional.size() == 2)) throw UsageError("use: enact node list | info NODE");
-  graph::install_stop_handlers();
-  const bus::ClientKeys keys = attach_keys(a);
-  const std::string endpoint = attach_target(a, "node").endpoint;
-  return listing ? list(endpoint, keys) : info(endpoint, keys, a.positional[1]);
+  const Args a = parse(argc, argv, 2, attach_options(), {});
+  const std::size_t n = a.positional.size();
+  const bool listing = n == 1 && a.positional[0] == "list";
+  Attached graph;
+  if (const auto code = start_attached(a, "node", kHelp, "list | info NODE", {"list", "info"}, listing || (n == 2 && a.positional[0] == "info"), graph)) return *code;
+  return listing ? list(graph.endpoint, graph.keys) : info(graph.endpoint, graph.keys, a.positional[1]);
 }
 
 }  // namespace enact::cli

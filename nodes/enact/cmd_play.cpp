@@ -1,25 +1,28 @@
 // enact play FILE: republish a recording on the bus with its recorded timing.
 #include <unistd.h>
 
-#include <filesystem>
-#include <cstdlib>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
 
 #include "core/bus/bytes.h"
+#include "core/config/suggest.h"
 #include "core/graph/session.h"
 #include "core/graph/node.h"
 #include "core/graph/params.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/play_clock.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact play FILE [--rate R] [--loop] [--topics T...] [--start-offset S]
+constexpr const char* kHelp = R"(usage: enact play FILE [--rate R] [--loop] [--topics T...] [--start-offset S] [--delay S]
                   [--remap FROM:=TO]... [--paused] [--name NODE] [--wait S]
 
 Republish a recording's messages with their recorded timing, so any node consumes them as
@@ -27,8 +30,11 @@ if live (README, "Recording and replay"). Each message goes out, byte for byte, 
 endpoint of the node that published it (ipc://$ENACT_GRAPH_DIR/<node>.pub), or from NODE's
 with --name (as `enact launch` passes to a node). Run alone, it is a graph of its own named
 play:FILE (a session: its own folder, an attach point, a registry entry), which observers
-find like any other (enact topic, a viewer, a logger, --graph play:FILE). Progress on the
-terminal.
+find like any other (enact topic, a viewer, a logger, --graph play:FILE).
+
+On a terminal: Space pauses and resumes, s (while paused) publishes one message; the
+progress line gives the recording's position and total ("12.3 / 40.0 s"). Not on a
+terminal: a progress line every 5 s.
 
 options:
   --rate R          speed factor (default 1); 0 = as fast as the subscribers take them
@@ -36,41 +42,53 @@ options:
   --loop            start again at the end
   --topics T...     only these topics
   --start-offset S  skip the first S seconds
+  --delay S         wait S s before the first message (after --wait; like ros2 bag play --delay)
   --remap FROM:=TO  publish topic FROM as TO (repeatable)
-  --paused          wait for Enter before playing
+  --paused          start paused (on a terminal: Space plays; else Enter)
   --name NODE       publish everything as node NODE
   --wait S          wait up to S s for a subscriber of every topic before playing (default 5)
   --check           check the options and the recording, play nothing
 )";
 
+// every topic of `topics` is in the recording (UsageError naming the closest and the rest)
+void require_topics(const record::Reader& r, const std::vector<std::string>& topics) {
+  std::vector<std::string> recorded;
+  std::string list;
+  for (const auto& [id, c] : r.channels()) {
+    if (std::find(recorded.begin(), recorded.end(), c.topic) != recorded.end()) continue;
+    recorded.push_back(c.topic);
+    list += (list.empty() ? "" : ", ") + c.topic;
+  }
+  for (const std::string& t : topics) {
+    if (std::find(recorded.begin(), recorded.end(), t) == recorded.end()) {
+      throw UsageError("no topic '" + t + "' in " + r.path() + config::did_you_mean(t, recorded) + " (topics: " + list + ")");
+    }
+  }
+}
+
 }  // namespace
 
 int play(int argc, char** argv) {
   // list and repeatable options first
-  const std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  for (std::string& t : topics) t = topic_name(t);
   std::map<std::string, std::string> remap;
-  std::vector<char*> rest;
-  for (int i = 0; i < argc; ++i) {
-    const std::string s = argv[i];
-    if (s == "--remap") {
-      const std::string r = i + 1 < argc ? argv[++i] : "";
-      const std::size_t at = r.find(":=");
-      if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
-      remap[r.substr(0, at)] = r.substr(at + 2);
-    } else {
-      rest.push_back(argv[i]);
-    }
+  for (const std::string& r : take_repeated(argc, argv, "--remap")) {
+    const std::size_t at = r.find(":=");
+    if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
+    remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"rate", "start-offset", "name", "wait"}, {"loop", "paused", "check"});
+  const Args a = parse(argc, argv, 2, {"rate", "start-offset", "name", "wait", "delay"}, {"loop", "paused", "check"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");
-  const double rate = a.number("rate", 1.0), offset_s = a.number("start-offset", 0.0), wait_s = a.number("wait", 5.0);
-  if (rate < 0.0 || offset_s < 0.0 || wait_s < 0.0) throw UsageError("--rate, --start-offset and --wait must be >= 0");
+  const double rate = a.number("rate", 1.0), offset_s = a.number("start-offset", 0.0), wait_s = a.number("wait", 5.0), delay_s = a.number("delay", 0.0);
+  if (rate < 0.0 || offset_s < 0.0 || wait_s < 0.0 || delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
   const std::string as_node = a.get("name", "");
   record::Reader r(a.positional[0]);
+  require_topics(r, topics);
   if (a.flag("check")) return 0;  // options and recording are good (enact launch checks its nodes)
   auto wanted = [&](std::string_view topic) {
     if (topics.empty()) return true;
@@ -114,7 +132,6 @@ int play(int argc, char** argv) {
   for (const auto& [id, c] : r.channels()) {
     if (wanted(c.topic)) by_channel[id] = &publisher(c);
   }
-  if (by_channel.empty() && !r.channels().empty()) throw UsageError("none of the topics given is in " + r.path());
   for (const auto& [node, pub] : pubs) graph::announce_topics(*pub);
   graph::report_ready();
   if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";
@@ -127,40 +144,51 @@ int play(int argc, char** argv) {
     return true;
   };
   while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
-  if (a.flag("paused")) {
+  // the recording's span, for the progress: "12.3 / 40.0 s"
+  const auto [first_ns, last_ns] = r.time_span();
+  const double total_s = static_cast<double>(last_ns - first_ns) * 1e-9;
+  const bool tty = isatty(2);
+  TerminalKeys keys(standalone);
+  std::uint64_t sent = 0;
+  std::int64_t last_log = first_ns, next_progress = 0;
+  bool paused_shown = false;
+  auto progress = [&](const PlayClock& clock) {
+    const std::int64_t now = rt::now_ns();
+    if (now < next_progress && clock.paused() == paused_shown) return;
+    next_progress = now + (tty ? 250'000'000 : 5'000'000'000);
+    paused_shown = clock.paused();
+    const char* state = clock.paused() ? (keys.active() ? "  paused (Space plays, s steps)" : "  paused") : (keys.active() ? "  (Space pauses)" : "");
+    std::fprintf(stderr, tty ? "\renact play: %6.1f / %.1f s  %10llu messages%s\033[K" : "enact play: %.1f / %.1f s, %llu messages%s\n",
+                 static_cast<double>(last_log - first_ns) * 1e-9, total_s, static_cast<unsigned long long>(sent), state);
+  };
+  PlayClock clock(rate, keys, [&] { progress(clock); });
+  if (a.flag("paused") && keys.active()) {
+    clock.set_paused(true);
+  } else if (a.flag("paused")) {
     std::cerr << "enact play: paused; press Enter to play " << r.path() << "\n";
     std::string line;
     std::getline(std::cin, line);
   }
+  // --delay: the subscribers settle before the first message (`ros2 bag play --delay`)
+  const std::int64_t delay_end = rt::now_ns() + static_cast<std::int64_t>(delay_s * 1e9);
+  while (rt::now_ns() < delay_end && !graph::stop_requested()) rt::sleep_until_ns(std::min(delay_end, rt::now_ns() + 50'000'000));
 
-  const bool tty = isatty(2);
-  std::uint64_t sent = 0;
   do {
-    std::int64_t t0 = -1, wall0 = 0, next_progress = 0;
-    std::int64_t last_log = 0;
+    bool started = false;
+    const std::int64_t from_ns = first_ns + static_cast<std::int64_t>(offset_s * 1e9);
     r.for_each([&](const record::Message& m) {
-      if (graph::stop_requested()) return false;
-      if (t0 < 0) {
-        t0 = m.log_time_ns + static_cast<std::int64_t>(offset_s * 1e9);
-        wall0 = rt::now_ns();
-      }
-      if (m.log_time_ns < t0 || !wanted(m.topic)) return true;
+      if (m.log_time_ns < from_ns || !wanted(m.topic)) return true;
+      if (!started) clock.restart(m.log_time_ns), started = true;
       auto c = by_channel.find(m.channel->id);
       if (c == by_channel.end()) c = by_channel.emplace(m.channel->id, &publisher(*m.channel)).first;
-      // recorded timing, scaled; rate 0: no pause
-      if (rate > 0.0) rt::sleep_until_ns(wall0 + static_cast<std::int64_t>(static_cast<double>(m.log_time_ns - t0) / rate));
+      if (!clock.wait(m.log_time_ns)) return false;
       const std::string topic = out_topic(std::string(m.topic));
       // flow control: a full subscriber queue waits, nothing is dropped
       while (!c->second->send(topic, m.schema_name, m.data.data(), m.data.size()) && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 50'000);
       ++sent;
       last_log = m.log_time_ns;
-      const std::int64_t now = rt::now_ns();
-      if (now >= next_progress) {
-        next_progress = now + (tty ? 250'000'000 : 5'000'000'000);
-        std::fprintf(stderr, tty ? "\renact play: %8.2f s  %10llu messages   " : "enact play: %.2f s, %llu messages\n",
-                     static_cast<double>(last_log - t0) * 1e-9, static_cast<unsigned long long>(sent));
-      }
-      return true;
+      progress(clock);
+      return !graph::stop_requested();
     });
   } while (a.flag("loop") && !graph::stop_requested());
   if (tty) std::fputs("\n", stderr);

@@ -1,7 +1,9 @@
-// enact topic list | echo TOPIC | hz TOPIC: look at a running graph through its attach point.
+// enact topic list | echo TOPIC | hz TOPIC | pub TOPIC YAML: look at a running graph through
+// its attach point, and send on its inbound topics.
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -9,30 +11,44 @@
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
 #include "core/graph/logger.h"
+#include "core/graph/param_bus.h"
+#include "core/graph/topics.h"
 #include "core/graph/node.h"
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 #include "msgs/graph.pb.h"
+#include "msgs/param_update.pb.h"
 #include "core/config/suggest.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
+#include "nodes/enact/reflect.h"
 
 namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact topic list [--graph NAME | --attach ENDPOINT]
-       enact topic echo TOPIC [--count N | --once] [--graph NAME | --attach ENDPOINT]
+       enact topic echo TOPIC [--count N | --once] [--field PATH]... [--csv] [--graph NAME | --attach ENDPOINT]
        enact topic hz TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
        enact topic info TOPIC | bw TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
+       enact topic pub TOPIC YAML [--once | --rate HZ [--count N]] [--graph NAME | --attach ENDPOINT]
 
 Attach to a running graph (like `ros2 topic`), at any time, without disturbing it:
   list   the graph's topics, their message types and publishers (from graph/topics)
   echo   print each message of TOPIC (Protobuf text), N of them (--once: one) or until
          Ctrl-C; a state topic (task/state) gives its current message at once; at the end,
-         on stderr, how many arrived and how many were lost (sequence gaps)
+         on stderr, how many arrived and how many were lost (sequence gaps);
+         --field PATH: only that field of each message (force.x, header.seq, pins, a list
+         as [a, b], one element as pins[3]); several --field: one line each, tab-separated;
+         --csv: a header line of the paths, then one CSV row per message
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
   info   TOPIC's message type, publishers and rate (measured over 1 s)
   bw     the bandwidth of TOPIC every second (bytes of payload), until --duration or Ctrl-C
+  pub    send a message on one of the graph's inbound topics (param/set), written as YAML
+         and mapped onto the message by field name, e.g.
+           enact topic pub param/set '{name: sim.stiffness_n_per_m, number: 3000}'
+         once (--once, the default), or --rate HZ until Ctrl-C or --count N; each message
+         is a request the simulator answers (printed: applied or refused; exit 1 when one
+         is refused or unanswered). On a graph launched with --access it needs an operate key.
 TOPIC may start with '/' (ROS 2 style): /ffd/state is ffd/state.
 options:
 )";
@@ -93,17 +109,48 @@ std::uint64_t lost_in(const std::map<std::string, graph::SequenceCheck>& seqs) {
   return lost;
 }
 
-int echo_or_hz(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& topic, bool echo, long count, double duration_s) {
-  const std::string type = type_of(graph_info(endpoint, keys), topic);
+// what echo / hz do with each message
+struct Watch {
+  bool echo = false;
+  long count = 0;           // stop after this many (0: no limit)
+  double duration_s = 0.0;  // stop after this long (0: no limit)
+  std::vector<std::string> fields;  // echo only these field paths
+  bool csv = false;                 // ... as CSV rows under a header line
+};
+
+// one message as echo prints it: whole, or its fields (tab-separated, or a CSV row)
+void print_echo(const std::string& topic, const google::protobuf::Message& msg, const std::vector<FieldPath>& paths, bool csv) {
+  if (paths.empty()) {
+    std::printf("--- %s\n%s", topic.c_str(), msg.DebugString().c_str());
+  } else {
+    std::string line;
+    for (const FieldPath& p : paths) line += (line.empty() ? "" : csv ? "," : "\t") + (csv ? csv_cell(field_text(msg, p)) : field_text(msg, p));
+    std::printf("%s\n", line.c_str());
+  }
+  std::fflush(stdout);
+}
+
+int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) {
+  const std::string type = type_of(graph_info(graph.endpoint, graph.keys), topic);
   auto msg = make(type);
+  // the field paths, checked before anything arrives
+  std::vector<FieldPath> paths;
+  std::string header;
+  for (const std::string& f : w.fields) {
+    paths.push_back(resolve_field(*msg->GetDescriptor(), f));
+    header += (header.empty() ? "" : ",") + csv_cell(f);
+  }
+  if (w.csv) std::printf("%s\n", header.c_str());
   bus::ByteSubscriber sub;
-  bus::attach_connect(sub.socket(), endpoint, keys);
+  bus::attach_connect(sub.socket(), graph.endpoint, graph.keys);
   sub.subscribe(topic);
   std::map<std::string, graph::SequenceCheck> seqs;
   std::uint64_t received = 0, window = 0;
   const std::int64_t start = rt::now_ns();
   std::int64_t next_report = start + 1'000'000'000;
-  const std::int64_t end = duration_s > 0.0 ? start + static_cast<std::int64_t>(duration_s * 1e9) : INT64_MAX;
+  const std::int64_t end = w.duration_s > 0.0 ? start + static_cast<std::int64_t>(w.duration_s * 1e9) : INT64_MAX;
+  const bool echo = w.echo;
+  const long count = w.count;
   while (!graph::stop_requested() && rt::now_ns() < end && (count <= 0 || static_cast<long>(received) < count)) {
     const auto raw = sub.receive(100);
     const std::int64_t now = rt::now_ns();
@@ -122,10 +169,7 @@ int echo_or_hz(const std::string& endpoint, const bus::ClientKeys& keys, const s
     check.add(seq);
     ++received;
     ++window;
-    if (echo) {
-      std::printf("--- %s\n%s", topic.c_str(), msg->DebugString().c_str());
-      std::fflush(stdout);
-    }
+    if (echo) print_echo(topic, *msg, paths, w.csv);
   }
   // the summary: on stdout for hz, on stderr for echo (its stdout is the messages)
   std::fprintf(echo ? stderr : stdout, "%s: %llu messages in %.1f s, %llu lost in gaps\n", topic.c_str(), static_cast<unsigned long long>(received),
@@ -133,28 +177,98 @@ int echo_or_hz(const std::string& endpoint, const bus::ClientKeys& keys, const s
   return 0;
 }
 
+// a parameter request's answer, as enact param set prints it
+void print_answer(const graph::ParamAnswer& a) {
+  if (a.applied) std::printf("%s: applied\n", a.name.c_str());
+  else std::printf("%s: %s%s\n", a.name.c_str(), a.answered ? "refused: " : "", a.reason.c_str());
+  std::fflush(stdout);
+}
+
+// the message of enact topic pub TOPIC YAML, checked before anything attaches: TOPIC one
+// of the graph's inbound topics, YAML mapped onto its message by field name
+msgs::ParamUpdate pub_message(const std::string& topic, const std::string& yaml) {
+  const auto inbound = std::find(std::begin(graph::kInboundTopics), std::end(graph::kInboundTopics), topic);
+  if (inbound == std::end(graph::kInboundTopics)) {
+    throw UsageError("'" + topic + "' is not an inbound topic: a graph takes messages from observers on param/set only (its own nodes publish the others)");
+  }
+  msgs::ParamUpdate update;
+  try {
+    fill_from_yaml(YAML::Load(yaml), update);
+  } catch (const YAML::Exception& e) {
+    throw UsageError("YAML '" + yaml + "': " + e.msg + " (write a mapping: '{name: sim.model, text: CM2}')");
+  }
+  return update;
+}
+
+// enact topic pub: `count` requests (0: until Ctrl-C), `rate_hz` apart, each answered by
+// the simulator on param/ack; 0 when every one was applied
+int pub(const Attached& graph, const msgs::ParamUpdate& update, long count, double rate_hz) {
+  // the answers come on param/ack, through the same attach point
+  bus::ByteSubscriber acks_bytes;
+  bus::Subscriber<msgs::ParamAck> acks(acks_bytes, graph::kParamAck);
+  bus::attach_connect(acks_bytes.socket(), graph.endpoint, graph.keys);
+  graph::ParamClient client(graph.endpoint, "enact-topic-pub", graph.keys);
+  const std::int64_t period_ns = rate_hz > 0.0 ? static_cast<std::int64_t>(1e9 / rate_hz) : 0;
+  long sent = 0, answered = 0, applied = 0;
+  std::int64_t next_send = rt::now_ns();
+  msgs::ParamAck ack;
+  // send on time, until every request sent is answered (or given up)
+  while (!graph::stop_requested() && ((count <= 0 || sent < count) || answered < sent)) {
+    const std::int64_t now = rt::now_ns();
+    if ((count <= 0 || sent < count) && now >= next_send) {
+      std::printf("publishing #%ld: %s\n", ++sent, update.ShortDebugString().c_str());
+      client.send(update);
+      next_send = now + period_ns;
+    }
+    std::vector<graph::ParamAnswer> answers = client.tick(now);
+    if (acks.receive(ack, 10)) {
+      if (auto a = client.take(ack)) answers.push_back(*a);
+    }
+    for (const graph::ParamAnswer& a : answers) {
+      print_answer(a);
+      ++answered;
+      applied += a.applied ? 1 : 0;
+    }
+  }
+  return sent > 0 && applied == sent ? 0 : 1;
+}
+
 }  // namespace
 
 int topic(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "count", "duration", "key", "server-key"}, {"once"});
-  if (a.flag("help") || a.positional.empty()) {
-    std::fputs(kHelp, a.flag("help") ? stdout : stderr);
-    std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
-    return a.flag("help") ? 0 : 2;
+  const std::vector<std::string> fields = take_repeated(argc, argv, "--field");
+  const Args a = parse(argc, argv, 2, attach_options({"count", "duration", "rate"}), {"once", "csv"});
+  const std::size_t n = a.positional.size();
+  const std::string verb = n ? a.positional[0] : "";
+  const bool listing = verb == "list" && n == 1;
+  const bool watching = (verb == "echo" || verb == "hz" || verb == "info" || verb == "bw") && n == 2;
+  const bool publishing = verb == "pub" && n == 3;
+  if (a.flag("once") && !(verb == "echo" || verb == "pub")) throw UsageError("--once is for echo and pub");
+  if (a.flag("once") && (a.has("count") || a.has("rate"))) throw UsageError("give --once or --count / --rate, not both");
+  if ((!fields.empty() || a.flag("csv")) && verb != "echo") throw UsageError("--field and --csv are for echo");
+  if (a.flag("csv") && fields.empty()) throw UsageError("--csv needs the columns: --field PATH (one or more)");
+  if (a.has("rate") && verb != "pub") throw UsageError("--rate is for pub (hz measures a rate)");
+  if (verb == "pub" && a.has("count") && !a.has("rate")) throw UsageError("pub --count N needs --rate HZ (without it: --once)");
+  // what pub sends, checked before attaching
+  const bool sending = publishing && !a.flag("help");
+  const std::optional<msgs::ParamUpdate> message = sending ? std::optional(pub_message(topic_name(a.positional[1]), a.positional[2])) : std::nullopt;
+  const double rate_hz = a.number("rate", 0.0);
+  if (a.has("rate") && rate_hz <= 0.0) throw UsageError("--rate must be > 0 Hz");
+  Attached graph;
+  if (const auto code = start_attached(a, "topic", kHelp, "list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC | pub TOPIC YAML",
+                                       {"list", "echo", "hz", "info", "bw", "pub"}, listing || watching || publishing, graph)) {
+    return *code;
   }
-  const std::string& verb = a.positional[0];
-  const bool listing = verb == "list" && a.positional.size() == 1;
-  const bool watching = (verb == "echo" || verb == "hz" || verb == "info" || verb == "bw") && a.positional.size() == 2;
-  if (!listing && !watching) throw UsageError("use: enact topic list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC");
-  if (a.flag("once") && (verb != "echo" || a.has("count"))) throw UsageError("--once is for echo, instead of --count");
-  graph::install_stop_handlers();
-  const bus::ClientKeys keys = attach_keys(a);
-  const std::string endpoint = attach_target(a, "topic").endpoint;
-  if (listing) return list(endpoint, keys);
+  if (listing) return list(graph.endpoint, graph.keys);
   const std::string topic = topic_name(a.positional[1]);
-  if (verb == "info" || verb == "bw") return topic_info_or_bw(endpoint, keys, topic, verb == "bw", a.number("duration", 0.0));
-  const long count = a.flag("once") ? 1 : static_cast<long>(a.number("count", 0.0));
-  return echo_or_hz(endpoint, keys, topic, verb == "echo", count, a.number("duration", 0.0));
+  if (publishing) {
+    const long count = a.has("rate") ? static_cast<long>(a.number("count", 0.0)) : 1;
+    return pub(graph, *message, count, rate_hz);
+  }
+  if (verb == "info" || verb == "bw") return topic_info_or_bw(graph.endpoint, graph.keys, topic, verb == "bw", a.number("duration", 0.0));
+  Watch w{.echo = verb == "echo", .count = a.flag("once") ? 1 : static_cast<long>(a.number("count", 0.0)), .duration_s = a.number("duration", 0.0),
+          .fields = fields, .csv = a.flag("csv")};
+  return echo_or_hz(graph, topic, w);
 }
 
 }  // namespace enact::cli

@@ -3,7 +3,9 @@
 #include <cstring>
 #include <exception>
 #include <string>
+#include <vector>
 
+#include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "nodes/enact/commands.h"
 
@@ -22,7 +24,7 @@ commands:
   bench record      MCAP writer throughput against raw writes; the logger's headroom
   launch FILE       run a graph of nodes from a YAML launch file
   graph list        the running graphs of this user (name, attach endpoint, pid, launch file)
-  topic list|echo|hz|info|bw  look at a running graph through its attach point
+  topic list|echo|hz|info|bw|pub  look at a running graph, send on its inbound topics
   node list|info    the nodes of a running graph: state, rate, topics, parameters
   record            keep a running graph's messages in an MCAP file
   info FILE         what a recording holds (topics, rates, gaps, metadata, damage)
@@ -41,6 +43,42 @@ commands:
 Files: scenes and computer models are YAML, paths are CSV (README.md).
 )";
 
+// the commands, by name
+struct Command {
+  const char* name;
+  int (*run)(int, char**);
+};
+constexpr Command kCommands[] = {
+    {"check", enact::cli::check},
+    {"simulate", enact::cli::simulate},
+    {"path", enact::cli::path},
+    {"bench", enact::cli::bench},
+    {"launch", enact::cli::launch},
+    {"graph", enact::cli::graph_list},
+    {"topic", enact::cli::topic},
+    {"record", enact::cli::record},
+    {"info", enact::cli::info},
+    {"play", enact::cli::play},
+    {"export", enact::cli::export_csv},
+    {"recover", enact::cli::recover},
+    {"resim", enact::cli::resim},
+    {"devices", enact::cli::devices},
+    {"param", enact::cli::param},
+    {"foxglove", enact::cli::foxglove_bridge},
+    {"doctor", enact::cli::doctor},
+    {"node", enact::cli::node},
+    {"keys", enact::cli::keys},
+    {"experiment", enact::cli::experiment_run},
+    {"metrics", enact::cli::metrics},
+};
+
+// " (did you mean X?)" for a misspelled command
+std::string closest_command(const std::string& name) {
+  std::vector<std::string> names;
+  for (const Command& c : kCommands) names.emplace_back(c.name);
+  return enact::config::did_you_mean(name, names);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,28 +92,10 @@ int main(int argc, char** argv) {
   }
   const std::string command = argv[1];
   try {
-    if (command == "check") return enact::cli::check(argc, argv);
-    if (command == "simulate") return enact::cli::simulate(argc, argv);
-    if (command == "path") return enact::cli::path(argc, argv);
-    if (command == "bench") return enact::cli::bench(argc, argv);
-    if (command == "launch") return enact::cli::launch(argc, argv);
-    if (command == "graph") return enact::cli::graph_list(argc, argv);
-    if (command == "topic") return enact::cli::topic(argc, argv);
-    if (command == "record") return enact::cli::record(argc, argv);
-    if (command == "info") return enact::cli::info(argc, argv);
-    if (command == "play") return enact::cli::play(argc, argv);
-    if (command == "export") return enact::cli::export_csv(argc, argv);
-    if (command == "recover") return enact::cli::recover(argc, argv);
-    if (command == "resim") return enact::cli::resim(argc, argv);
-    if (command == "devices") return enact::cli::devices(argc, argv);
-    if (command == "param") return enact::cli::param(argc, argv);
-    if (command == "foxglove") return enact::cli::foxglove_bridge(argc, argv);
-    if (command == "doctor") return enact::cli::doctor(argc, argv);
-    if (command == "node") return enact::cli::node(argc, argv);
-    if (command == "keys") return enact::cli::keys(argc, argv);
-    if (command == "experiment") return enact::cli::experiment_run(argc, argv);
-    if (command == "metrics") return enact::cli::metrics(argc, argv);
-    std::fprintf(stderr, "enact: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+    for (const Command& c : kCommands) {
+      if (command == c.name) return c.run(argc, argv);
+    }
+    std::fprintf(stderr, "enact: unknown command '%s'%s\n\n%s", command.c_str(), closest_command(command).c_str(), kUsage);
     return 2;
   } catch (const enact::cli::UsageError& e) {
     std::fprintf(stderr, "enact %s: %s\n  (enact %s --help lists the options)\n", command.c_str(), e.what(), command.c_str());

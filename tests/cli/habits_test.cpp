@@ -1,8 +1,10 @@
 // ROS 2 habits on the enact command line: topic info / bw, node list / info, a leading '/'
 // in topic names, "did you mean" for misspelled options, topics, nodes and presets, fix
 // lines for missing recordings, export to standard output and in relative time, record
-// --regex / --exclude.
+// --regex / --exclude, echo --field / --csv, pub.
 #include <gtest/gtest.h>
+
+#include <regex>
 
 #include "tests/cli/cli_support.h"
 #include "tests/integration/integration_util.h"
@@ -73,10 +75,67 @@ TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
   EXPECT_EQ(enact("record -o " + some + " --duration 1 --regex '(' " + at).exit_code, 1);
 }
 
+TEST(RosHabits, EchoFieldsAndPubOnARunningGraph) {
+  TempDir dir;
+  Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 60.0);
+  ASSERT_TRUE(graph.wait_log("enact launch: graph ready", 30.0)) << graph.log();
+  const std::string at = " --attach " + graph.endpoint();
+
+  // two fields, tab-separated, one line per message; seqs increase
+  const RunResult fields = enact("topic echo ffd/state --count 3 --field header.seq --field position.z" + at);
+  ASSERT_EQ(fields.exit_code, 0) << fields.err;
+  const std::regex row("([0-9]+)\t(-?[0-9.e-]+)\n");
+  std::vector<long> seqs;
+  for (auto it = std::sregex_iterator(fields.out.begin(), fields.out.end(), row); it != std::sregex_iterator(); ++it) seqs.push_back(std::stol((*it)[1]));
+  ASSERT_EQ(seqs.size(), 3u) << fields.out;
+  EXPECT_LT(seqs[0], seqs[1]);
+  EXPECT_LT(seqs[1], seqs[2]);
+  // a repeated field as a list, one element by index, CSV with a header (the list quoted)
+  const RunResult csv = enact("topic echo tactile/frame --count 2 --csv --field rows --field level --field level[15]" + at);
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_TRUE(std::regex_search(csv.out, std::regex("^rows,level,level\\[15\\]\n4,\"\\[[0-9.]+(, [0-9.]+){15}\\]\",[0-9.]+\n"))) << csv.out;
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 3) << csv.out;
+  // a misspelled field: the message's fields and the closest one
+  const RunResult wrong = enact("topic echo ffd/state --once --field positon.z" + at);
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("unknown field 'positon' in enact.msgs.DeviceState (did you mean position?); its fields: header, position, velocity"), std::string::npos)
+      << wrong.err;
+
+  // pub: YAML onto a ParamUpdate, applied by the simulator, visible in task/state
+  const RunResult model = enact("topic pub /param/set '{name: sim.model, text: CM3}'" + at);
+  ASSERT_EQ(model.exit_code, 0) << model.out << model.err;
+  EXPECT_NE(model.out.find("publishing #1: name: \"sim.model\" text: \"CM3\""), std::string::npos) << model.out;
+  EXPECT_NE(model.out.find("sim.model: applied"), std::string::npos) << model.out;
+  const RunResult state = enact("topic echo task/state --once --field model" + at);
+  EXPECT_EQ(state.out, "CM3\n") << state.err;
+  // at a rate, a count of them; a value the simulator refuses: exit 1
+  const RunResult repeated = enact("topic pub param/set '{name: sim.stiffness_n_per_m, number: 3000}' --rate 20 --count 3" + at);
+  EXPECT_EQ(repeated.exit_code, 0) << repeated.out << repeated.err;
+  EXPECT_NE(repeated.out.find("publishing #3"), std::string::npos) << repeated.out;
+  EXPECT_EQ(std::count(repeated.out.begin(), repeated.out.end(), '\n'), 6) << repeated.out;
+  const RunResult refused = enact("topic pub param/set '{name: sim.stiffness_n_per_m, number: -5}'" + at);
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.out.find("refused: "), std::string::npos) << refused.out;
+  // only inbound topics; YAML fields checked by name
+  const RunResult outbound = enact("topic pub ffd/force '{}'" + at);
+  EXPECT_EQ(outbound.exit_code, 2);
+  EXPECT_NE(outbound.err.find("'ffd/force' is not an inbound topic"), std::string::npos) << outbound.err;
+  const RunResult misnamed = enact("topic pub param/set '{nam: sim.model, text: CM1}'" + at);
+  EXPECT_EQ(misnamed.exit_code, 2);
+  EXPECT_NE(misnamed.err.find("unknown field 'nam' in enact.msgs.ParamUpdate (did you mean name?)"), std::string::npos) << misnamed.err;
+}
+
 TEST(RosHabits, MisspellingsGetTheClosestName) {
   const RunResult flag = enact("topic hz ffd/state --duratoin 1");
   EXPECT_EQ(flag.exit_code, 2);
   EXPECT_NE(flag.err.find("unknown option --duratoin (did you mean --duration?)"), std::string::npos) << flag.err;
+  // commands and their verbs too
+  const RunResult command = enact("topc list");
+  EXPECT_EQ(command.exit_code, 2);
+  EXPECT_NE(command.err.find("unknown command 'topc' (did you mean topic?)"), std::string::npos) << command.err;
+  const RunResult verb = enact("node lst");
+  EXPECT_EQ(verb.exit_code, 2);
+  EXPECT_NE(verb.err.find("unknown verb 'lst' (did you mean list?)"), std::string::npos) << verb.err;
   // an unknown preset is named as one, and no empty table is printed after the error
   const RunResult sim = enact("simulate " + bridge_scene() + " --model CM5");
   EXPECT_EQ(sim.exit_code, 1);

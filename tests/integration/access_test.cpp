@@ -113,6 +113,15 @@ TEST_F(Access, AnObserverReceivesStatesAtRateAndIsRefusedParamSet) {
   EXPECT_EQ(set.exit_code, 1) << set.out << set.err;
   EXPECT_NE(set.out.find("refused"), std::string::npos) << set.out;
   EXPECT_NE(set.out.find("role observe"), std::string::npos) << set.out;
+  // the same through enact topic pub: refused for bob, applied for alice (an operator)
+  const std::string pub = kCli + " topic pub param/set '{name: sim.stiffness_n_per_m, number: 3000}'";
+  const RunResult observer_pub = run(pub + keys("bob"));
+  EXPECT_EQ(observer_pub.exit_code, 1) << observer_pub.out << observer_pub.err;
+  EXPECT_NE(observer_pub.out.find("refused"), std::string::npos) << observer_pub.out;
+  EXPECT_NE(observer_pub.out.find("role observe"), std::string::npos) << observer_pub.out;
+  const RunResult operator_pub = run(pub + keys("alice"));
+  EXPECT_EQ(operator_pub.exit_code, 0) << operator_pub.out << operator_pub.err;
+  EXPECT_NE(operator_pub.out.find("sim.stiffness_n_per_m: applied"), std::string::npos) << operator_pub.out;
 }
 
 TEST_F(Access, AnOperatorsChangeIsAppliedAndRecordedWithItsKeyName) {

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/physics/scene.h"
@@ -163,6 +165,61 @@ TEST_F(Headless, WithoutASceneThereIsNoGrid) {
     EXPECT_NE(v.col, palette::kMassFree);
     EXPECT_NE(v.col, palette::kMassContact);
   }
+}
+
+// the scene of a body at (x, y), 6 mm below the bridge's top (fallen), no contact
+ViewModel body_at(double x_m, double y_m, double z_m) {
+  msgs::SceneState s;
+  s.mutable_body_position()->set_x(x_m);
+  s.mutable_body_position()->set_y(y_m);
+  s.mutable_body_position()->set_z(z_m);
+  for (int i = 0; i < 16; ++i) s.add_in_contact(false), s.add_contact_force();
+  ViewModel vm;
+  vm.on_scene(s);
+  return vm;
+}
+
+// how many vertices of `dl` have `colour`
+long count_colour(const ImDrawList& dl, ImU32 colour) {
+  return std::count_if(dl.VtxBuffer.begin(), dl.VtxBuffer.end(), [&](const ImDrawVert& v) { return v.col == colour; });
+}
+
+TEST_F(Headless, SideViewDrawsABodyBesideTheBridgeAsBesideIt) {
+  const SceneGeometry g = bridge();
+  const Rect r = layout(1280, 800).side_view;
+  // beside the bridge (off the edge of its first segment), fallen below its top: rings of
+  // the beside colour, the bridge see-through behind, no mass drawn as a solid disc in it
+  const double half_width = g.path_width_m / 2;
+  const task::Point2 corner = g.path.at(g.path.length_m() / 6);
+  const auto side = g.path.project(corner.x_m + 3 * half_width, corner.y_m);
+  ASSERT_GT(std::abs(side.lateral_m), half_width) << "the test's point must be beside the path";
+  EXPECT_TRUE(beside_path(g, corner.x_m + 3 * half_width, corner.y_m));
+  ImDrawList& dl = *ImGui::GetBackgroundDrawList();
+  draw_side_view(dl, r, g, body_at(corner.x_m + 3 * half_width, corner.y_m, g.top_z_m - 0.006));
+  EXPECT_GT(count_colour(dl, palette::kBeside), 16 * 8);
+  EXPECT_GT(count_colour(dl, palette::kBridgeBehind), 0);
+  EXPECT_EQ(count_colour(dl, palette::kBridge), 0);
+  EXPECT_EQ(count_colour(dl, palette::kMassFree), 0);
+  // on the bridge's centreline, just above it: an opaque bridge, solid discs but for the
+  // grid's two corners that overhang the 10 mm wide bridge on a 45 degree segment (they are
+  // 5.2 mm from the centreline)
+  ImDrawList& on = *ImGui::GetForegroundDrawList();
+  EXPECT_FALSE(beside_path(g, corner.x_m, corner.y_m));
+  draw_side_view(on, r, g, body_at(corner.x_m, corner.y_m, g.top_z_m + 0.001));
+  EXPECT_GT(count_colour(on, palette::kBridge), 0);
+  EXPECT_EQ(count_colour(on, palette::kBridgeBehind), 0);
+  EXPECT_EQ(count_colour(on, palette::kMassFree), 14 * 8);
+}
+
+TEST(Layout, PlotAxesCarryTheirUnits) {
+  std::vector<std::string> labels;
+  for (const AxisMark& m : axis_marks(0.0, 5.0, 2, "N")) labels.push_back(m.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"0 N", "2.5 N", "5 N"}));
+  labels.clear();
+  for (const AxisMark& m : axis_marks(-10.0, 0.0, 2, "s")) labels.push_back(m.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"-10 s", "-5 s", "0 s"}));
+  EXPECT_DOUBLE_EQ(axis_marks(-8.0, 4.0, 6, "mm")[4].value, 0.0);
+  EXPECT_EQ(axis_marks(-8.0, 4.0, 6, "mm")[4].label, "0 mm");
 }
 
 TEST(Layout, PlotScalesAreRoundAndAboveThePeak) {
