@@ -51,10 +51,12 @@ bool selected(const Object& object, std::uint64_t mask, int box) {
 }
 constexpr std::uint64_t kAllBoxes = ~std::uint64_t{0};
 
-// a point on a face is exposed unless another box of the same union covers it
-bool exposed(const Model& model, const Object& object, int face_box, const Vec3& x) {
+// a point x on a face (outward normal n) is exposed unless another box of the same union holds
+// the point just outside it: a box standing flush on the face (a wall on a slab) covers it
+bool exposed(const Model& model, const Object& object, int face_box, const Vec3& x, const Vec3& n) {
+  const Vec3 outside = x + n * kTolerance_m;
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-    if (i != face_box && inside_box(model.boxes[i], x, -kTolerance_m)) return false;
+    if (i != face_box && inside_box(model.boxes[i], outside, 0.0)) return false;
   }
   return true;
 }
@@ -82,9 +84,10 @@ bool crossed_face(const Model& model, const Object& object, std::uint64_t near, 
         hit[axis] = before[axis] + (now[axis] - before[axis]) * t;
         on_face = on_face && (axis == face / 2 || std::abs(hit[axis]) <= component(box.half_extents_m, axis) + kTolerance_m);
       }
-      if (!on_face || !exposed(model, object, i, box.rotation * Vec3{hit[0], hit[1], hit[2]} + box.center_m)) continue;
+      const Vec3 n = face_normal(box, face);
+      if (!on_face || !exposed(model, object, i, box.rotation * Vec3{hit[0], hit[1], hit[2]} + box.center_m, n)) continue;
       best_t = t;
-      normal = face_normal(box, face);
+      normal = n;
     }
   }
   return best_t < kInfinity;
@@ -117,7 +120,8 @@ bool pick_faces(const Model& model, const Object& object, std::uint64_t near, co
       const bool to_edge = depth <= skin_m && depth < edge.depth_m;
       const bool to_parallel = along > kParallelCos && depth < parallel.depth_m;
       if (!to_edge && !to_parallel) continue;
-      if (exposed_only && !((box.exposed >> face) & 1u) && !exposed(model, object, i, x + face_normal(box, face) * depth)) continue;
+      const Vec3 n = face_normal(box, face);
+      if (exposed_only && !((box.exposed >> face) & 1u) && !exposed(model, object, i, x + n * depth, n)) continue;
       if (to_edge) edge = {depth, i, face};
       if (to_parallel) parallel = {depth, i, face};
     }
@@ -125,8 +129,49 @@ bool pick_faces(const Model& model, const Object& object, std::uint64_t near, co
   return in_any;
 }
 
+// x in box coordinates, all three; false when x is not inside the box
+bool all_coordinates(const Box& box, const Vec3& x, double local[3]) {
+  const Vec3 l = box.rotation.transpose_times(x - box.center_m);
+  local[0] = l.x;
+  local[1] = l.y;
+  local[2] = l.z;
+  const Vec3& h = box.half_extents_m;
+  return std::abs(l.x) < h.x && std::abs(l.y) < h.y && std::abs(l.z) < h.z;
+}
+
+// the face that pushed last step, extended beyond its box: a point that left the box still
+// below the face's plane (pushed into a concave corner, out of a wall's box into the slab it
+// stands on) is pushed on out through it when that is the shallowest parallel face, by more
+// than the tolerance (coplanar faces of the boxes it is in keep pushing)
+void extend_held(const Model& model, const ContactState& held, const Vec3& x, Pick& parallel) {
+  double local[3];
+  if (all_coordinates(model.boxes[held.box], x, local)) return;  // in its box: already picked
+  const double depth = depth_below(model.boxes[held.box], local, held.face);
+  if (depth > 0.0 && depth < parallel.depth_m - kTolerance_m) parallel = {depth, held.box, held.face};
+}
+
+// the faces of the near boxes the point is just outside of (within the skin), extended: a
+// point pressed into a slab's top that slides under the foot of a wall standing on it (the
+// slab's top covered, no face continuing it) is pushed back out through the wall's face
+// less than the skin above it, not on through the slab's far end
+void extend_near(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
+                 double skin_m, Pick& chosen) {
+  for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
+    const Box& box = model.boxes[i];
+    double local[3];
+    if (!selected(object, near, i) || all_coordinates(box, x, local) || !inside_box(box, x, skin_m)) continue;
+    const Vec3 e = box.rotation.transpose_times(entry);
+    for (int face = 0; face < 6; ++face) {
+      const double depth = depth_below(box, local, face);
+      const bool pushes = ((box.faces >> face) & 1u) && sign_of(face) * component(e, face / 2) >= kOppositeCos;
+      if (pushes && depth > 0.0 && depth <= skin_m && depth < chosen.depth_m) chosen = {depth, i, face};
+    }
+  }
+}
+
 // the face that pushes a point at x out of a union of boxes, given the normal of the face it
-// entered through (zero: none). It keeps pushing out through faces parallel to the entry face;
+// entered through (zero: none). It keeps pushing out through faces parallel to the entry face
+// (among them the face that pushed last step, extended beyond its box);
 // another face takes over only when the point is less than `skin_m` below it and shallower
 // (riding over an edge); the face opposite the entry face never pushes, and a face covered by
 // another box of the union only when nothing else is left. false when x is in no box.
@@ -134,9 +179,12 @@ bool choose_face(const Model& model, const Object& object, std::uint64_t near, c
                  double skin_m, ContactState& contact) {
   Pick edge, parallel;
   if (!pick_faces(model, object, near, x, entry, skin_m, true, edge, parallel)) return false;
+  if (contact.active && contact.box >= 0) extend_held(model, contact, x, parallel);
   Pick chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge : parallel;
-  // rarely: no face continues the entry face; then the shallowest exposed face, else any face
+  // rarely: no face continues the entry face; then the shallowest face just outside which the
+  // point is, else the shallowest exposed face, else any face
   Pick unused;
+  if (!chosen.found()) extend_near(model, object, near, x, entry, skin_m, chosen);
   if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, true, chosen, unused);
   if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, false, chosen, unused);
   contact.normal = chosen.found() ? face_normal(model.boxes[chosen.box], chosen.face) : entry;
