@@ -13,6 +13,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/topics.h"
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
@@ -76,6 +77,9 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   graph::announce_topics(out);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
   in.connect(graph::node_endpoint(sim_node));

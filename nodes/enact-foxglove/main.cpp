@@ -8,6 +8,7 @@
 #include "core/foxglove/bridge.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/params.h"
 
 namespace {
@@ -42,6 +43,9 @@ int run(int argc, char** argv) {
   if (o.attach.empty()) throw config::Error(args.name + ": no attach endpoint\n  fix: run it from `enact launch`, or give attach=ENDPOINT");
 
   graph::install_stop_handlers();
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   enact::foxglove::Bridge bridge(o);
   graph::report_ready();
   graph::say(args.name, enact::foxglove::describe(bridge, o));

@@ -9,6 +9,7 @@
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/params.h"
 
 namespace {
@@ -49,6 +50,9 @@ int run(int argc, char** argv) {
   if (args.check) return 0;
 
   graph::install_stop_handlers();
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   graph::Logger logger(o);
   logger.attach();
   graph::report_ready();

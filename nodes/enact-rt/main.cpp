@@ -14,6 +14,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
@@ -144,9 +145,15 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
   bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
-  graph::ParamPort params(simulator, sim_name, out, event_pub);
+  graph::ParamBoard board(args.name);
+  board.add(args.params, args.name);
+  board.add(sim_p, sim_name, sim_name + ".");
+  board.add(ffd_p, ffd_name, ffd_name + ".");
+  board.add(tac_p, tac_name, tac_name + ".");
+  graph::ParamPort params(simulator, sim_name, out, event_pub, &board);
   graph::TaskStateTracker task_state(out);
   graph::announce_topics(out);
+  board.start();
   graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns);
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   struct Shown {

@@ -10,6 +10,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
@@ -70,9 +71,12 @@ int run(int argc, char** argv) {
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
   in.connect(graph::node_endpoint(ffd_node));
-  graph::ParamPort params(simulator, args.name, out, event_pub);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  graph::ParamPort params(simulator, args.name, out, event_pub, &board);
   graph::TaskStateTracker task_state(out);
   graph::announce_topics(out);
+  board.start();
 
   msgs::DeviceState state;
   msgs::ForceCommand command;

@@ -10,6 +10,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/topics.h"
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
@@ -47,6 +48,9 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   graph::announce_topics(out);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::TactileFrame> frames(in, graph::kTactileFrame);
   in.connect(graph::node_endpoint(sim_node));
