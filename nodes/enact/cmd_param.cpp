@@ -201,6 +201,15 @@ class Changes {
   std::map<std::uint64_t, std::string> pending_;  // by request id: "[where]NAME = VALUE"
 };
 
+// why a change of `name` to `value` is refused before it is sent: a parameter its node
+// declares not live; "" when it may be sent (the node decides then)
+std::string fixed_refusal(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
+  for (const auto& [n, e] : entries(boards, "")) {
+    if (n == name && !e->live()) return "it cannot change while the graph runs (now " + quoted(e->value()) + ")\n  fix: change it in the launch file (or its param_file) and launch again";
+  }
+  return "";
+}
+
 int load(const Target& t, const std::vector<msgs::ParamValues>& boards, const std::string& file, const std::string& node) {
   const YAML::Node root = config::load_file(file);
   if (!root.IsMap()) throw config::Error(file + ": not a YAML map of name: value lines\n  fix: write it with enact param dump");
@@ -219,7 +228,7 @@ int load(const Target& t, const std::vector<msgs::ParamValues>& boards, const st
     }
     if (!e) std::printf("%srefused: no such parameter%s\n  fix: enact param list%s shows them\n", at.c_str(), config::did_you_mean(name, names).c_str(), node.empty() ? "" : (" " + node).c_str());
     else if (e->value() == value) std::printf("%sunchanged\n", at.c_str());
-    else if (!e->live()) std::printf("%srefused: it cannot change while the graph runs (now %s)\n  fix: change it in the launch file (or its param_file) and launch again\n", at.c_str(), quoted(e->value()).c_str());
+    else if (!e->live()) std::printf("%srefused: %s\n", at.c_str(), fixed_refusal(boards, e->name()).c_str());
     else changes.send(e->name(), value, where);
     ok = ok && e && (e->value() == value || e->live());
   }
@@ -249,6 +258,18 @@ int param(int argc, char** argv) {
   graph::install_stop_handlers();
   const Target t{attach_target(a, "param").endpoint, attach_keys(a)};
   if (verb == "set") {
+    // a parameter its node declares fixed is refused here; the node decides on the others
+    std::vector<msgs::ParamValues> boards;
+    try {
+      boards = read_boards(t);
+    } catch (const config::Error&) {
+      // a graph whose nodes publish no parameters: the node alone decides
+    }
+    const std::string refused = fixed_refusal(boards, a.positional[1]);
+    if (!refused.empty()) {
+      std::printf("%s = %s: refused: %s\n", a.positional[1].c_str(), a.positional[2].c_str(), refused.c_str());
+      return 1;
+    }
     Changes changes(t);
     changes.send(a.positional[1], a.positional[2]);
     return changes.answers() ? 0 : 1;

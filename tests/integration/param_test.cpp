@@ -74,6 +74,12 @@ TEST_P(ParamCli, ListGetDumpLoadOnTheShippedGraph) {
   EXPECT_NE(partial.out.find("sim.yaml:2: min_fall_s = 2: refused: it cannot change while the graph runs (now \"1\")"), std::string::npos) << partial.out;
   EXPECT_NE(partial.out.find("sim.yaml:3: modle = CM1: refused: no such parameter (did you mean model?)"), std::string::npos) << partial.out;
   EXPECT_EQ(param(graph, "get sim.model").out, "CM2\n");
+
+  // set refuses a parameter its node declares fixed, from the node's table
+  const std::string fixed = g.nodes.back();
+  const RunResult set_fixed = param(graph, "set " + fixed + " 1");
+  EXPECT_EQ(set_fixed.exit_code, 1) << set_fixed.out << set_fixed.err;
+  EXPECT_NE(set_fixed.out.find(fixed + " = 1: refused: it cannot change while the graph runs"), std::string::npos) << set_fixed.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, ParamCli,
