@@ -46,7 +46,6 @@ class Params {
 
   // every declared parameter (commands left out) with its value in force, in declaration order
   std::vector<std::pair<ParamSpec, std::string>> in_force() const;
-  const std::string& owner() const { return owner_; }
 
  private:
   const std::string& value(const std::string& name) const;
