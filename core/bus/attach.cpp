@@ -225,7 +225,7 @@ void AttachPoint::forward_data() {
     }
     fit_queue(cost);
     std::vector<std::string>* keep = nullptr;
-    if (std::find(latched_topics_.begin(), latched_topics_.end(), frames_[0].to_string_view()) != latched_topics_.end()) {
+    if (latched(frames_[0].to_string_view())) {
       keep = &latched_[frames_[0].to_string()];
       keep->clear();
     }
@@ -253,8 +253,7 @@ bool AttachPoint::forward_from_observers() {
     if (n.empty() || (n.front() != 0 && n.front() != 1)) continue;  // a stray one-frame message
     if (n.front() == 1 && kGraphTopic.starts_with(n.substr(1))) wants_graph = true;
     if (n.front() == 1) send_latched(n.substr(1));
-    const bool latched = std::find(latched_topics_.begin(), latched_topics_.end(), n.substr(1)) != latched_topics_.end();
-    if (n.front() == 0 && latched) continue;  // the attach point's own subscription stays
+    if (n.front() == 0 && latched(n.substr(1))) continue;  // the attach point's own subscription stays
     (void)xsub_.send(notice, zmq::send_flags::dontwait);
   }
   return wants_graph;
@@ -291,6 +290,11 @@ void AttachPoint::relay_inbound(zmq::message_t& first) {
       if (!out->send(copy, flags)) break;
     }
   }
+}
+
+bool AttachPoint::latched(std::string_view topic) const {
+  return std::any_of(latched_topics_.begin(), latched_topics_.end(),
+                     [&](const std::string& t) { return t == topic || (t.ends_with('/') && topic.starts_with(t)); });
 }
 
 void AttachPoint::send_latched(std::string_view prefix) {

@@ -82,7 +82,8 @@ struct AttachOptions {
   std::vector<std::string> inbound_topics{};
   // state topics: the last message of each is kept and sent at once to every observer that
   // subscribes to it (a late joiner sees the current state; the observers already
-  // subscribed receive that copy again, with the same header.seq)
+  // subscribed receive that copy again, with the same header.seq). An entry ending in '/'
+  // names every topic under it, each kept on its own (param/values/<node>).
   std::vector<std::string> latched_topics{};
 };
 
@@ -151,6 +152,8 @@ class AttachPoint {
   void refuse_inbound(const std::vector<zmq::message_t>& frames, const std::string& reason);
   void publish_graph();
   void send_latched(std::string_view prefix);
+  // a state topic (latched_topics names it, or a folder of it)
+  bool latched(std::string_view topic) const;
   // a message of the attach point's own to the observers (dropped when none subscribed)
   void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
   // a message of cost_bytes is about to be queued: lower every observer's queue if it is the

@@ -22,7 +22,7 @@
 #include "core/graph/logger.h"
 #include "core/graph/session.h"
 #include "core/graph/topics.h"
-#include "core/launch/check.h"
+#include "core/graph/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
@@ -302,7 +302,7 @@ std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const st
   for (const Trial& t : plan) {
     if (!checked.insert(t.condition.label + "/" + to_string(t.kind)).second) continue;
     const launch::LaunchDescription graph = launch::load_launch(spec.launch, trial_arguments(spec, t, out + "/trials/" + t.file_stem + ".mcap"));
-    for (const std::string& p : launch::check_nodes(graph)) problems.push_back("condition " + t.condition.label + ": " + p);
+    for (const std::string& p : graph::check_graph(graph)) problems.push_back("condition " + t.condition.label + ": " + p);
   }
   return problems;
 }

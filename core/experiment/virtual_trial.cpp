@@ -29,9 +29,9 @@ VirtualTrialResult run_virtual_trial(const VirtualTrialParams& params) {
   simulator.configure(sp);
   auto force = graph::make_force_device(params.ffd);
   auto tactile = graph::make_tactile_device(params.tactile);
-  params.sim.refuse_unread(graph::kSimParams);
-  params.ffd.refuse_unread(graph::kForceParams);
-  params.tactile.refuse_unread(graph::kTactileParams);
+  params.sim.refuse_unknown();
+  params.ffd.refuse_unknown();
+  params.tactile.refuse_unknown();
 
   graph::ColocatedLoop loop(simulator, *force, *tactile, &synthetic_clock);
   const std::int64_t period_ns = std::llround(1e9 / params.rate_hz);

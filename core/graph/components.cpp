@@ -9,6 +9,7 @@
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/devices/usb/libusb.h"
+#include "core/graph/node_params.h"
 
 namespace enact::graph {
 namespace {
@@ -22,29 +23,25 @@ void refuse_given(const Params& p, std::initializer_list<const char*> names, con
 
 // the hand of a simulated device, or of an emulated one: a scripted path or a virtual subject
 void read_hand(const Params& p, devices::SimulatedForceParams& f) {
-  f.hand_path = p.text("hand_path", "");
-  f.subject = p.text("subject", "");
-  f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed", 0));
-  f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed", 0));
-  f.start_m = p.vec3("start_m", f.start_m);
-  f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m", f.hand_stiffness_n_per_m);
-  f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m", f.hand_damping_n_s_per_m);
+  f.hand_path = p.text("hand_path");
+  f.subject = p.text("subject");
+  f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed"));
+  f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed"));
+  f.start_m = p.vec3("start_m");
+  f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m");
+  f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m");
 }
 
 constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m",
                                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
 
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)
-bool emulated(const Params& p) {
-  const std::string t = p.text("transport", "usb");
-  if (t != "usb" && t != "emulator") throw config::Error("transport '" + t + "' is not known\n  fix: use transport=usb (the real device) or transport=emulator");
-  return t == "emulator";
-}
+bool emulated(const Params& p) { return p.text("transport") == "emulator"; }
 
 std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
   refuse_given(p, {"transport", "serial", "firmware", "homing_timeout_s", "max_force_n"}, "device=falcon");
   devices::SimulatedForceParams f;
-  f.profile = p.text("profile", f.profile);
+  f.profile = p.text("profile");
   read_hand(p, f);
   return std::make_unique<devices::SimulatedForceDevice>(f);
 }
@@ -52,10 +49,10 @@ std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
 std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
   refuse_given(p, {"profile"}, "device=simulated (the Falcon's profile is 'falcon')");
   devices::falcon::FalconParams f;
-  f.serial = p.text("serial", "");
-  f.firmware = p.text("firmware", "");
-  f.homing_timeout_s = p.number("homing_timeout_s", f.homing_timeout_s);
-  f.max_force_n = p.number("max_force_n", f.max_force_n);
+  f.serial = p.text("serial");
+  f.firmware = p.text("firmware");
+  f.homing_timeout_s = p.number("homing_timeout_s");
+  f.max_force_n = p.number("max_force_n");
   if (!emulated(p)) {
     refuse_given(p, kHandParams, "transport=emulator (the emulated hand)");
     return std::make_unique<devices::falcon::FalconForceDevice>(f, std::make_unique<devices::usb::LibusbBus>());
@@ -74,8 +71,8 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows,
   m.rows = rows;
   m.cols = cols;
   m.rise_time_s = rise_time_s;
-  m.serial = p.text("serial", "");
-  m.first_cell = p.integer("first_cell", m.first_cell);
+  m.serial = p.text("serial");
+  m.first_cell = p.integer("first_cell");
   if (!emulated(p)) return std::make_unique<devices::metec::MetecTactileDevice>(m, std::make_unique<devices::usb::LibusbBus>());
   auto bus = std::make_unique<devices::usb::FakeBus>();
   bus->add(devices::usb::emulated_device("metec", std::make_shared<devices::metec::MetecEmulator>(devices::metec::MetecEmulatorParams{})));
@@ -84,61 +81,49 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows,
 
 }  // namespace
 
-const std::vector<std::string> kSimParams{"scene", "rate_hz", "model", "tactile_period_s", "tactile_mode", "force",
-                                          "min_fall_s", "min_recovery_s", "end_progress"};
-const std::vector<std::string> kForceParams{"device", "profile", "hand_path", "subject", "subject_seed", "noise_seed", "start_m",
-                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m", "watchdog_s", "ramp_s", "reengage_s", "transport", "serial",
-                                            "firmware", "homing_timeout_s", "max_force_n"};
-const std::vector<std::string> kTactileParams{"device", "rows", "cols", "rise_time_s", "transport", "serial", "first_cell"};
-
 sim::SimParams sim_params(const Params& p) {
+  p.declare(sim_table());
   sim::SimParams s;
-  s.scene = p.text("scene", "");
-  if (s.scene.empty()) throw config::Error("the simulator needs a scene\n  fix: --param scene=launch/scenes/bridge.yaml");
-  s.rate_hz = p.number("rate_hz", 0.0);
-  s.model = p.text("model", s.model);
-  s.tactile.period_s = p.number("tactile_period_s", s.tactile.period_s);
-  s.tactile.mode = haptics::parse_tactile_mode(p.text("tactile_mode", "sample"));
-  s.force = p.flag("force", false);
-  s.task.min_fall_s = p.number("min_fall_s", s.task.min_fall_s);
-  s.task.min_recovery_s = p.number("min_recovery_s", s.task.min_recovery_s);
-  s.task.end_progress = p.number("end_progress", s.task.end_progress);
+  s.scene = p.text("scene");
+  s.rate_hz = p.number("rate_hz");
+  s.model = p.text("model");
+  s.tactile.period_s = p.number("tactile_period_s");
+  s.tactile.mode = haptics::parse_tactile_mode(p.text("tactile_mode"));
+  s.force = p.flag("force");
+  s.task.min_fall_s = p.number("min_fall_s");
+  s.task.min_recovery_s = p.number("min_recovery_s");
+  s.task.end_progress = p.number("end_progress");
+  s.change_ramp_s = p.number("change_ramp_s");
   return s;
 }
 
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
-  const std::string device = p.text("device", "simulated");
-  std::unique_ptr<devices::ForceDevice> inner;
-  if (device == "simulated") {
-    inner = simulated_force(p);
-  } else if (device == "falcon") {
-    inner = falcon_force(p);
-  } else {
-    throw config::Error("force device '" + device + "' is not known\n  fix: use device=simulated or device=falcon (a Novint Falcon over USB)");
-  }
+  p.declare(force_table());
+  const std::string device = p.text("device");
+  // a device the table does not name is refused by declare()
+  std::unique_ptr<devices::ForceDevice> inner = device == "falcon" ? falcon_force(p) : simulated_force(p);
   devices::SafetyParams s;
-  s.watchdog_s = p.number("watchdog_s", s.watchdog_s);
-  s.ramp_s = p.number("ramp_s", s.ramp_s);
-  s.reengage_s = p.number("reengage_s", s.reengage_s);
+  s.watchdog_s = p.number("watchdog_s");
+  s.ramp_s = p.number("ramp_s");
+  s.reengage_s = p.number("reengage_s");
   auto device_ptr = std::make_unique<devices::SafeForceDevice>(std::move(inner), s);
   device_ptr->configure();
   return device_ptr;
 }
 
 std::unique_ptr<devices::TactileDevice> make_tactile_device(const Params& p) {
-  const std::string device = p.text("device", "simulated");
+  p.declare(tactile_table());
+  const std::string device = p.text("device");
   devices::SimulatedTactileParams t;
-  t.rows = p.integer("rows", t.rows);
-  t.cols = p.integer("cols", t.cols);
-  t.rise_time_s = p.number("rise_time_s", t.rise_time_s);
+  t.rows = p.integer("rows");
+  t.cols = p.integer("cols");
+  t.rise_time_s = p.number("rise_time_s");
   std::unique_ptr<devices::TactileDevice> out;
-  if (device == "simulated") {
-    refuse_given(p, {"transport", "serial", "first_cell"}, "device=metec");
-    out = std::make_unique<devices::SimulatedTactileDevice>(t);
-  } else if (device == "metec") {
+  if (device == "metec") {
     out = metec_tactile(p, t.rows, t.cols, t.rise_time_s);
   } else {
-    throw config::Error("tactile device '" + device + "' is not known\n  fix: use device=simulated or device=metec (Metec Braille cells over USB)");
+    refuse_given(p, {"transport", "serial", "first_cell"}, "device=metec");
+    out = std::make_unique<devices::SimulatedTactileDevice>(t);
   }
   out->configure();
   return out;

@@ -12,23 +12,17 @@
 
 namespace enact::graph {
 
-// simulator params: scene (required), rate_hz, model, tactile_period_s, tactile_mode, force,
-// min_fall_s, min_recovery_s, end_progress
+// the simulator's parameters (node_params.h: sim_table(), declared here)
 sim::SimParams sim_params(const Params& p);
-extern const std::vector<std::string> kSimParams;
 
-// force device: device (simulated, falcon), watchdog_s, ramp_s, reengage_s; simulated: profile (ergos,
-// falcon), hand_path or subject (a virtual subject's file) with subject_seed and noise_seed,
-// start_m, hand_stiffness_n_per_m, hand_damping_n_s_per_m; falcon:
-// transport (usb, emulator), serial, firmware, homing_timeout_s, max_force_n, and with the
-// emulator its hand (hand_path, start_m, hand_*). Wrapped in the safety layer (clamp, NaN,
-// watchdog); configured, not yet active
+// the force device of force_table() (declared here): simulated (profile, a scripted hand or a
+// virtual subject) or falcon (transport usb or emulator: serial, firmware, homing_timeout_s,
+// max_force_n; the emulator's hand). Parameters of another device or transport are refused.
+// Wrapped in the safety layer (clamp, NaN, watchdog); configured, not yet active
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
-extern const std::vector<std::string> kForceParams;
 
-// tactile device: device (simulated, metec), rows, cols, rise_time_s; metec: transport (usb,
-// emulator), serial, first_cell; configured, not yet active
+// the tactile device of tactile_table() (declared here): simulated, or metec (transport,
+// serial, first_cell); configured, not yet active
 std::unique_ptr<devices::TactileDevice> make_tactile_device(const Params& p);
-extern const std::vector<std::string> kTactileParams;
 
 }  // namespace enact::graph

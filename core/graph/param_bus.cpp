@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "core/config/format.h"
 #include "core/config/number.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
@@ -42,14 +43,21 @@ void set_value(msgs::ParamUpdate& m, const sim::ParamValue& value) {
   else if (value.flag) m.set_flag(*value.flag);
 }
 
-ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events)
+ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events,
+                     ParamBoard* board)
     : planner_(simulator),
       prefix_(std::move(prefix) + "."),
       in_(in_bytes_, kParamSet),
       acks_(out, kParamAck),
       events_(events),
-      names_{{INT64_MIN, simulator.computer_model().name}} {
+      names_{{INT64_MIN, simulator.computer_model().name}},
+      board_(board) {
   in_bytes_.connect(node_endpoint(kInboundNode));
+  // the live-only parameters as the scene and model set them
+  if (!board_) return;
+  board_->set(prefix_ + "threshold_m", config::number(planner_.computer_model().threshold_m));
+  board_->set(prefix_ + "stiffness_n_per_m", config::number(planner_.stiffness_n_per_m()));
+  board_->set(prefix_ + "damping_n_s_per_m", config::number(planner_.damping_n_s_per_m()));
 }
 
 std::optional<sim::ParamChange> ParamPort::next() {
@@ -74,13 +82,15 @@ std::optional<sim::ParamChange> ParamPort::next() {
     // the ack names the value applied
     InFlight& f = in_flight_[id];
     f.model = plan.change.kind == sim::ParamKind::model ? planner_.computer_model().name : "";
+    f.threshold_m = planner_.computer_model().threshold_m;
     f.ack.set_request_id(id);
     f.ack.set_applied(true);
     f.ack.set_name(request_.name());
     switch (plan.change.kind) {
       case sim::ParamKind::threshold:
       case sim::ParamKind::stiffness:
-      case sim::ParamKind::damping: f.ack.set_number(plan.change.value); break;
+      case sim::ParamKind::damping:
+      case sim::ParamKind::change_ramp: f.ack.set_number(plan.change.value); break;
       case sim::ParamKind::model: f.ack.set_text(request_.text()); break;
       case sim::ParamKind::trial_start: f.ack.set_text("start"); break;
       case sim::ParamKind::trial_stop: f.ack.set_text("stop"); break;
@@ -99,6 +109,12 @@ void ParamPort::applied(const sim::ParamApplied& a) {
   if (a.kind == sim::ParamKind::model) names_.emplace_back(a.time_ns, f.model);
   if (names_.size() > kNamesKept) names_.pop_front();
   f.step = a.step;
+  // the values in force, for observers
+  if (board_ && f.ack.value_case() == msgs::ParamAck::kNumber) board_->set(f.ack.name(), config::number(f.ack.number()));
+  if (board_ && a.kind == sim::ParamKind::model) {
+    board_->set(f.ack.name(), f.ack.text());
+    board_->set(prefix_ + "threshold_m", config::number(f.threshold_m));
+  }
   // commands are task events too, at the step that first uses them
   switch (a.kind) {
     case sim::ParamKind::model:
@@ -120,7 +136,8 @@ void ParamPort::applied(const sim::ParamApplied& a) {
       break;
     case sim::ParamKind::threshold:
     case sim::ParamKind::stiffness:
-    case sim::ParamKind::damping: return;
+    case sim::ParamKind::damping:
+    case sim::ParamKind::change_ramp: return;
   }
   f.event.set_condition(model_name());
 }

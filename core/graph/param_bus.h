@@ -16,6 +16,7 @@
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
+#include "core/graph/param_board.h"
 #include "core/sim/params.h"
 #include "core/sim/simulator.h"
 #include "msgs/param_update.pb.h"
@@ -37,8 +38,10 @@ class ParamPort {
   // runs) named `prefix` (its node or component name): requests named "<prefix>.<param>"
   // are its own, others are ignored (another node's). Subscribes to param/set at the
   // graph's inbound publisher (node_endpoint(kInboundNode)), acks on param/ack through
-  // `out`, task events of applied commands through `events` (both must outlive the port).
-  ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events);
+  // `out`, task events of applied commands through `events`, and, with a `board`, the values
+  // in force of its live parameters there (all must outlive the port).
+  ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events,
+            ParamBoard* board = nullptr);
 
   // the next accepted change to apply (non-blocking; nullopt when none is waiting, or when
   // sim::kMaxParamsInFlight changes are not applied yet: a loop's queue of that capacity never
@@ -74,8 +77,10 @@ class ParamPort {
   bus::Publisher<msgs::TaskEvent>& events_;
   msgs::ParamUpdate request_;
   std::deque<std::pair<std::int64_t, std::string>> names_;  // the model's name from a time on
+  ParamBoard* board_;
   struct InFlight {
     std::string model;     // the model name it sets ("" if none)
+    double threshold_m = 0.0;  // the threshold it sets (a model's)
     msgs::ParamAck ack;    // its ack, but for the step
     msgs::TaskEvent event; // its task event, but for the time (kind UNKNOWN: none)
     std::uint64_t step = 0;  // applied: the step that first uses it (0: not applied yet)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
@@ -20,54 +21,70 @@ void Params::set_from(const std::string& kv) {
   values_[kv.substr(0, eq)] = kv.substr(eq + 1);
 }
 
-const std::string* Params::find(const std::string& name) const {
-  read_.insert(name);
+void Params::bad(const std::string& name, const std::string& problem) const {
+  throw config::Error(owner_ + ": parameter '" + name + "' " + problem);
+}
+
+void Params::declare(const ParamTable& table) const {
+  for (const ParamSpec& s : table) {
+    if (find_spec(declared_, s.name)) continue;
+    declared_.push_back(s);
+    const auto it = values_.find(s.name);
+    if (it == values_.end()) {
+      if (s.required) bad(s.name, "is required\n  fix: give it: --param " + s.name + "=... (" + s.doc + ")");
+      continue;
+    }
+    if (!s.at_start) bad(s.name, unknown_problem(table, s.name, owner_));
+    if (const auto problem = value_problem(s, it->second)) bad(s.name, *problem);
+  }
+}
+
+void Params::refuse_unknown() const {
+  for (const auto& [k, v] : values_) {
+    if (!find_spec(declared_, k) && !taken_.count(k)) bad(k, unknown_problem(declared_, k, owner_.empty() ? "this node" : owner_));
+  }
+}
+
+bool Params::has(const std::string& name) const { return values_.count(name) > 0; }
+
+const std::string& Params::value(const std::string& name) const {
+  const ParamSpec* s = find_spec(declared_, name);
+  if (!s) throw std::logic_error(owner_ + ": parameter '" + name + "' is read but not declared");
   const auto it = values_.find(name);
-  return it == values_.end() ? nullptr : &it->second;
+  return it == values_.end() ? s->fallback : it->second;
 }
 
-void Params::bad(const std::string& name, const std::string& problem, const std::string& fix) const {
-  throw config::Error(owner_ + ": parameter '" + name + "' " + problem + "\n  fix: " + fix);
-}
+std::string Params::text(const std::string& name) const { return value(name); }
 
-bool Params::has(const std::string& name) const { return find(name) != nullptr; }
-
-std::string Params::text(const std::string& name, const std::string& fallback) const {
-  const std::string* v = find(name);
-  return v ? *v : fallback;
-}
-
-double Params::number(const std::string& name, double fallback) const {
-  const std::string* v = find(name);
-  if (!v) return fallback;
-  const auto d = config::parse_number(*v);
-  if (!d) bad(name, "must be a finite number, got '" + *v + "'", "write e.g. " + name + "=0.01 (SI units)");
+double Params::number(const std::string& name) const {
+  const std::string& v = value(name);
+  if (v.empty()) return 0.0;
+  const auto d = config::parse_number(v);
+  if (!d) bad(name, "must be a finite number, got '" + v + "'\n  fix: write e.g. " + name + "=0.01 (SI units)");
   return *d;
 }
 
-int Params::integer(const std::string& name, int fallback) const {
-  const double d = number(name, fallback);
-  if (d != std::floor(d) || std::abs(d) > 1e9) bad(name, "must be a whole number", "write e.g. " + name + "=4");
+int Params::integer(const std::string& name) const {
+  const double d = number(name);
+  if (d != std::floor(d) || std::abs(d) > 1e9) bad(name, "must be a whole number\n  fix: write e.g. " + name + "=4");
   return static_cast<int>(d);
 }
 
-bool Params::flag(const std::string& name, bool fallback) const {
-  const std::string* v = find(name);
-  if (!v) return fallback;
-  if (*v == "true" || *v == "1") return true;
-  if (*v == "false" || *v == "0") return false;
-  bad(name, "must be true or false, got '" + *v + "'", "write " + name + "=true or " + name + "=false");
+bool Params::flag(const std::string& name) const {
+  const std::string& v = value(name);
+  if (v == "true" || v == "1") return true;
+  if (v == "false" || v == "0" || v.empty()) return false;
+  bad(name, "must be true or false, got '" + v + "'\n  fix: write " + name + "=true or " + name + "=false");
 }
 
-physics::Vec3 Params::vec3(const std::string& name, const physics::Vec3& fallback) const {
-  const std::string* v = find(name);
-  if (!v) return fallback;
+physics::Vec3 Params::vec3(const std::string& name) const {
+  const std::string& v = value(name);
   double xyz[3];
-  std::stringstream ss(*v);
+  std::stringstream ss(v);
   std::string cell;
   for (double& c : xyz) {
     const auto d = std::getline(ss, cell, ',') ? config::parse_number(cell) : std::nullopt;
-    if (!d) bad(name, "must be x,y,z, got '" + *v + "'", "write e.g. " + name + "=0,0,0.013 (m)");
+    if (!d) bad(name, "must be x,y,z, got '" + v + "'\n  fix: write e.g. " + name + "=0,0,0.013 (m)");
     c = *d;
   }
   return {xyz[0], xyz[1], xyz[2]};
@@ -78,19 +95,20 @@ Params Params::scoped(const std::string& prefix) const {
   for (const auto& [k, v] : values_) {
     if (k.rfind(prefix + ".", 0) == 0) {
       out.values_[k.substr(prefix.size() + 1)] = v;
-      read_.insert(k);
+      taken_.insert(k);
     }
   }
   return out;
 }
 
-void Params::refuse_unread(const std::vector<std::string>& known) const {
-  for (const auto& [k, v] : values_) {
-    if (read_.count(k)) continue;
-    std::string list;
-    for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
-    bad(k, "is not a parameter of " + (owner_.empty() ? std::string("this node") : owner_), "use one of: " + list);
+std::vector<std::pair<ParamSpec, std::string>> Params::in_force() const {
+  std::vector<std::pair<ParamSpec, std::string>> out;
+  for (const ParamSpec& s : declared_) {
+    if (s.type == ParamType::command) continue;
+    const auto it = values_.find(s.name);
+    out.emplace_back(s, it == values_.end() ? s.fallback : it->second);
   }
+  return out;
 }
 
 NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name) {

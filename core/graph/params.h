@@ -1,12 +1,13 @@
 #pragma once
-// Node parameters: `--param name=value` from the command line or a launch file, read with
-// types and checked: a malformed value or an unknown name is refused with the fix, before
-// the node activates.
+// Node parameters: `--param name=value` from the command line or a launch file, checked
+// against the node's declarations (param_table.h) and read with their types and defaults: a
+// malformed value or an unknown name is refused with the fix, before the node activates.
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "core/graph/param_table.h"
 #include "core/physics/vec3.h"
 
 namespace enact::graph {
@@ -20,26 +21,40 @@ class Params {
   void set_from(const std::string& name_equals_value);
   void set(const std::string& name, const std::string& value) { values_[name] = value; }
 
+  // declares the parameters of `table` (param_table.h): each of its values given is checked
+  // now (type, range, choices; a live-only one given at start is refused), a required one
+  // missing too; reads of its names then give its default when none was given. Declaring
+  // a table again changes nothing. Throws config::Error naming the parameter and the fix.
+  void declare(const ParamTable& table) const;
+  // refuses every name given that no declared table holds (a typo: did you mean, and the
+  // names known)
+  void refuse_unknown() const;
+
+  // given (not defaulted)
   bool has(const std::string& name) const;
-  std::string text(const std::string& name, const std::string& fallback) const;
-  double number(const std::string& name, double fallback) const;
-  int integer(const std::string& name, int fallback) const;
-  bool flag(const std::string& name, bool fallback) const;
+  // the value given, else the declared default; reading an undeclared name is a program
+  // error (std::logic_error)
+  std::string text(const std::string& name) const;
+  double number(const std::string& name) const;
+  int integer(const std::string& name) const;
+  bool flag(const std::string& name) const;
   // "x,y,z"
-  physics::Vec3 vec3(const std::string& name, const physics::Vec3& fallback) const;
+  physics::Vec3 vec3(const std::string& name) const;
 
   // the params of one component: "sim.scene" -> "scene" for prefix "sim"
   Params scoped(const std::string& prefix) const;
-  // refuse every param that no reader asked for (a typo), listing the known ones
-  void refuse_unread(const std::vector<std::string>& known) const;
+
+  // every declared parameter (commands left out) with its value in force, in declaration order
+  std::vector<std::pair<ParamSpec, std::string>> in_force() const;
 
  private:
-  const std::string* find(const std::string& name) const;
-  [[noreturn]] void bad(const std::string& name, const std::string& problem, const std::string& fix) const;
+  const std::string& value(const std::string& name) const;
+  [[noreturn]] void bad(const std::string& name, const std::string& problem) const;
 
   std::string owner_;  // node or component, for messages
   std::map<std::string, std::string> values_;
-  mutable std::set<std::string> read_;
+  mutable std::set<std::string> taken_;  // names a component took from these (scoped)
+  mutable ParamTable declared_;
 };
 
 // the command line of a node: --name N, --param=K=V (or --param K=V), --component=N:PLUGIN,

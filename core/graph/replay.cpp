@@ -11,6 +11,7 @@
 #include "core/config/yaml.h"
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
+#include "core/graph/node_params.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/params.h"
 #include "core/graph/temp_folder.h"
@@ -125,7 +126,8 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   auto file_param = [&](const std::string& name, const std::string& given) {
     if (!given.empty()) return p.set(name, given);
     const auto data = r.attachment(src.prefix + name);
-    if (data) p.set(name, files.put(name, p.text(name, ""), *data));
+    const auto path = recorded.find(src.prefix + name);
+    if (data) p.set(name, files.put(name, path == recorded.end() ? "" : path->second, *data));
   };
   file_param("scene", options.scene);
   file_param("model", options.model);
@@ -137,11 +139,12 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   out.scene = options.scene.empty() ? (recorded.count(src.prefix + "scene") ? recorded.at(src.prefix + "scene") : "") : options.scene;
   out.model = options.model.empty() ? (recorded.count(src.prefix + "model") ? recorded.at(src.prefix + "model") : "CM1") : options.model;
   sim::Simulator sim;
+  p.declare(*node_table("enact-sim"));
   sim.configure(sim_params(p));
   sim.activate(0);
   // as enact-sim and enact-rt: the body re-synchronises with the device at the first step
   // and whenever the force path was cut
-  sim::Reengagement reengage(p.number("reengage_s", sim::kReengageDefault_s));
+  sim::Reengagement reengage(p.number("reengage_s"));
   reengage.interrupt();
   out.rate_hz = sim.model().rate_hz;
   out.first_state_seq = states.front().seq;

@@ -36,7 +36,7 @@ bus::AttachOptions attach_options(const SessionOptions& o, const std::string& fo
   // observers may send parameter changes; the nodes find them at the inbound publisher
   a.inbound_endpoint = bus::ipc_endpoint(folder, kInboundNode);
   a.inbound_topics.assign(std::begin(kInboundTopics), std::end(kInboundTopics));
-  a.latched_topics = {kTaskState};
+  a.latched_topics = {kTaskState, kParamValues};
   return a;
 }
 
@@ -70,7 +70,11 @@ bus::ClientKeys GraphSession::own_keys() const { return own_.key.empty() ? bus::
 
 int GraphSession::run(const launch::LaunchDescription& graph, const std::string& launch_path, launch::SupervisorOptions options, std::ostream& log) {
   // every node may publish: its endpoint is connected now, its topics listed as it declares them
-  for (const launch::NodeSpec& n : graph.nodes) attach_.add_publisher(n.name, node_endpoint(n.name));
+  // (and its parameter board, param_board.h)
+  for (const launch::NodeSpec& n : graph.nodes) {
+    attach_.add_publisher(n.name, node_endpoint(n.name));
+    attach_.add_publisher(n.name, node_endpoint(n.name + kParamBoardSuffix));
+  }
   attach_.set_launch_info(launch_info(launch_path, graph));
   std::vector<launch::Param> env = environment();
   env.insert(env.end(), options.env.begin(), options.env.end());

@@ -12,6 +12,11 @@ inline constexpr const char* kTaskState = "task/state";       // TaskState, simu
 inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, viewer / CLI, on demand
 inline constexpr const char* kParamAck = "param/ack";         // ParamAck, simulator, one per ParamUpdate
 inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
+// ParamValues, every node, 1 Hz and on a live change (latched): topic kParamValues + node name
+inline constexpr const char* kParamValues = "param/values/";
+
+// where a node's parameter board (param_board.h) publishes: node_endpoint(name + kParamBoardSuffix)
+inline constexpr const char* kParamBoardSuffix = ":params";
 
 // the topics observers may send on, through the attach point (the graph's nodes publish
 // every other)

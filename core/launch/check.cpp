@@ -59,7 +59,7 @@ std::pair<int, std::string> run_check(const std::vector<std::string>& argv, cons
 bool checkable(const NodeSpec& node) {
   const std::string file = std::filesystem::path(node.path).filename().string();
   if (file == "enact") return !node.args.empty() && node.args[0] == "play";
-  return file == "enact-sim" || file == "enact-rt" || file == "enact-ffd" || file == "enact-tactile" || file == "enact-logger";
+  return file == "enact-sim" || file == "enact-rt" || file == "enact-ffd" || file == "enact-tactile" || file == "enact-logger" || file == "enact-foxglove";
 }
 
 std::vector<std::string> check_nodes(const LaunchDescription& graph) {

@@ -11,7 +11,7 @@
 namespace enact::launch {
 
 // true for a node that answers --check (enact-sim, enact-rt, enact-ffd, enact-tactile,
-// enact-logger, enact play)
+// enact-logger, enact-foxglove, enact play)
 bool checkable(const NodeSpec& node);
 
 // the problems found, each "FILE:LINE: node 'NAME': what it said" (the fix included);

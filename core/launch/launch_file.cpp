@@ -18,7 +18,18 @@ using config::Map;
 struct Scope {
   std::string file;
   std::map<std::string, std::string> vars;
+  std::set<std::string> from_cli;  // the vars given by --arg (the top file's)
 };
+
+// where a value was written: FILE:LINE, or the --arg it substitutes
+std::string source_of(const Scope& scope, const YAML::Node& at) {
+  const std::string line = scope.file + ":" + std::to_string(at.Mark().line + 1);
+  const std::string raw = at.IsScalar() ? at.Scalar() : "";
+  for (const std::string& name : scope.from_cli) {
+    if (raw.find("$(var " + name + ")") != std::string::npos) return "--arg " + name + "=" + scope.vars.at(name) + " (" + line + ")";
+  }
+  return line;
+}
 
 // $(var NAME), $(env NAME [DEFAULT]) and $(dirname) in a scalar
 std::string substitute(const Scope& scope, const YAML::Node& at, const std::string& text) {
@@ -63,7 +74,7 @@ std::vector<Param> pairs(const Scope& scope, const Map& m, const char* key) {
   std::vector<Param> out;
   for (const auto& n : m.list(key)) {
     const Map p(n, scope.file, key, {"name", "value"});
-    out.push_back({p.text("name"), scalar(scope, p.get("value"), std::string(key) + " value")});
+    out.push_back({p.text("name"), scalar(scope, p.get("value"), std::string(key) + " value"), source_of(scope, p.get("value"))});
   }
   return out;
 }
@@ -76,7 +87,7 @@ std::vector<Param> param_file(const Scope& scope, const Map& m) {
   std::vector<Param> out;
   for (const auto& kv : root) {
     if (!kv.second.IsScalar()) config::fail(full.string(), kv.second, "parameter '" + kv.first.Scalar() + "' must be a single value", "write name: value");
-    out.push_back({kv.first.Scalar(), kv.second.Scalar()});
+    out.push_back({kv.first.Scalar(), kv.second.Scalar(), full.string() + ":" + std::to_string(kv.second.Mark().line + 1)});
   }
   return out;
 }
@@ -88,7 +99,7 @@ std::vector<Param> params(const Scope& scope, const Map& m) {
     bool replaced = false;
     for (Param& q : out) {
       if (q.name == p.name) {
-        q.value = p.value;
+        q = p;
         replaced = true;
       }
     }
@@ -243,6 +254,7 @@ struct Loader {
         if (it == given.end() && !a.has("default")) a.fail("name", "launch argument '" + name + "' has no default and was not given", "give it: --arg " + name + "=VALUE, or add default:");
         const std::string value = it != given.end() ? it->second : scalar(scope, a.get("default"), "default");
         scope.vars[name] = value;
+        if (top && it != given.end()) scope.from_cli.insert(name);
         if (top) out.args.push_back({name, value, a.text("description", "")});
       } else if (kind == "node") {
         node(scope, body);

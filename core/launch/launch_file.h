@@ -15,6 +15,7 @@ namespace enact::launch {
 struct Param {
   std::string name;
   std::string value;
+  std::string source;  // where its value was written: "FILE:LINE", or "--arg NAME=VALUE" ("": unknown)
 };
 
 // one component of a real-time container

@@ -13,8 +13,6 @@
 namespace enact::rt {
 namespace {
 
-constexpr double kMinRate_hz = 1.0;
-constexpr double kMaxRate_hz = 44'000.0;
 // one second in ns times one hertz in mHz: the period in ns is kPeriodScale / rate_mhz
 constexpr std::int64_t kPeriodScale = 1'000'000'000'000;
 

@@ -17,6 +17,10 @@
 
 namespace enact::rt {
 
+// the loop rates a scheduler accepts (Hz)
+inline constexpr double kMinRate_hz = 1.0;
+inline constexpr double kMaxRate_hz = 44'000.0;
+
 struct SchedulerParams {
   double rate_hz = 5000.0;       // loop rate, 1..44000 Hz
   std::int64_t spin_ns = 50'000;  // spin on the clock for this long before each deadline (>= 0)

@@ -55,7 +55,7 @@ bool is_body_point(const physics::Model& m, int point) {
 }
 
 const std::vector<std::string>& param_names() {
-  static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "reset", "reposition", "trial"};
+  static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "change_ramp_s", "reset", "reposition", "trial"};
   return names;
 }
 
@@ -165,6 +165,11 @@ ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, s
   if (name == "stiffness_n_per_m" || name == "damping_n_s_per_m") {
     const std::optional<double> v = number_of(value);
     return check_contact(name[0] == 's' ? ParamKind::stiffness : ParamKind::damping, v ? *v : NAN, request_id);
+  }
+  if (name == "change_ramp_s") {
+    const std::optional<double> t = number_of(value);
+    if (!t || !std::isfinite(*t) || *t < 0.0 || *t > 10.0) return refuse("change_ramp_s must be a time from 0 to 10 s\n  fix: e.g. 0.05");
+    return accept(ParamKind::change_ramp, request_id, *t);
   }
   if (name == "reset") return accept(ParamKind::reset, request_id);
   if (name == "reposition") return accept(ParamKind::reposition, request_id);

@@ -11,6 +11,7 @@
 //   threshold_m         number >= 0: penetration before force is felt (the current model's)
 //   stiffness_n_per_m   number >= 0: every contact pair of the exploratory body
 //   damping_n_s_per_m   number >= 0: every contact pair of the exploratory body
+//   change_ramp_s       number 0..10: the blend time of the next changes (SimParams)
 //   reset               command: model, pins and task back to their start (a new trial)
 //   reposition          command: the subject is put back at the start; contact memory is
 //                       cleared, the trial goes on
@@ -38,7 +39,7 @@ struct ParamValue {
   std::optional<bool> flag;
 };
 
-enum class ParamKind : std::uint8_t { model, threshold, stiffness, damping, reset, reposition, trial_start, trial_stop };
+enum class ParamKind : std::uint8_t { model, threshold, stiffness, damping, reset, reposition, trial_start, trial_stop, change_ramp };
 
 // the longest computer model name a change carries (the loop cannot allocate a longer one)
 inline constexpr std::size_t kMaxModelName = 63;
@@ -57,7 +58,7 @@ struct ModelChange {
 struct ParamChange {
   std::uint64_t request_id = 0;
   ParamKind kind = ParamKind::reset;
-  double value = 0.0;  // threshold_m, stiffness_n_per_m or damping_n_s_per_m
+  double value = 0.0;  // threshold_m, stiffness_n_per_m, damping_n_s_per_m or change_ramp_s
   ModelChange model;   // kind == model
 };
 

@@ -30,7 +30,8 @@ bool changes_force_law(const ParamChange& c, const haptics::ComputerModel& cm) {
     case ParamKind::reset:
     case ParamKind::reposition: return true;
     case ParamKind::trial_start:
-    case ParamKind::trial_stop: return false;
+    case ParamKind::trial_stop:
+    case ParamKind::change_ramp: return false;
   }
   return true;
 }
@@ -140,6 +141,7 @@ ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
       break;
     case ParamKind::trial_start: trial_change_ = TrialChange::start; break;
     case ParamKind::trial_stop: trial_change_ = TrialChange::stop; break;
+    case ParamKind::change_ramp: params_.change_ramp_s = c.value; break;
   }
   if (law) {
     reenter_contacts(c.kind == ParamKind::reset || c.kind == ParamKind::reposition);

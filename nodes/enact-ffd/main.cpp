@@ -12,6 +12,8 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/topics.h"
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
@@ -29,12 +31,9 @@ The force-feedback device driver and clock master of a distributed graph: publis
 ffd/state at rate_hz, applies the ffd/force answering each sample, publishes node/status
 at 1 Hz (sample-to-force latency percentiles, jitter, drops).
 
-parameters:
-  rate_hz=5000  sim_node=sim  spin_us=50  duration_s=0  fifo_priority=0  lock_memory=false
-  observers=0 (wait up to 10 s for this many observers of ffd/state, e.g. a logger, too)
-  tactile_node=tactile (a virtual subject holding the device feels its tactile/shown)
-  device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s reengage_s
 Stops on SIGINT/SIGTERM: zero force first.
+
+parameters (--param NAME=VALUE):
 )";
 
 // what the safety layer did, and the force it left the device with
@@ -49,28 +48,27 @@ std::string safety_summary(devices::ForceDevice& device) {
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "ffd");
   if (args.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs((kHelp + graph::help_lines(*graph::node_table("enact-ffd"))).c_str(), stdout);
     return 0;
   }
   graph::apply_rt_profile(args.name);
   graph::Params& p = args.params;
+  p.declare(*graph::node_table("enact-ffd"));
+  p.refuse_unknown();
   rt::SchedulerParams sched;
-  sched.rate_hz = p.number("rate_hz", 5000.0);
-  sched.spin_ns = static_cast<std::int64_t>(p.number("spin_us", 50.0) * 1e3);
+  sched.rate_hz = p.number("rate_hz");
+  sched.spin_ns = static_cast<std::int64_t>(p.number("spin_us") * 1e3);
   // the simulator shares this CPU (the real-time profile): leave it every period's other half
   sched.sleep_every_tick = true;
   sched.validate();
-  const std::string sim_node = p.text("sim_node", "sim");
-  const double duration_s = p.number("duration_s", 0.0);
-  const int observers = static_cast<int>(p.integer("observers", 0));
+  const std::string sim_node = p.text("sim_node");
+  const double duration_s = p.number("duration_s");
+  const int observers = p.integer("observers");
   rt::RtParams rtp;
-  rtp.lock_memory = p.flag("lock_memory", false);
-  rtp.fifo_priority = p.integer("fifo_priority", 0);
+  rtp.lock_memory = p.flag("lock_memory");
+  rtp.fifo_priority = p.integer("fifo_priority");
   auto device = graph::make_force_device(p);
-  std::vector<std::string> known = graph::kForceParams;
-  const std::string tactile_node = p.text("tactile_node", "tactile");
-  known.insert(known.end(), {"rate_hz", "sim_node", "spin_us", "duration_s", "fifo_priority", "lock_memory", "observers", "tactile_node"});
-  p.refuse_unread(known);
+  const std::string tactile_node = p.text("tactile_node");
   if (args.check) return 0;
 
   // the bus: publish the samples, receive the answers straight from the simulator
@@ -79,6 +77,9 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::DeviceState> state_pub(out, graph::kDeviceState);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   graph::announce_topics(out);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
   in.connect(graph::node_endpoint(sim_node));

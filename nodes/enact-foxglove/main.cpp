@@ -7,6 +7,8 @@
 #include "core/config/yaml.h"
 #include "core/foxglove/bridge.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/params.h"
 
 namespace {
@@ -18,33 +20,32 @@ constexpr const char* kHelp = R"(usage: enact-foxglove [--name NAME] --param NAM
 Serves the graph to Foxglove (WebSocket, foxglove.websocket.v1): every topic with its
 Protobuf schema, and foxglove/scene (foxglove.SceneUpdate) for the 3D panel.
 
-parameters:
-  port=8765          WebSocket port (0: any free port)
-  host=127.0.0.1     where it listens (clients may publish param/set only on loopback)
-  max_rate_hz=100    per client, on topics that run faster (the loop-rate ones)
-  attach=            attach endpoint (default: $ENACT_ATTACH); keys: $ENACT_KEY and
-                     $ENACT_SERVER_KEY (set by `enact launch --access`)
+parameters (--param NAME=VALUE):
 )";
 
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "foxglove");
   if (args.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs((kHelp + graph::help_lines(*graph::node_table("enact-foxglove"))).c_str(), stdout);
     return 0;
   }
   graph::Params& p = args.params;
+  p.declare(*graph::node_table("enact-foxglove"));
+  p.refuse_unknown();
   enact::foxglove::BridgeOptions o;
-  o.port = static_cast<int>(p.number("port", o.port));
-  o.host = p.text("host", o.host);
-  o.max_rate_hz = p.number("max_rate_hz", o.max_rate_hz);
+  o.port = p.integer("port");
+  o.host = p.text("host");
+  o.max_rate_hz = p.number("max_rate_hz");
   const char* env = std::getenv("ENACT_ATTACH");
-  o.attach = p.text("attach", env ? env : "");
+  o.attach = p.has("attach") ? p.text("attach") : env ? env : "";
   o.keys = enact::bus::client_keys("", "");
-  p.refuse_unread({"port", "host", "max_rate_hz", "attach"});
+  if (args.check) return 0;
   if (o.attach.empty()) throw config::Error(args.name + ": no attach endpoint\n  fix: run it from `enact launch`, or give attach=ENDPOINT");
-  if (o.port < 0 || o.port > 65535 || o.max_rate_hz <= 0.0) throw config::Error(args.name + ": port must be 0-65535 and max_rate_hz > 0\n  fix: e.g. port=8765 max_rate_hz=100");
 
   graph::install_stop_handlers();
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   enact::foxglove::Bridge bridge(o);
   graph::report_ready();
   graph::say(args.name, enact::foxglove::describe(bridge, o));

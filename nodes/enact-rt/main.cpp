@@ -13,6 +13,8 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
@@ -40,21 +42,17 @@ param/set (SIM.model, SIM.stiffness_n_per_m, ...: README "Live viewer"; SIM is t
 component's name) are checked on that thread, handed to the real-time thread through a
 lock-free queue, applied at the top of a tick, and answered on param/ack.
 
-container parameters:
-  rate_hz=5000          loop rate (1..44000 Hz); also the simulator's rate
-  duration_s=0          stop after this long (0: until SIGINT/SIGTERM)
-  spin_us=50            spin on the clock for the last microseconds before each tick
-  lock_memory=false     mlockall; fifo_priority=0 (1..99: SCHED_FIFO); cpus= (e.g. 1)
-  scene_rate_hz=60      shown_rate_hz=100
-  observers=0           wait (up to 60 s) for this many observers of ffd/state (a logger
-                        recording from the first tick) before the loop starts
-component parameters: <component>.<name>=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml
-  sim:      scene model tactile_period_s tactile_mode force min_fall_s min_recovery_s end_progress
-            reengage_s=0.1 (after a cut of the force path: a tick later than the device's
-            watchdog_s, a device error: the body's return from out of the objects)
-  ffd:      device profile hand_path start_m hand_stiffness_n_per_m hand_damping_n_s_per_m watchdog_s ramp_s reengage_s
-  tactile:  device rows cols rise_time_s
+container parameters (--param NAME=VALUE; rate_hz is the simulator's rate too):
 )";
+
+// the --help text: the container's parameters, then each plugin's
+std::string help() {
+  std::string out = std::string(kHelp) + graph::help_lines(*graph::node_table("enact-rt"));
+  out += "component parameters (--param COMPONENT.NAME=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml; live:\n"
+         "enact param set COMPONENT.NAME VALUE while it runs):\n";
+  for (const char* plugin : {"sim", "ffd", "tactile"}) out += std::string(" plugin ") + plugin + ":\n" + graph::help_lines(*graph::component_table(plugin), std::string(plugin) + ".");
+  return out;
+}
 
 // what the hand felt, accumulated by the non-real-time thread
 struct Felt {
@@ -95,22 +93,26 @@ std::string find_component(const graph::NodeArgs& args, const std::string& plugi
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "rt");
   if (args.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs(help().c_str(), stdout);
     return 0;
   }
   for (const auto& [n, p] : args.components) {
     if (p != "sim" && p != "ffd" && p != "tactile") throw config::Error(args.name + ": unknown plugin '" + p + "'\n  fix: use sim, ffd or tactile");
   }
-  // container params
+  // container params; the components' own are declared as they are built
+  const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
+  graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
+  args.params.declare(*graph::node_table("enact-rt"));
+  args.params.refuse_unknown();
   rt::SchedulerParams sched;
-  sched.rate_hz = args.params.number("rate_hz", 5000.0);
-  sched.spin_ns = static_cast<std::int64_t>(args.params.number("spin_us", 50.0) * 1e3);
+  sched.rate_hz = args.params.number("rate_hz");
+  sched.spin_ns = static_cast<std::int64_t>(args.params.number("spin_us") * 1e3);
   sched.validate();
-  const double duration_s = args.params.number("duration_s", 0.0);
+  const double duration_s = args.params.number("duration_s");
   rt::RtParams rtp;
-  rtp.lock_memory = args.params.flag("lock_memory", false);
-  rtp.fifo_priority = args.params.integer("fifo_priority", 0);
-  if (!args.params.text("cpus", "").empty()) rtp.cpus.push_back(args.params.integer("cpus", 0));
+  rtp.lock_memory = args.params.flag("lock_memory");
+  rtp.fifo_priority = args.params.integer("fifo_priority");
+  if (args.params.has("cpus")) rtp.cpus.push_back(args.params.integer("cpus"));
   // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
   // process: the publisher thread and the bus stay with the observers
   if (const char* profile = std::getenv(rt::kProfileEnv)) {
@@ -119,23 +121,19 @@ int run(int argc, char** argv) {
     if (np.fifo_priority > 0) rtp.fifo_priority = np.fifo_priority;
   }
   // components, configured (bad input is refused here, before anything moves)
-  const std::string sim_name = find_component(args, "sim"), ffd_name = find_component(args, "ffd"), tac_name = find_component(args, "tactile");
-  graph::Params sim_p = args.params.scoped(sim_name), ffd_p = args.params.scoped(ffd_name), tac_p = args.params.scoped(tac_name);
   sim::SimParams sp = graph::sim_params(sim_p);
-  const double reengage_s = sim_p.number("reengage_s", sim::kReengageDefault_s);
+  const double reengage_s = sim_p.number("reengage_s");
   sp.rate_hz = sched.rate_hz;
   sim::Simulator simulator;
   simulator.configure(sp);
   auto force = graph::make_force_device(ffd_p);
   auto tactile = graph::make_tactile_device(tac_p);
-  sim_p.refuse_unread(graph::kSimParams);
-  ffd_p.refuse_unread(graph::kForceParams);
-  tac_p.refuse_unread(graph::kTactileParams);
-  const double scene_rate_hz = args.params.number("scene_rate_hz", 60.0);
-  const double shown_rate_hz = args.params.number("shown_rate_hz", 100.0);
-  if (scene_rate_hz <= 0.0 || shown_rate_hz <= 0.0) throw config::Error(args.name + ": scene_rate_hz and shown_rate_hz must be > 0\n  fix: e.g. scene_rate_hz=60");
-  const int observers = static_cast<int>(args.params.integer("observers", 0));
-  args.params.refuse_unread({"rate_hz", "duration_s", "spin_us", "lock_memory", "fifo_priority", "cpus", "scene_rate_hz", "shown_rate_hz", "observers"});
+  sim_p.refuse_unknown();
+  ffd_p.refuse_unknown();
+  tac_p.refuse_unknown();
+  const double scene_rate_hz = args.params.number("scene_rate_hz");
+  const double shown_rate_hz = args.params.number("shown_rate_hz");
+  const int observers = args.params.integer("observers");
   if (args.check) return 0;
 
   graph::install_stop_handlers();
@@ -149,9 +147,15 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::SceneState> scene_pub(out, graph::kSceneState);
   bus::Publisher<msgs::TaskEvent> event_pub(out, graph::kTaskEvent);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
-  graph::ParamPort params(simulator, sim_name, out, event_pub);
+  graph::ParamBoard board(args.name);
+  board.add(args.params, args.name);
+  board.add(sim_p, sim_name, sim_name + ".");
+  board.add(ffd_p, ffd_name, ffd_name + ".");
+  board.add(tac_p, tac_name, tac_name + ".");
+  graph::ParamPort params(simulator, sim_name, out, event_pub, &board);
   graph::TaskStateTracker task_state(out);
   graph::announce_topics(out);
+  board.start();
   graph::ColocatedLoop loop(simulator, *force, *tactile, &rt::now_ns, reengage_s);
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   struct Shown {

@@ -9,6 +9,8 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
@@ -29,14 +31,7 @@ sim/scene (scene_rate_hz), task/event, task/state (10 Hz and on change) and node
 param/set (NAME.model, NAME.stiffness_n_per_m, ...: README "Live viewer") are applied
 between two DeviceStates and answered on param/ack.
 
-parameters:
-  scene (required)  model=CM1  rate_hz (default: the scene's; should match the FFD's)
-  tactile_period_s=0.024  tactile_mode=sample  force=false  min_fall_s min_recovery_s end_progress
-  ffd_node=ffd  scene_rate_hz=60
-  reengage_s=0.1 (after an interruption of the force path: its start, or a watchdog episode
-    of the driver, the body starts just out of every object and returns to the device over
-    this time: the force comes back from zero, never as a jolt)
-  observers=0 (wait up to 60 s for this many observers of ffd/force before answering)
+parameters (--param NAME=VALUE; live: enact param set NAME.PARAM VALUE while it runs):
 )";
 
 // how often parameter requests are looked for while states flow
@@ -51,20 +46,19 @@ int respawn_count() {
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "sim");
   if (args.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs((kHelp + graph::help_lines(*graph::node_table("enact-sim"))).c_str(), stdout);
     return 0;
   }
   graph::apply_rt_profile(args.name);
   graph::Params& p = args.params;
+  p.declare(*graph::node_table("enact-sim"));
+  p.refuse_unknown();
   sim::Simulator simulator;
   simulator.configure(graph::sim_params(p));
-  const std::string ffd_node = p.text("ffd_node", "ffd");
-  const double scene_rate_hz = p.number("scene_rate_hz", 60.0);
-  const int observers = p.integer("observers", 0);
-  sim::Reengagement reengage(p.number("reengage_s", sim::kReengageDefault_s));
-  std::vector<std::string> known = graph::kSimParams;
-  known.insert(known.end(), {"ffd_node", "scene_rate_hz", "observers", "reengage_s"});
-  p.refuse_unread(known);
+  const std::string ffd_node = p.text("ffd_node");
+  const double scene_rate_hz = p.number("scene_rate_hz");
+  const int observers = p.integer("observers");
+  sim::Reengagement reengage(p.number("reengage_s"));
   if (args.check) return 0;
 
   graph::install_stop_handlers();
@@ -77,9 +71,12 @@ int run(int argc, char** argv) {
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
   in.connect(graph::node_endpoint(ffd_node));
-  graph::ParamPort params(simulator, args.name, out, event_pub);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  graph::ParamPort params(simulator, args.name, out, event_pub, &board);
   graph::TaskStateTracker task_state(out);
   graph::announce_topics(out);
+  board.start();
 
   msgs::DeviceState state;
   msgs::ForceCommand command;

@@ -9,6 +9,8 @@
 #include "core/graph/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_board.h"
 #include "core/graph/topics.h"
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
@@ -23,26 +25,22 @@ The tactile display driver of a distributed graph: applies tactile/frame, publis
 tactile/shown at shown_rate_hz and node/status at 1 Hz; lowers every pin on stop, and
 while no frame came for longer than watchdog_s (each episode said and counted).
 
-parameters:
-  sim_node=sim  shown_rate_hz=100  watchdog_s=0.25  device rows cols rise_time_s
+parameters (--param NAME=VALUE):
 )";
 
 int run(int argc, char** argv) {
   graph::NodeArgs args = graph::parse_node_args(argc, argv, "tactile");
   if (args.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs((kHelp + graph::help_lines(*graph::node_table("enact-tactile"))).c_str(), stdout);
     return 0;
   }
   graph::Params& p = args.params;
+  p.declare(*graph::node_table("enact-tactile"));
+  p.refuse_unknown();
   auto device = graph::make_tactile_device(p);
-  const std::string sim_node = p.text("sim_node", "sim");
-  const double shown_rate_hz = p.number("shown_rate_hz", 100.0);
-  if (shown_rate_hz <= 0.0) throw config::Error(args.name + ": shown_rate_hz must be > 0\n  fix: e.g. shown_rate_hz=100");
-  const double watchdog_s = p.number("watchdog_s", 0.25);
-  if (!(watchdog_s > 0.0)) throw config::Error(args.name + ": watchdog_s must be > 0\n  fix: a few frame periods, e.g. watchdog_s=0.25");
-  std::vector<std::string> known = graph::kTactileParams;
-  known.insert(known.end(), {"sim_node", "shown_rate_hz", "watchdog_s"});
-  p.refuse_unread(known);
+  const std::string sim_node = p.text("sim_node");
+  const double shown_rate_hz = p.number("shown_rate_hz");
+  const double watchdog_s = p.number("watchdog_s");
   if (args.check) return 0;
 
   graph::install_stop_handlers();
@@ -50,6 +48,9 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   graph::announce_topics(out);
+  graph::ParamBoard board(args.name);
+  board.add(p, args.name);
+  board.start();
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::TactileFrame> frames(in, graph::kTactileFrame);
   in.connect(graph::node_endpoint(sim_node));

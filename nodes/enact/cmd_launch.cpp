@@ -7,7 +7,7 @@
 
 #include "core/graph/session.h"
 #include "core/graph/status_watch.h"
-#include "core/launch/check.h"
+#include "core/graph/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"
@@ -97,17 +97,17 @@ int launch(int argc, char** argv) {
   }
   std::fflush(stdout);
   // every node checks its parameters, as it would at start, before anything starts
-  const std::vector<std::string> problems = launch::check_nodes(graph);
+  const std::vector<std::string> problems = graph::check_graph(graph);
   for (const std::string& p : problems) {
+    // a node's own check does not know where its value came from
     std::string from;
-    for (const auto& [arg, value] : launch_args) {
+    for (const auto& [arg, value] : p.starts_with("--arg ") ? std::map<std::string, std::string>{} : launch_args) {
       if (!value.empty() && p.find(value) != std::string::npos) from += "\n  (the value comes from --arg " + arg + "=" + value + ")";
     }
     std::fprintf(stderr, "enact launch: %s%s\n", p.c_str(), from.c_str());
   }
   if (!problems.empty()) {
-    std::fprintf(stderr, "enact launch: nothing started (%zu node%s refused %s parameters)\n", problems.size(), problems.size() == 1 ? "" : "s",
-                 problems.size() == 1 ? "its" : "their");
+    std::fprintf(stderr, "enact launch: nothing started (%zu parameter problem%s)\n", problems.size(), problems.size() == 1 ? "" : "s");
     return 1;
   }
   if (a.flag("check")) {

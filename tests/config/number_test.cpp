@@ -55,13 +55,18 @@ TEST(ParseNumber, ATrajectoryCellWithTrailingTextIsRefusedNamingTheLine) {
 }
 
 TEST(ParseNumber, NodeParametersUseTheSameRule) {
-  graph::Params p("node");
-  p.set("k", "0.5abc");
-  p.set("start_m", "0,0,1x");
-  p.set("n", "12");
-  EXPECT_THROW(p.number("k", 0.0), Error);
-  EXPECT_THROW(p.vec3("start_m", {}), Error);
-  EXPECT_EQ(p.integer("n", 0), 12);
+  auto declared = [](const std::string& name, graph::ParamType type, const std::string& value) {
+    graph::Params p("node");
+    p.set(name, value);
+    graph::ParamSpec spec;
+    spec.name = name;
+    spec.type = type;
+    p.declare({spec});
+    return p;
+  };
+  EXPECT_THROW(declared("k", graph::ParamType::number, "0.5abc"), Error);
+  EXPECT_THROW(declared("start_m", graph::ParamType::vec3, "0,0,1x"), Error);
+  EXPECT_EQ(declared("n", graph::ParamType::integer, "12").integer("n"), 12);
 }
 
 }  // namespace

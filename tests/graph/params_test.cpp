@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include "core/config/yaml.h"
+#include "core/devices/simulated_tactile.h"
 #include "core/graph/components.h"
+#include "core/graph/node_params.h"
 #include "core/graph/params.h"
 #include "tests/support/refusal.h"
 
@@ -22,8 +24,10 @@ TEST(NodeArgs, NameParamsAndComponents) {
   EXPECT_EQ(a.name, "rt");
   ASSERT_EQ(a.components.size(), 1u);
   EXPECT_EQ(a.components[0].first, "sim");
-  EXPECT_EQ(a.params.number("rate_hz", 0.0), 44000.0);
-  EXPECT_EQ(a.params.scoped("sim").text("scene", ""), "s.yaml");
+  a.params.declare(*node_table("enact-rt"));
+  EXPECT_EQ(a.params.number("rate_hz"), 44000.0);
+  const Params sim = a.params.scoped("sim");
+  EXPECT_EQ(sim_params(sim).scene, "s.yaml");
 }
 
 TEST(NodeArgs, UnknownArgumentIsRefused) {
@@ -32,37 +36,88 @@ TEST(NodeArgs, UnknownArgumentIsRefused) {
   EXPECT_NE(msg.find("fix:"), std::string::npos) << msg;
 }
 
-TEST(Params, TypesAreChecked) {
-  Params p("ffd");
-  p.set("k", "abc");
-  p.set("on", "maybe");
-  p.set("v", "1,2");
-  EXPECT_NE(error_of([&] { p.number("k", 0.0); }).find("'k'"), std::string::npos);
-  EXPECT_NE(error_of([&] { p.flag("on", false); }).find("true or false"), std::string::npos);
-  EXPECT_NE(error_of([&] { p.vec3("v", {}); }).find("x,y,z"), std::string::npos);
-  p.set("v", "0.1,0,-2e-3");
-  EXPECT_EQ(p.vec3("v", {}), (physics::Vec3{0.1, 0.0, -2e-3}));
+TEST(Params, TypesAreCheckedWhenDeclared) {
+  auto refusal = [](const std::string& name, ParamType type, const std::string& value) {
+    Params p("ffd");
+    p.set(name, value);
+    ParamSpec spec;
+    spec.name = name;
+    spec.type = type;
+    return error_of([&] { p.declare({spec}); });
+  };
+  EXPECT_NE(refusal("k", ParamType::number, "abc").find("'k' must be a finite number"), std::string::npos);
+  EXPECT_NE(refusal("on", ParamType::flag, "maybe").find("true or false"), std::string::npos);
+  EXPECT_NE(refusal("v", ParamType::vec3, "1,2").find("x,y,z"), std::string::npos);
+  EXPECT_EQ(refusal("v", ParamType::vec3, "0.1,0,-2e-3"), "");
 }
 
-TEST(Params, ATypoIsRefusedListingTheKnownNames) {
+TEST(Params, ReadsGiveTheDeclaredDefaultAndRefuseAnUndeclaredName) {
+  Params p("tactile");
+  p.set("rows", "2");
+  p.declare(tactile_table());
+  EXPECT_EQ(p.integer("rows"), 2);
+  EXPECT_EQ(p.number("rise_time_s"), devices::SimulatedTactileParams{}.rise_time_s);
+  EXPECT_THROW(p.number("not_declared_s"), std::logic_error);
+}
+
+TEST(Params, ATypoIsRefusedWithDidYouMean) {
   Params p("tactile");
   p.set("rise_time", "0.02");  // should be rise_time_s
   const std::string msg = error_of([&] {
     make_tactile_device(p);
-    p.refuse_unread(kTactileParams);
+    p.refuse_unknown();
   });
-  EXPECT_NE(msg.find("rise_time"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("rise_time_s"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'rise_time' is not a parameter of tactile (did you mean rise_time_s?)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("fix: use one of: device, rows"), std::string::npos) << msg;
+}
+
+TEST(Params, OutOfRangeValuesAreRefusedWithTheRange) {
+  Params p("ffd");
+  p.set("rate_hz", "100000");
+  const std::string msg = error_of([&] { p.declare(*node_table("enact-ffd")); });
+  EXPECT_NE(msg.find("'rate_hz' is out of range, got '100000' (allowed: 1..44000)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("fix: write e.g. rate_hz=5000 (Hz)"), std::string::npos) << msg;
+}
+
+TEST(Params, ALiveOnlyParameterIsRefusedAtStartNamingParamSet) {
+  Params p("sim");
+  p.set("scene", "s.yaml");
+  p.set("stiffness_n_per_m", "100");
+  const std::string msg = error_of([&] { p.declare(sim_table()); });
+  EXPECT_NE(msg.find("enact param set sim.stiffness_n_per_m"), std::string::npos) << msg;
 }
 
 TEST(Components, SimulatorNeedsAScene) {
-  EXPECT_NE(error_of([] { sim_params(Params("sim")); }).find("scene"), std::string::npos);
+  EXPECT_NE(error_of([] { sim_params(Params("sim")); }).find("'scene' is required"), std::string::npos);
 }
 
-TEST(Components, OnlySimulatedDevicesForNow) {
+TEST(Components, OnlyKnownDevices) {
   Params p("ffd");
   p.set("device", "falcon-usb");
-  EXPECT_NE(error_of([&] { make_force_device(p); }).find("device=simulated"), std::string::npos);
+  const std::string msg = error_of([&] { make_force_device(p); });
+  EXPECT_NE(msg.find("must be one of simulated, falcon, got 'falcon-usb' (did you mean falcon?)"), std::string::npos) << msg;
+}
+
+// every node's --help lists each of its declared parameters, from the one table
+TEST(NodeTables, HelpListsEveryDeclaredParameter) {
+  for (const char* exec : {"enact-sim", "enact-ffd", "enact-tactile", "enact-rt", "enact-logger", "enact-foxglove"}) {
+    const ParamTable* t = node_table(exec);
+    ASSERT_NE(t, nullptr) << exec;
+    const std::string help = help_lines(*t);
+    for (const ParamSpec& s : *t) EXPECT_NE(help.find("  " + s.name), std::string::npos) << exec << ": " << s.name;
+    // a name declared twice in one node would be read with the first's default
+    for (std::size_t i = 0; i < t->size(); ++i) {
+      for (std::size_t j = i + 1; j < t->size(); ++j) EXPECT_NE((*t)[i].name, (*t)[j].name) << exec;
+    }
+  }
+}
+
+TEST(NodeTables, UnitsComeFromTheNames) {
+  EXPECT_EQ(unit_of("rate_hz"), "Hz");
+  EXPECT_EQ(unit_of("stiffness_n_per_m"), "N/m");
+  EXPECT_EQ(unit_of("damping_n_s_per_m"), "N s/m");
+  EXPECT_EQ(unit_of("start_m"), "m");
+  EXPECT_EQ(unit_of("model"), "");
 }
 
 }  // namespace

@@ -1,0 +1,232 @@
+#include "core/graph/node_params.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "core/launch/check.h"
+
+#include "core/config/format.h"
+#include "core/devices/falcon/falcon_device.h"
+#include "core/devices/metec/metec_device.h"
+#include "core/devices/safety.h"
+#include "core/devices/simulated_force.h"
+#include "core/devices/simulated_tactile.h"
+#include "core/graph/logger.h"
+#include "core/haptics/device_profile.h"
+#include "core/rt/scheduler.h"
+#include "core/sim/reengage.h"
+#include "core/sim/simulator.h"
+
+// the declarations name only the fields they set: every other one has its default
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+namespace enact::graph {
+namespace {
+
+using config::number;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// the defaults are the components' own (their structs' initial values)
+const sim::SimParams kSim{};
+const devices::SimulatedForceParams kHand{};
+const devices::SafetyParams kSafety{};
+const devices::falcon::FalconParams kFalcon{};
+const devices::SimulatedTactileParams kCells{};
+const devices::metec::MetecParams kMetec{};
+const graph::LoggerOptions kLogger{};
+
+// what a loop process shares: enact-ffd, enact-rt
+ParamTable loop_table() {
+  return {
+      {.name = "rate_hz", .fallback = "5000", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"},
+      {.name = "spin_us", .fallback = "50", .min = 0, .doc = "spin on the clock for the last microseconds before each tick"},
+      {.name = "duration_s", .fallback = "0", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"},
+      {.name = "lock_memory", .type = ParamType::flag, .fallback = "false", .doc = "mlockall the process"},
+      {.name = "fifo_priority", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"},
+  };
+}
+
+ParamTable sim_node_table() {
+  ParamTable t = sim_table();
+  const ParamTable own{
+      {.name = "ffd_node", .type = ParamType::text, .fallback = "ffd", .doc = "the FFD driver's node name (its ffd/state)"},
+      {.name = "scene_rate_hz", .fallback = "60", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"},
+      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/force before answering"},
+  };
+  t.insert(t.end(), own.begin(), own.end());
+  return t;
+}
+
+ParamTable ffd_node_table() {
+  const ParamTable loop = loop_table(), device = force_table();
+  const ParamTable own{
+      {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its ffd/force)"},
+      {.name = "tactile_node", .type = ParamType::text, .fallback = "tactile", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"},
+      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 10 s for this many observers of ffd/state besides the simulator"},
+  };
+  return join({&loop, &own, &device});
+}
+
+ParamTable tactile_node_table() {
+  const ParamTable device = tactile_table();
+  const ParamTable own{
+      {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its tactile/frame)"},
+      {.name = "shown_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "tactile/shown rate"},
+      {.name = "watchdog_s", .fallback = "0.25", .min = 0, .above_min = true, .doc = "every pin down while no frame came for this long"},
+  };
+  return join({&own, &device});
+}
+
+ParamTable rt_table() {
+  const ParamTable loop = loop_table();
+  const ParamTable own{
+      {.name = "cpus", .type = ParamType::integer, .fallback = "", .min = 0, .max = 4095, .doc = "the CPU of the loop thread (empty: any)"},
+      {.name = "scene_rate_hz", .fallback = "60", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"},
+      {.name = "shown_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "tactile/shown rate"},
+      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state before the loop starts"},
+  };
+  return join({&loop, &own});
+}
+
+ParamTable logger_table() {
+  return {
+      {.name = "output", .type = ParamType::text, .fallback = kLogger.output, .doc = "file (with splitting: NAME_000.mcap, NAME_001.mcap, ...)"},
+      {.name = "topics", .type = ParamType::text, .doc = "comma-separated topics to keep (empty: every topic)"},
+      {.name = "regex", .type = ParamType::text, .doc = "only topics the regular expression matches"},
+      {.name = "exclude", .type = ParamType::text, .doc = "no topic the regular expression matches"},
+      {.name = "compression", .type = ParamType::choice, .fallback = "zstd", .choices = {"zstd", "lz4", "none"}, .doc = "chunk compression"},
+      {.name = "chunk_duration_s", .fallback = "1", .min = 0, .above_min = true, .doc = "a chunk reaches the file at least this often (the most a kill -9 loses)"},
+      {.name = "split_size_mb", .fallback = number(kLogger.split_size_mb), .min = 0, .doc = "start a new file past this size (0: never)"},
+      {.name = "split_duration_s", .fallback = number(kLogger.split_duration_s), .min = 0, .doc = "start a new file after this long (0: never)"},
+      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: $ENACT_ATTACH; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
+      {.name = "wait_s", .fallback = number(kLogger.wait_s), .min = 0, .doc = "how long to wait for the graph"},
+  };
+}
+
+ParamTable foxglove_table() {
+  return {
+      {.name = "port", .type = ParamType::integer, .fallback = "8765", .min = 0, .max = 65535, .doc = "WebSocket port (0: any free port)"},
+      {.name = "host", .type = ParamType::text, .fallback = "127.0.0.1", .doc = "where it listens (clients may publish param/set only on loopback)"},
+      {.name = "max_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "per client, on topics that run faster"},
+      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: $ENACT_ATTACH; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
+  };
+}
+
+// the value of a launch parameter where it was written: its line, or the --arg it came from
+std::string where(const launch::NodeSpec& n, const launch::Param& p) { return p.source.empty() ? n.source : p.source; }
+
+// the problems of `params` against `table`, for node (or component) `owner` of `n`
+void check_against(const launch::NodeSpec& n, const std::string& owner, const std::vector<launch::Param>& params, const ParamTable& table,
+                   const std::vector<std::string>& components, std::vector<std::string>& problems) {
+  for (const launch::Param& p : params) {
+    const std::string at = where(n, p) + ": node '" + owner + "': parameter '" + p.name + "' ";
+    const ParamSpec* s = find_spec(table, p.name);
+    const std::size_t dot = p.name.find('.');
+    if (!s && dot != std::string::npos && std::find(components.begin(), components.end(), p.name.substr(0, dot)) != components.end()) continue;
+    if (!s || !s->at_start) problems.push_back(at + unknown_problem(table, p.name, owner));
+    else if (const auto problem = value_problem(*s, p.value)) problems.push_back(at + *problem);
+  }
+}
+
+}  // namespace
+
+const ParamTable& sim_table() {
+  static const ParamTable t{
+      {.name = "scene", .type = ParamType::text, .doc = "scene file (YAML)", .required = true},
+      {.name = "rate_hz", .fallback = "0", .min = 0, .max = rt::kMaxRate_hz, .doc = "model rate (0: the scene's; should match the FFD's)"},
+      {.name = "model", .type = ParamType::text, .fallback = kSim.model, .doc = "computer model: CM0 CM1 CM2 CM3 P T PT or a YAML file", .live = true},
+      {.name = "tactile_period_s", .fallback = number(kSim.tactile.period_s), .min = 0, .doc = "tactile frame period (the cells' rise time)"},
+      {.name = "tactile_mode", .type = ParamType::choice, .fallback = "sample", .choices = {"sample", "any"}, .doc = "a frame samples its last step, or any contact since the last frame"},
+      {.name = "force", .type = ParamType::flag, .fallback = "false", .doc = "run a scene that fails the stability check anyway"},
+      {.name = "min_fall_s", .fallback = number(kSim.task.min_fall_s), .min = 0, .doc = "a loss of contact shorter than this is not a fall"},
+      {.name = "min_recovery_s", .fallback = number(kSim.task.min_recovery_s), .min = 0, .doc = "contact regained for less than this does not end a fall"},
+      {.name = "end_progress", .fallback = number(kSim.task.end_progress), .min = 0, .max = 1, .doc = "progress that completes the bridge"},
+      {.name = "reengage_s", .fallback = number(sim::kReengageDefault_s), .min = 0, .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"},
+      {.name = "change_ramp_s", .fallback = number(kSim.change_ramp_s), .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true},
+      {.name = "threshold_m", .min = 0, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false},
+      {.name = "stiffness_n_per_m", .min = 0, .doc = "contact stiffness of the body (checked against the stability analysis)", .live = true, .at_start = false},
+      {.name = "damping_n_s_per_m", .min = 0, .doc = "contact damping of the body (checked against the stability analysis)", .live = true, .at_start = false},
+      {.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false},
+      {.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false},
+      {.name = "trial", .type = ParamType::command, .choices = {"start", "stop"}, .doc = "start: a new trial from now; stop: the trial ends", .live = true, .at_start = false},
+  };
+  return t;
+}
+
+const ParamTable& force_table() {
+  static const ParamTable t{
+      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon"}, .doc = "simulated, or a Novint Falcon over USB"},
+      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = haptics::device_profile_names(), .doc = "device profile (simulated device)"},
+      {.name = "hand_path", .type = ParamType::text, .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"},
+      {.name = "subject", .type = ParamType::text, .doc = "a virtual subject's file (YAML) holds the device instead"},
+      {.name = "subject_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's traits"},
+      {.name = "noise_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's motor noise"},
+      {.name = "start_m", .type = ParamType::vec3, .fallback = number(kHand.start_m.x) + "," + number(kHand.start_m.y) + "," + number(kHand.start_m.z), .doc = "start position of the end-effector"},
+      {.name = "hand_stiffness_n_per_m", .fallback = number(kHand.hand_stiffness_n_per_m), .min = 0, .doc = "the hand's grip stiffness"},
+      {.name = "hand_damping_n_s_per_m", .fallback = number(kHand.hand_damping_n_s_per_m), .min = 0, .doc = "the hand's grip damping"},
+      {.name = "watchdog_s", .fallback = number(kSafety.watchdog_s), .min = 0, .above_min = true, .doc = "longest time without a command before the force ramps down"},
+      {.name = "ramp_s", .fallback = number(kSafety.ramp_s), .min = 0, .doc = "ramp from the last command to zero"},
+      {.name = "reengage_s", .fallback = number(kSafety.reengage_s), .min = 0, .doc = "ramp from zero back to the commands after an interruption"},
+      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "falcon: the machine's USB, or the Falcon emulator"},
+      {.name = "serial", .type = ParamType::text, .doc = "falcon: the serial number (empty: the first found)"},
+      {.name = "firmware", .type = ParamType::text, .doc = "falcon: the firmware file to upload when none runs"},
+      {.name = "homing_timeout_s", .fallback = number(kFalcon.homing_timeout_s), .min = 0, .above_min = true, .doc = "falcon: how long the user has to home the grip"},
+      {.name = "max_force_n", .fallback = number(kFalcon.max_force_n), .min = 0, .max = 9, .above_min = true, .doc = "falcon: the force is clamped to this"},
+  };
+  return t;
+}
+
+const ParamTable& tactile_table() {
+  static const ParamTable t{
+      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "metec"}, .doc = "simulated, or Metec Braille cells over USB"},
+      {.name = "rows", .type = ParamType::integer, .fallback = std::to_string(kCells.rows), .min = 1, .max = 32, .doc = "pin rows"},
+      {.name = "cols", .type = ParamType::integer, .fallback = std::to_string(kCells.cols), .min = 1, .max = 32, .doc = "pin columns (rows x cols <= 32)"},
+      {.name = "rise_time_s", .fallback = number(kCells.rise_time_s), .min = 0, .above_min = true, .doc = "the cells' full stroke"},
+      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "metec: the machine's USB, or the Metec emulator"},
+      {.name = "serial", .type = ParamType::text, .doc = "metec: the serial number (empty: the first found)"},
+      {.name = "first_cell", .type = ParamType::integer, .fallback = std::to_string(kMetec.first_cell), .min = 0, .doc = "metec: the cell under pin columns 0 and 1"},
+  };
+  return t;
+}
+
+const ParamTable* component_table(const std::string& plugin) {
+  if (plugin == "sim") return &sim_table();
+  if (plugin == "ffd") return &force_table();
+  if (plugin == "tactile") return &tactile_table();
+  return nullptr;
+}
+
+const ParamTable* node_table(const std::string& exec) {
+  static const ParamTable sim = sim_node_table(), ffd = ffd_node_table(), tactile = tactile_node_table(), rt = rt_table(),
+                          logger = logger_table(), foxglove = foxglove_table();
+  const std::string file = std::filesystem::path(exec).filename().string();
+  if (file == "enact-sim") return &sim;
+  if (file == "enact-ffd") return &ffd;
+  if (file == "enact-tactile") return &tactile;
+  if (file == "enact-rt") return &rt;
+  if (file == "enact-logger") return &logger;
+  if (file == "enact-foxglove") return &foxglove;
+  return nullptr;
+}
+
+std::vector<std::string> check_params(const launch::LaunchDescription& graph) {
+  std::vector<std::string> problems;
+  for (const launch::NodeSpec& n : graph.nodes) {
+    const ParamTable* table = node_table(n.path);
+    if (!table) continue;
+    std::vector<std::string> components;
+    for (const launch::ComponentSpec& c : n.components) components.push_back(c.name);
+    check_against(n, n.name, n.params, *table, components, problems);
+    for (const launch::ComponentSpec& c : n.components) {
+      if (const ParamTable* ct = component_table(c.plugin)) check_against(n, c.name, c.params, *ct, {}, problems);
+    }
+  }
+  return problems;
+}
+
+std::vector<std::string> check_graph(const launch::LaunchDescription& graph) {
+  std::vector<std::string> problems = check_params(graph);
+  return problems.empty() ? launch::check_nodes(graph) : problems;
+}
+
+}  // namespace enact::graph

@@ -1,0 +1,34 @@
+#pragma once
+// Every node's and container component's parameters, declared once (param_table.h): what
+// each node's --help lists, what it accepts at start, what `enact launch --check` checks in a
+// launch file before anything starts, and what `enact param list` shows of a running graph.
+#include <string>
+#include <vector>
+
+#include "core/graph/param_table.h"
+#include "core/launch/launch_file.h"
+
+namespace enact::graph {
+
+// the components of a real-time container (enact-rt) and of the nodes that wrap one
+const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim)
+const ParamTable& force_table();    // the force device (plugin ffd; enact-ffd)
+const ParamTable& tactile_table();  // the tactile device (plugin tactile; enact-tactile)
+// a component's table by plugin name (nullptr: no such plugin)
+const ParamTable* component_table(const std::string& plugin);
+
+// a node's own table by executable name (enact-sim: its component's and its own, enact-rt:
+// the container's own); nullptr for an executable that declares none
+const ParamTable* node_table(const std::string& exec);
+
+// the parameters of every node and component of `graph` checked against their tables, each
+// problem "FILE:LINE: node 'NAME': parameter 'P' ...\n  fix: ..." (the line of the
+// parameter, or of the --arg it came from); empty when all are declared and valid
+std::vector<std::string> check_params(const launch::LaunchDescription& graph);
+
+// check_params(), then, when it found nothing, every node's own --check
+// (launch::check_nodes: files, models, device-dependent parameters): what `enact launch` and
+// `enact experiment` do before anything starts
+std::vector<std::string> check_graph(const launch::LaunchDescription& graph);
+
+}  // namespace enact::graph
