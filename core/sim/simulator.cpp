@@ -17,7 +17,7 @@ constexpr double kTopNormalZ = 0.7;
 
 // the fastest a re-entry depth rises back to the model's threshold: the surface pushes the
 // body back out this gently (the bridge: 17 points at 6000 N/m, at most 5 N/ms)
-constexpr double kReentrySpeed_m_per_s = 0.05;
+constexpr double kReentrySpeed_m_per_s = 0.01;
 
 // a re-entering point's deepest contact still pushes along the same face
 constexpr double kSameFaceCos = 0.999;
