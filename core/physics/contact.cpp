@@ -128,16 +128,16 @@ bool pick_faces(const Model& model, const Object& object, std::uint64_t near, co
 // the face that pushes a point at x out of a union of boxes, given the normal of the face it
 // entered through (zero: none). It keeps pushing out through faces parallel to the entry face;
 // another face takes over only when the point is less than `skin_m` below it and shallower
-// than the parallel face's depth beyond `slack_m` (riding over an edge); a parallel face
-// continues the entry face only within the skin below the depth the point had (`depth_m`): a
-// parallel face farther in is another surface (the far end of a box joined at an angle); the
-// face opposite the entry face never pushes, and a face covered by another box of the union
-// only when nothing else is left. false when x is in no box.
+// (riding over an edge); a parallel face continues the entry face only within the skin below
+// `depth_m` (the depth the point had plus its move): a parallel face farther in is another
+// surface (the far end of a box joined at an angle, which would push the point on through);
+// the face opposite the entry face never pushes, and a face covered by another box of the
+// union only when nothing else is left. false when x is in no box.
 bool choose_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
-                 double skin_m, double slack_m, double depth_m, ContactState& contact) {
+                 double skin_m, double depth_m, ContactState& contact) {
   Pick edge, parallel;
   if (!pick_faces(model, object, near, x, entry, skin_m, depth_m + skin_m, true, edge, parallel)) return false;
-  Pick chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m - slack_m) ? edge : parallel;
+  Pick chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge : parallel;
   // rarely: no face continues the entry face; then the shallowest exposed face, else any face
   Pick unused;
   if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, kInfinity, true, chosen, unused);
@@ -150,16 +150,14 @@ bool choose_face(const Model& model, const Object& object, std::uint64_t near, c
 }
 
 // would a face of `box` (containing the point at `local`) take over from a face `own_m` deep
-// with outward normal `normal`? choose_face's rule: parallel and shallower, or within the
-// skin and shallower than the own depth beyond the slack; never the opposite face
-bool competes(const Box& box, const double local[3], const Vec3& normal, double own_m, double skin_m, double slack_m) {
+// with outward normal `normal`? choose_face's rule: within the skin or parallel, shallower,
+// never the opposite face
+bool competes(const Box& box, const double local[3], const Vec3& normal, double own_m, double skin_m) {
   const Vec3 e = box.rotation.transpose_times(normal);
   for (int face = 0; face < 6; ++face) {
     const double along = sign_of(face) * component(e, face / 2);
     const double depth = depth_below(box, local, face);
-    const bool edge = depth <= skin_m && depth < own_m - slack_m;
-    const bool parallel = along > kParallelCos && depth < own_m;
-    if (((box.faces >> face) & 1u) && along >= kOppositeCos && (edge || parallel)) return true;
+    if (((box.faces >> face) & 1u) && along >= kOppositeCos && (depth <= skin_m || along > kParallelCos) && depth < own_m) return true;
   }
   return false;
 }
@@ -168,7 +166,7 @@ bool competes(const Box& box, const double local[3], const Vec3& normal, double 
 // pushed it last step, that face is always exposed, and no face of any box containing the
 // point would take over; then that face still pushes (choose_face would pick it). false:
 // take the general path.
-bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m, double slack_m,
+bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m,
                ContactState& contact) {
   const Box& own_box = model.boxes[contact.box];
   if (!((own_box.exposed >> contact.face) & 1u)) return false;
@@ -189,11 +187,11 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
     const bool pushes = face / 2 != own_axis && ((own_box.faces >> face) & 1u);
     side = std::min(side, pushes ? depth[face] : kInfinity);
   }
-  if (side <= skin_m && side < own - slack_m) return false;
+  if (side <= skin_m && side < own) return false;
   // the other boxes of the object the point may be in (the near ones, bit by bit)
   auto taken_over = [&](int i) {
     double local[3];
-    return i != contact.box && local_coordinates(model.boxes[i], x, local) && competes(model.boxes[i], local, contact.normal, own, skin_m, slack_m);
+    return i != contact.box && local_coordinates(model.boxes[i], x, local) && competes(model.boxes[i], local, contact.normal, own, skin_m);
   };
   if (object.box_count > 64) {
     for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
@@ -305,7 +303,7 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
 }
 
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
-                      double slack_m, ContactState& contact) {
+                      ContactState& contact) {
   if (object.type == ObjectType::plane) {
     const double depth = dot(object.plane_normal, object.plane_point_m - x);
     contact.active = depth > 0.0;
@@ -314,18 +312,19 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
     return contact.depth_m;
   }
   const std::uint64_t near = near_boxes(model, object, x, contact);
-  if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, slack_m, contact)) return contact.depth_m;
+  if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, contact)) return contact.depth_m;
   if (!contact.active) {
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
     if (!inside_near(model, object, near, x)) return 0.0;
     if (!crossed_face(model, object, near, x_prev, x, contact.entry_normal)) {
-      choose_face(model, object, near, x, Vec3{}, kInfinity, 0.0, kInfinity, contact);
+      choose_face(model, object, near, x, Vec3{}, kInfinity, kInfinity, contact);
       contact.entry_normal = contact.normal;
     }
   }
-  // a new contact: its entry face at any depth; a held one: no deeper than it was, plus the skin
-  const double depth_m = contact.active ? contact.depth_m : kInfinity;
-  contact.active = choose_face(model, object, near, x, contact.entry_normal, skin_m, slack_m, depth_m, contact) && contact.depth_m > 0.0;
+  // a new contact: its entry face at any depth; a held one: no deeper than it was plus how far
+  // the point moved (and the skin)
+  const double depth_m = contact.active ? contact.depth_m + norm(x - x_prev) : kInfinity;
+  contact.active = choose_face(model, object, near, x, contact.entry_normal, skin_m, depth_m, contact) && contact.depth_m > 0.0;
   // riding over an edge moves the contact to the new face
   if (contact.active) contact.entry_normal = contact.normal;
   else contact.depth_m = 0.0;

@@ -7,13 +7,9 @@ namespace enact::physics {
 
 // update one contact pair for a point that moved from x_prev to x; returns the penetration
 // depth below the face that pushes (0 when not in contact). skin_m: how far below another
-// face a point may be to ride over an edge onto it (ContactPair::edge_skin_m). slack_m: how
-// deep the point sits below its face without force (Point::contact_threshold_m): another face
-// takes it over at an edge only when shallower than its own face's depth beyond the slack, so
-// a point resting in the threshold rides along the face it pushes on as it would at depth 0
-// (never onto an inner wall of a joint, which would push it on deeper)
+// face a point may be to ride over an edge onto it (ContactPair::edge_skin_m)
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
-                      double slack_m, ContactState& contact);
+                      ContactState& contact);
 
 // can no point within radius_m of centre_m be inside the object? (a plane: the sphere is
 // above it; boxes: the sphere is outside every box along one of its axes)

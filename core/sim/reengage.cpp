@@ -43,7 +43,7 @@ physics::Vec3 resync_offset(const physics::Model& model, const physics::State& s
       if (point.kind != physics::PointKind::kinematic || point.proxy != 0) continue;
       physics::ContactState contact = state.contacts[i];
       const physics::Vec3 x = device_m + offset + point.offset_m;
-      const double depth = physics::update_contact(model, model.objects[pair.object], state.x[pair.point], x, pair.edge_skin_m, point.contact_threshold_m, contact);
+      const double depth = physics::update_contact(model, model.objects[pair.object], state.x[pair.point], x, pair.edge_skin_m, contact);
       if (depth <= 0.0) continue;
       offset += contact.normal * depth;
       moved = true;
