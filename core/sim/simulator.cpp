@@ -16,8 +16,8 @@ namespace {
 constexpr double kTopNormalZ = 0.7;
 
 // the fastest a re-entry depth rises back to the model's threshold: the surface pushes the
-// body back out this gently (the bridge: 17 points at 6000 N/m, at most 1 N/ms; at 50 mm/s the
-// push launched the scripted hand off the top and it fell back at up to 16 N)
+// body back out this gently (the bridge: 17 points at 6000 N/m, at most 1 N/ms; 50 mm/s
+// launched the scripted hand off the top in a hostile burst, and it fell back hard)
 constexpr double kReentrySpeed_m_per_s = 0.01;
 
 // a re-entering point's deepest contact still pushes along the same face
