@@ -102,10 +102,10 @@ struct Pick {
 };
 
 // over the boxes containing x: the shallowest face within `skin_m` (edge) and the shallowest
-// face parallel to `entry` (parallel), never the face opposite `entry`; covered faces are
-// skipped when `exposed_only`. false when x is in no box.
+// face parallel to `entry` no deeper than `parallel_max_m` (parallel), never the face opposite
+// `entry`; covered faces are skipped when `exposed_only`. false when x is in no box.
 bool pick_faces(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
-                double skin_m, bool exposed_only, Pick& edge, Pick& parallel) {
+                double skin_m, double parallel_max_m, bool exposed_only, Pick& edge, Pick& parallel) {
   bool in_any = false;
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
     const Box& box = model.boxes[i];
@@ -118,7 +118,7 @@ bool pick_faces(const Model& model, const Object& object, std::uint64_t near, co
       if (!((box.faces >> face) & 1u) || along < kOppositeCos) continue;
       const double depth = depth_below(box, local, face);
       const bool to_edge = depth <= skin_m && depth < edge.depth_m;
-      const bool to_parallel = along > kParallelCos && depth < parallel.depth_m;
+      const bool to_parallel = along > kParallelCos && depth < parallel.depth_m && depth <= parallel_max_m;
       if (!to_edge && !to_parallel) continue;
       const Vec3 n = face_normal(box, face);
       if (exposed_only && !((box.exposed >> face) & 1u) && !exposed(model, object, i, x + n * depth, n)) continue;
@@ -173,20 +173,23 @@ void extend_near(const Model& model, const Object& object, std::uint64_t near, c
 // entered through (zero: none). It keeps pushing out through faces parallel to the entry face
 // (among them the face that pushed last step, extended beyond its box);
 // another face takes over only when the point is less than `skin_m` below it and shallower
-// (riding over an edge); the face opposite the entry face never pushes, and a face covered by
-// another box of the union only when nothing else is left. false when x is in no box.
+// (riding over an edge); a parallel face continues the entry face only within the skin below
+// `depth_m` (the depth the point had plus its move): a parallel face farther in is another
+// surface (the far end of a box joined at an angle, which would push the point on through);
+// the face opposite the entry face never pushes, and a face covered by another box of the
+// union only when nothing else is left. false when x is in no box.
 bool choose_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, const Vec3& entry,
-                 double skin_m, ContactState& contact) {
+                 double skin_m, double depth_m, ContactState& contact) {
   Pick edge, parallel;
-  if (!pick_faces(model, object, near, x, entry, skin_m, true, edge, parallel)) return false;
+  if (!pick_faces(model, object, near, x, entry, skin_m, depth_m + skin_m, true, edge, parallel)) return false;
   if (contact.active && contact.box >= 0) extend_held(model, contact, x, parallel);
   Pick chosen = edge.found() && (!parallel.found() || edge.depth_m < parallel.depth_m) ? edge : parallel;
   // rarely: no face continues the entry face; then the shallowest face just outside which the
   // point is, else the shallowest exposed face, else any face
   Pick unused;
   if (!chosen.found()) extend_near(model, object, near, x, entry, skin_m, chosen);
-  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, true, chosen, unused);
-  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, false, chosen, unused);
+  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, kInfinity, true, chosen, unused);
+  if (!chosen.found()) pick_faces(model, object, near, x, entry, kInfinity, kInfinity, false, chosen, unused);
   contact.normal = chosen.found() ? face_normal(model.boxes[chosen.box], chosen.face) : entry;
   contact.depth_m = chosen.found() ? chosen.depth_m : 0.0;
   contact.box = chosen.box;
@@ -362,11 +365,14 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
     if (!inside_near(model, object, near, x)) return 0.0;
     if (!crossed_face(model, object, near, x_prev, x, contact.entry_normal)) {
-      choose_face(model, object, near, x, Vec3{}, kInfinity, contact);
+      choose_face(model, object, near, x, Vec3{}, kInfinity, kInfinity, contact);
       contact.entry_normal = contact.normal;
     }
   }
-  contact.active = choose_face(model, object, near, x, contact.entry_normal, skin_m, contact) && contact.depth_m > 0.0;
+  // a new contact: its entry face at any depth; a held one: no deeper than it was plus how far
+  // the point moved (and the skin)
+  const double depth_m = contact.active ? contact.depth_m + norm(x - x_prev) : kInfinity;
+  contact.active = choose_face(model, object, near, x, contact.entry_normal, skin_m, depth_m, contact) && contact.depth_m > 0.0;
   // riding over an edge moves the contact to the new face
   if (contact.active) contact.entry_normal = contact.normal;
   else contact.depth_m = 0.0;

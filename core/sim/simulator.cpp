@@ -16,15 +16,21 @@ namespace {
 constexpr double kTopNormalZ = 0.7;
 
 // the fastest a re-entry depth rises back to the model's threshold: the surface pushes the
-// body back out this gently (the bridge: 17 points at 6000 N/m, at most 5 N/ms)
-constexpr double kReentrySpeed_m_per_s = 0.05;
+// body back out this gently (the bridge: 17 points at 6000 N/m, at most 1 N/ms; 50 mm/s
+// launched the scripted hand off the top in a hostile burst, and it fell back hard)
+constexpr double kReentrySpeed_m_per_s = 0.01;
 
-// whether a change alters the force law of the body (pins-only and trial changes do not)
-bool changes_force_law(const ParamChange& c, const haptics::ComputerModel& cm) {
+// a re-entering point's deepest contact still pushes along the same face
+constexpr double kSameFaceCos = 0.999;
+
+// whether a change alters the force law of the body (pins-only and trial changes do not).
+// A model or threshold change re-applies the computer model to every point, which would wipe
+// the re-entry depths of a change still settling: while `reentering`, it is one
+bool changes_force_law(const ParamChange& c, const haptics::ComputerModel& cm, bool reentering) {
   switch (c.kind) {
     case ParamKind::model:
-      return c.model.force_grid_mask != cm.force_grid_mask || c.model.force_center != cm.force_center || c.model.threshold_m != cm.threshold_m;
-    case ParamKind::threshold: return c.value != cm.threshold_m;
+      return reentering || c.model.force_grid_mask != cm.force_grid_mask || c.model.force_center != cm.force_center || c.model.threshold_m != cm.threshold_m;
+    case ParamKind::threshold: return reentering || c.value != cm.threshold_m;
     case ParamKind::stiffness:
     case ParamKind::damping:
     case ParamKind::reset:
@@ -83,6 +89,8 @@ void Simulator::configure(const SimParams& params) {
     if (is_body_point(model_, model_.contacts[c].point)) body_pairs_.push_back(static_cast<int>(c));
   }
   felt_n_.assign(model_.points.size(), 0.0);
+  felt_depth_m_.assign(model_.points.size(), 0.0);
+  felt_normal_.assign(model_.points.size(), physics::Vec3{});
   deepest_pair_.assign(model_.points.size(), -1);
   const auto profile = haptics::find_device_profile(model_.device_profile);
   max_step_n_ = profile && profile->max_force_step_n_per_ms > 0.0 ? profile->max_force_step_n_per_ms * model_.dt_s * 1e3 : 0.0;
@@ -116,7 +124,7 @@ void Simulator::set_computer_model(const haptics::ComputerModel& cm) {
 }
 
 ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
-  const bool law = changes_force_law(c, cm_);
+  const bool law = changes_force_law(c, cm_, reentering_);
   if (law) keep_felt_forces();
   switch (c.kind) {
     case ParamKind::model:
@@ -192,18 +200,27 @@ void Simulator::reenter_contacts(bool from_scratch) {
       depth_m = state_.contacts[c].depth_m - (felt_n_[p] > 0.0 && k > 0.0 ? felt_n_[p] / k : 0.0);
     }
     model_.points[p].contact_threshold_m = std::max(cm_.threshold_m, depth_m);
+    felt_depth_m_[p] = c < 0 ? 0.0 : std::max(0.0, state_.contacts[c].depth_m - model_.points[p].contact_threshold_m);
+    felt_normal_[p] = c < 0 ? physics::Vec3{} : state_.contacts[c].normal;
     reentering_ = reentering_ || model_.points[p].contact_threshold_m > cm_.threshold_m;
   }
 }
 
 void Simulator::follow_reentry() {
-  // a re-entry depth follows its point back out, never in, down to the model's threshold
+  // a re-entry depth follows its point back out, never in, down to the model's threshold; and
+  // whatever the point does (a deeper push, its deepest contact turning to another face), the
+  // depth it feels beyond it grows by at most one re-entry step per step, from zero on a new face
   find_deepest();
   reentering_ = false;
   for (const int p : body_points_) {
     const int c = deepest_pair_[p];
+    const double depth_m = c < 0 ? 0.0 : state_.contacts[c].depth_m;
+    const physics::Vec3 normal = c < 0 ? physics::Vec3{} : state_.contacts[c].normal;
+    const double felt_m = physics::dot(normal, felt_normal_[p]) > kSameFaceCos ? felt_depth_m_[p] : 0.0;
     double& threshold_m = model_.points[p].contact_threshold_m;
-    threshold_m = std::max(cm_.threshold_m, std::min(threshold_m - reentry_step_m_, c < 0 ? 0.0 : state_.contacts[c].depth_m));
+    threshold_m = std::max({cm_.threshold_m, std::min(threshold_m - reentry_step_m_, depth_m), depth_m - felt_m - reentry_step_m_});
+    felt_depth_m_[p] = std::max(0.0, depth_m - threshold_m);
+    felt_normal_[p] = normal;
     reentering_ = reentering_ || threshold_m > cm_.threshold_m;
   }
 }

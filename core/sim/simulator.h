@@ -108,6 +108,8 @@ class Simulator {
   // the force felt before the change, blending into the new law's (share: left / total steps)
   std::vector<int> body_points_, body_pairs_;
   std::vector<double> felt_n_;
+  std::vector<double> felt_depth_m_;  // while re-entering: each point's depth beyond its re-entry depth
+  std::vector<physics::Vec3> felt_normal_;  // and the normal of the face it is felt through
   std::vector<int> deepest_pair_;  // each body point's deepest active contact pair (-1: none)
   bool reentering_ = false, capture_ = false;
   physics::Vec3 from_n_;
