@@ -6,8 +6,8 @@
 // sample and counted, never thrown through the loop.
 #include <cstdint>
 
-#include "core/haptics/device_profile.h"
-#include "core/physics/vec3.h"
+#include "core/devices/device_profile.h"
+#include "core/math/vec3.h"
 
 namespace enact::devices {
 
@@ -32,8 +32,8 @@ const char* to_string(DeviceFault fault);
 // the state of a force-feedback device at one time
 struct ForceSample {
   std::int64_t time_ns = 0;
-  physics::Vec3 position_m;
-  physics::Vec3 velocity_m_per_s;
+  math::Vec3 position_m;
+  math::Vec3 velocity_m_per_s;
   std::uint32_t buttons = 0;  // bit i: button i pressed
   std::uint32_t faults = 0;   // DeviceFault bits
 };
@@ -49,11 +49,11 @@ class ForceDevice {
   // the device's state at now_ns into out; false on a device error (out.faults says which)
   virtual bool read(std::int64_t now_ns, ForceSample& out) noexcept = 0;
   // the force (N) applied from now_ns on
-  virtual void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept = 0;
+  virtual void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept = 0;
   // zero the force, then disable output
   virtual void deactivate() noexcept = 0;
   // what the device can do (valid after configure)
-  virtual const haptics::DeviceProfile& profile() const = 0;
+  virtual const devices::DeviceProfile& profile() const = 0;
   // the simulated hand holding a simulated device (core/devices/hand.h); nullptr for a real
   // device, which a person holds
   virtual HandSource* simulated_hand() noexcept { return nullptr; }

@@ -8,11 +8,11 @@ HandSource::~HandSource() = default;
 
 void HandSource::feel_pins(const float*, int, int) noexcept {}
 
-ScriptedHand::ScriptedHand(Trajectory path) : path_(std::move(path)) {}
+ScriptedHand::ScriptedHand(task::Trajectory path) : path_(std::move(path)) {}
 
 void ScriptedHand::reset(const HandStart& start) noexcept { start_m_ = start.start_m; }
 
-physics::Vec3 ScriptedHand::target(std::int64_t time_ns, const HandFeel&) noexcept {
+math::Vec3 ScriptedHand::target(std::int64_t time_ns, const HandFeel&) noexcept {
   if (path_.t_s.empty()) return start_m_;
   return path_.at(static_cast<double>(time_ns) * 1e-9);
 }

@@ -6,21 +6,21 @@
 // it feels. One mechanism: the device asks its source for the target at every substep.
 #include <cstdint>
 
-#include "core/devices/trajectory.h"
-#include "core/physics/vec3.h"
+#include "core/task/trajectory.h"
+#include "core/math/vec3.h"
 
 namespace enact::devices {
 
 // what the hand feels at one time, as a person holding the handle would
 struct HandFeel {
-  physics::Vec3 handle_m;          // where the handle (and the hand around it) is
-  physics::Vec3 handle_m_per_s;    // how fast it moves
-  physics::Vec3 force_on_hand_n;   // the force the handle pushes the hand with
+  math::Vec3 handle_m;          // where the handle (and the hand around it) is
+  math::Vec3 handle_m_per_s;    // how fast it moves
+  math::Vec3 force_on_hand_n;   // the force the handle pushes the hand with
 };
 
 // the hand impedance of the device the hand holds, and where the trial starts
 struct HandStart {
-  physics::Vec3 start_m;                  // the handle's position at time 0, at rest
+  math::Vec3 start_m;                  // the handle's position at time 0, at rest
   double hand_stiffness_n_per_m = 0.0;    // the spring between the hand target and the handle
 };
 
@@ -31,7 +31,7 @@ class HandSource {
   virtual void reset(const HandStart& start) noexcept = 0;
   // the target at time_ns (ns since the device's clock started; never decreasing), given
   // what the hand feels at that time. Allocates nothing, never throws.
-  virtual physics::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept = 0;
+  virtual math::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept = 0;
   // whether the hand also has a fingertip on a tactile pin array (then call feel_pins)
   virtual bool feels_pins() const { return false; }
   // the pins under the fingertip as the tactile device physically shows them now: levels
@@ -44,13 +44,13 @@ class HandSource {
 // is empty; it feels nothing
 class ScriptedHand final : public HandSource {
  public:
-  explicit ScriptedHand(Trajectory path = {});
+  explicit ScriptedHand(task::Trajectory path = {});
   void reset(const HandStart& start) noexcept override;
-  physics::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept override;
+  math::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept override;
 
  private:
-  Trajectory path_;
-  physics::Vec3 start_m_;
+  task::Trajectory path_;
+  math::Vec3 start_m_;
 };
 
 }  // namespace enact::devices

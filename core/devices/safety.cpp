@@ -56,17 +56,17 @@ void SafeForceDevice::activate() {
   interrupted_ = true;
 }
 
-void SafeForceDevice::write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept {
+void SafeForceDevice::write(std::int64_t now_ns, const math::Vec3& force_n) noexcept {
   see(now_ns);
   // a fresh command: finite, within the peak force
   command_n_ = force_n;
   command_faults_ = 0;
   const double peak = profile().peak_force_n;
-  if (!physics::finite(force_n)) {
+  if (!math::finite(force_n)) {
     command_n_ = {};
     command_faults_ = bit(DeviceFault::nonfinite_command);
     ++nonfinite_;
-  } else if (const double magnitude = physics::norm(force_n); magnitude > peak) {
+  } else if (const double magnitude = math::norm(force_n); magnitude > peak) {
     command_n_ = force_n * (peak / magnitude);
     command_faults_ = bit(DeviceFault::clamped);
     ++clamps_;
@@ -123,19 +123,19 @@ void SafeForceDevice::deactivate() noexcept {
   in_episode_ = commanded_ = false;
 }
 
-void SafeForceDevice::send(std::int64_t now_ns, const physics::Vec3& force_n) noexcept {
+void SafeForceDevice::send(std::int64_t now_ns, const math::Vec3& force_n) noexcept {
   sent_n_ = slew_limit(now_ns, force_n);
   sent_ns_ = now_ns;
   sent_any_ = true;
   inner_->write(now_ns, sent_n_);
 }
 
-physics::Vec3 SafeForceDevice::slew_limit(std::int64_t now_ns, const physics::Vec3& force_n) noexcept {
+math::Vec3 SafeForceDevice::slew_limit(std::int64_t now_ns, const math::Vec3& force_n) noexcept {
   // the step allowed since the last force sent (a first one: a whole interval's)
   const std::int64_t dt_ns = sent_any_ ? std::clamp<std::int64_t>(now_ns - sent_ns_, 0, kStepInterval_ns) : kStepInterval_ns;
   const double allowed_n = step_n_per_ns_ * static_cast<double>(dt_ns);
-  const physics::Vec3 step = force_n - sent_n_;
-  const double size = physics::norm(step);
+  const math::Vec3 step = force_n - sent_n_;
+  const double size = math::norm(step);
   if (size <= allowed_n) return force_n;
   ++slew_limited_;
   return sent_n_ + step * (allowed_n / size);

@@ -43,10 +43,10 @@ class SafeForceDevice final : public ForceDevice {
   // the inner device's sample, with the watchdog run at now_ns and the wrapper's fault bits
   bool read(std::int64_t now_ns, ForceSample& out) noexcept override;
   // the command made safe (finite, within the peak force), sent on to the inner device
-  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override;
+  void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept override;
   // zero force to the inner device, then deactivate it
   void deactivate() noexcept override;
-  const haptics::DeviceProfile& profile() const override { return inner_->profile(); }
+  const devices::DeviceProfile& profile() const override { return inner_->profile(); }
   HandSource* simulated_hand() noexcept override { return inner_->simulated_hand(); }
 
   // commands scaled down to the peak force, since construction
@@ -63,14 +63,14 @@ class SafeForceDevice final : public ForceDevice {
   std::uint32_t faults() const { return faults_; }
   bool faulted() const { return faults_ != 0; }
   // the force last sent to the inner device
-  physics::Vec3 sent_force_n() const { return sent_n_; }
+  math::Vec3 sent_force_n() const { return sent_n_; }
   ForceDevice& inner() { return *inner_; }
 
  private:
-  void send(std::int64_t now_ns, const physics::Vec3& force_n) noexcept;
+  void send(std::int64_t now_ns, const math::Vec3& force_n) noexcept;
   void see(std::int64_t now_ns) noexcept;
   double engagement(std::int64_t now_ns) noexcept;
-  physics::Vec3 slew_limit(std::int64_t now_ns, const physics::Vec3& force_n) noexcept;
+  math::Vec3 slew_limit(std::int64_t now_ns, const math::Vec3& force_n) noexcept;
 
   std::unique_ptr<ForceDevice> inner_;
   SafetyParams params_;
@@ -79,15 +79,15 @@ class SafeForceDevice final : public ForceDevice {
   std::int64_t reengage_ns_ = 0;
   double step_n_per_ns_ = 0.0;
   // the last command, made safe, and when it arrived
-  physics::Vec3 command_n_;
+  math::Vec3 command_n_;
   std::uint32_t command_faults_ = 0;
   bool commanded_ = false;
   std::int64_t command_ns_ = 0;
   bool in_episode_ = false;
-  physics::Vec3 trip_n_;           // the force sent when the episode began
+  math::Vec3 trip_n_;           // the force sent when the episode began
   bool interrupted_ = true;        // the next write begins a re-engagement
   std::int64_t engage_ns_ = 0;     // when the current re-engagement began
-  physics::Vec3 sent_n_;
+  math::Vec3 sent_n_;
   std::int64_t sent_ns_ = 0;
   bool sent_any_ = false;          // since activate
   std::uint32_t faults_ = 0;

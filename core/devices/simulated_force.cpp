@@ -13,7 +13,7 @@
 namespace enact::devices {
 namespace {
 
-using physics::Vec3;
+using math::Vec3;
 
 constexpr const char* kDevice = "simulated force device";
 
@@ -63,9 +63,9 @@ void SimulatedForceDevice::configure() {
   configured_ = active_ = false;
   const SimulatedForceParams& p = params_;
   // the profile
-  const auto found = haptics::find_device_profile(p.profile);
+  const auto found = devices::find_device_profile(p.profile);
   if (!found) {
-    const std::string names = joined(haptics::device_profile_names());
+    const std::string names = joined(devices::device_profile_names());
     refuse(kDevice, "unknown profile '" + p.profile + "' (profiles: " + names + ")", "set profile to one of: " + names);
   }
   profile_ = *found;
@@ -75,7 +75,7 @@ void SimulatedForceDevice::configure() {
   check_positive("hand_damping_n_s_per_m", p.hand_damping_n_s_per_m, true);
   check_positive("stop_stiffness_n_per_m", p.stop_stiffness_n_per_m, false);
   check_positive("substep_s", p.substep_s, false);
-  if (!physics::finite(p.start_m) || !inside(p.start_m, profile_.workspace_min_m, profile_.workspace_max_m)) {
+  if (!math::finite(p.start_m) || !inside(p.start_m, profile_.workspace_min_m, profile_.workspace_max_m)) {
     refuse(kDevice, "start_m " + text(p.start_m) + " is outside the " + p.profile + " workspace",
            "set start_m inside " + text(profile_.workspace_min_m) + " .. " + text(profile_.workspace_max_m));
   }
@@ -92,7 +92,7 @@ void SimulatedForceDevice::configure() {
   substep_ns_ = std::max<std::int64_t>(1, std::llround(p.substep_s * 1e9));
   // the hand: a path or a virtual subject (throws config::Error with file:line)
   if (!p.hand_path.empty() && !p.subject.empty()) refuse(kDevice, "both hand_path and subject are given", "give hand_path (a scripted hand) or subject (a virtual subject), not both");
-  if (p.subject.empty()) hand_ = std::make_unique<ScriptedHand>(p.hand_path.empty() ? Trajectory{} : load_trajectory(p.hand_path));
+  if (p.subject.empty()) hand_ = std::make_unique<ScriptedHand>(p.hand_path.empty() ? task::Trajectory{} : task::load_trajectory(p.hand_path));
   else hand_ = std::make_unique<VirtualSubject>(load_subject(p.subject), p.subject_seed, p.noise_seed);
   x_m_ = p.start_m;
   reset_hand();
@@ -139,12 +139,12 @@ void SimulatedForceDevice::write(std::int64_t now_ns, const Vec3& force_n) noexc
   // the amplifier: NaN/Inf gives no force, the magnitude saturates at the peak force
   command_faults_ = 0;
   force_n_ = force_n;
-  if (!physics::finite(force_n)) {
+  if (!math::finite(force_n)) {
     force_n_ = {};
     command_faults_ = bit(DeviceFault::nonfinite_command);
     return;
   }
-  const double magnitude = physics::norm(force_n);
+  const double magnitude = math::norm(force_n);
   if (magnitude > profile_.peak_force_n) {
     force_n_ = force_n * (profile_.peak_force_n / magnitude);
     command_faults_ = bit(DeviceFault::clamped);
@@ -174,7 +174,7 @@ void SimulatedForceDevice::substep(std::int64_t to_ns) noexcept {
   const Vec3 force = force_n_ + hand_force_n_ - v_m_per_s_ * profile_.damping_n_s_per_m + stop_force_n();
   v_m_per_s_ += force * (dt / m);
   // the speed limit
-  const double speed = physics::norm(v_m_per_s_);
+  const double speed = math::norm(v_m_per_s_);
   if (speed > profile_.max_speed_m_per_s) {
     v_m_per_s_ *= profile_.max_speed_m_per_s / speed;
     ++speed_clamps_;

@@ -32,12 +32,12 @@
 namespace enact::devices {
 
 struct SimulatedForceParams {
-  std::string profile = "ergos";          // a device profile name (haptics::find_device_profile)
+  std::string profile = "ergos";          // a device profile name (devices::find_device_profile)
   std::string hand_path;                  // CSV (t_s,x_m,y_m,z_m, t from the clock start) the hand tracks; empty: the hand holds start_m
   std::string subject;                    // a virtual subject's file (YAML) holds the device instead (not with hand_path)
   std::uint64_t subject_seed = 0;         // the virtual subject's traits
   std::uint64_t noise_seed = 0;           // the virtual subject's motor noise and memory errors
-  physics::Vec3 start_m{0.0, 0.0, 0.0125};  // start position of the end-effector, inside the workspace
+  math::Vec3 start_m{0.0, 0.0, 0.0125};  // start position of the end-effector, inside the workspace
   double hand_stiffness_n_per_m = 300.0;  // >= 0 (0 with 0 damping: no hand, a free device)
   double hand_damping_n_s_per_m = 5.0;    // >= 0, on the velocity relative to the target's
   double stop_stiffness_n_per_m = 1e5;    // > 0, the workspace stops
@@ -55,20 +55,20 @@ class SimulatedForceDevice final : public ForceDevice {
   // integrate to now_ns and sample; false (device_error) when not active
   bool read(std::int64_t now_ns, ForceSample& out) noexcept override;
   // integrate to now_ns with the previous force, then apply this one (ignored when not active)
-  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override;
+  void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept override;
   // zero force, disable; the state stays where it is
   void deactivate() noexcept override;
-  const haptics::DeviceProfile& profile() const override { return profile_; }
+  const devices::DeviceProfile& profile() const override { return profile_; }
   // the hand holding the device (valid after configure)
   HandSource* simulated_hand() noexcept override { return hand_.get(); }
 
   // the unquantised state, for tests and viewers
-  physics::Vec3 true_position_m() const { return x_m_; }
-  physics::Vec3 true_velocity_m_per_s() const { return v_m_per_s_; }
+  math::Vec3 true_position_m() const { return x_m_; }
+  math::Vec3 true_velocity_m_per_s() const { return v_m_per_s_; }
   // where the hand pulls the end-effector to, at the device's current time
-  physics::Vec3 hand_target_m() const { return hand_m_; }
+  math::Vec3 hand_target_m() const { return hand_m_; }
   // the force command acting now (after saturation and NaN rejection)
-  physics::Vec3 applied_force_n() const { return force_n_; }
+  math::Vec3 applied_force_n() const { return force_n_; }
   // substeps whose speed was limited to the profile's max speed, since configure
   std::uint64_t speed_clamps() const { return speed_clamps_; }
   // the largest substep_s the current params allow (valid after configure)
@@ -80,11 +80,11 @@ class SimulatedForceDevice final : public ForceDevice {
   void advance(std::int64_t now_ns) noexcept;
   void substep(std::int64_t to_ns) noexcept;
   void reset_hand() noexcept;
-  physics::Vec3 stop_force_n() const noexcept;
+  math::Vec3 stop_force_n() const noexcept;
   bool outside_workspace() const noexcept;
 
   SimulatedForceParams params_;
-  haptics::DeviceProfile profile_;
+  devices::DeviceProfile profile_;
   std::unique_ptr<HandSource> hand_;
   double stop_damping_n_s_per_m_ = 0.0;
   double max_substep_s_ = 0.0;
@@ -96,11 +96,11 @@ class SimulatedForceDevice final : public ForceDevice {
   std::int64_t start_ns_ = 0;
   std::int64_t now_ns_ = 0;
   // the state at now_ns_
-  physics::Vec3 x_m_;
-  physics::Vec3 v_m_per_s_;
-  physics::Vec3 hand_m_;
-  physics::Vec3 hand_force_n_;  // the hand's pull on the handle, last substep
-  physics::Vec3 force_n_;
+  math::Vec3 x_m_;
+  math::Vec3 v_m_per_s_;
+  math::Vec3 hand_m_;
+  math::Vec3 hand_force_n_;  // the hand's pull on the handle, last substep
+  math::Vec3 force_n_;
   std::uint32_t command_faults_ = 0;  // clamped / nonfinite_command bits of the acting command
   std::uint64_t speed_clamps_ = 0;
 };

@@ -12,7 +12,7 @@
 namespace enact::devices {
 namespace {
 
-using physics::Vec3;
+using math::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
@@ -96,7 +96,7 @@ std::string bad_route(const SubjectParams& p) {
 constexpr const char* kRouteFix = "give route: {headings_deg: [45, -45, 45], lengths_m: [0.021, 0.021, 0.021]}: one heading and one length per segment";
 
 // a subject's trait factor: log-normal around 1 with sd `spread`, kept within [0.5, 2]
-double trait(Random& r, double spread) { return std::clamp(std::exp(spread * r.normal()), 0.5, 2.0); }
+double trait(math::Random& r, double spread) { return std::clamp(std::exp(spread * r.normal()), 0.5, 2.0); }
 
 }  // namespace
 
@@ -141,7 +141,7 @@ VirtualSubject::VirtualSubject(SubjectParams params, std::uint64_t subject_seed,
     : params_(std::move(params)), noise_seed_(noise_seed) {
   validate(params_, "subject '" + params_.name + "'");
   // this subject's traits
-  Random traits(subject_seed);
+  math::Random traits(subject_seed);
   speed_m_per_s_ = params_.speed_m_per_s * trait(traits, params_.between_subjects);
   delay_s_ = std::min(1.0, params_.reaction_delay_s * trait(traits, params_.between_subjects));
   noise_factor_ = trait(traits, params_.between_subjects);
@@ -158,7 +158,7 @@ VirtualSubject::VirtualSubject(SubjectParams params, std::uint64_t subject_seed,
 }
 
 void VirtualSubject::reset(const HandStart& start) noexcept {
-  noise_ = Random(noise_seed_);
+  noise_ = math::Random(noise_seed_);
   start_m_ = start.start_m;
   stiffness_n_per_m_ = start.hand_stiffness_n_per_m > 0.0 ? start.hand_stiffness_n_per_m : kFreeHandStiffness_n_per_m;
   // the route as remembered this trial

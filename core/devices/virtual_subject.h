@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "core/devices/hand.h"
-#include "core/devices/random.h"
+#include "core/math/random.h"
 
 namespace enact::devices {
 
@@ -87,7 +87,7 @@ class VirtualSubject final : public HandSource {
   VirtualSubject(SubjectParams params, std::uint64_t subject_seed, std::uint64_t noise_seed);
 
   void reset(const HandStart& start) noexcept override;
-  physics::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept override;
+  math::Vec3 target(std::int64_t time_ns, const HandFeel& feel) noexcept override;
   bool feels_pins() const override { return true; }
   void feel_pins(const float* levels, int rows, int cols) noexcept override;
 
@@ -104,8 +104,8 @@ class VirtualSubject final : public HandSource {
 
  private:
   struct Percept {
-    physics::Vec3 handle_m;
-    physics::Vec3 force_n;
+    math::Vec3 handle_m;
+    math::Vec3 force_n;
     std::uint32_t pins_up = 0;  // bit i: pin i shown above half stroke
   };
   // the evidence of contact in one percept
@@ -134,7 +134,7 @@ class VirtualSubject final : public HandSource {
 
   SubjectParams params_;
   std::uint64_t noise_seed_;
-  Random noise_;
+  math::Random noise_;
   // traits
   double speed_m_per_s_ = 0.0;
   double delay_s_ = 0.0;
@@ -143,7 +143,7 @@ class VirtualSubject final : public HandSource {
   double period_s_ = 0.0;
   int delay_ticks_ = 0;
   double stiffness_n_per_m_ = 300.0;
-  physics::Vec3 start_m_;
+  math::Vec3 start_m_;
   // the percepts of the last reaction delay: ring buffer, the newest at head_
   std::vector<Percept> percepts_;
   std::size_t head_ = 0;
@@ -161,9 +161,9 @@ class VirtualSubject final : public HandSource {
   // the intention: the target moves from target_from_ (at from_ns_) to target_to_ (one period later)
   std::int64_t next_control_ns_ = 0;
   std::int64_t from_ns_ = 0;
-  physics::Vec3 target_from_;
-  physics::Vec3 target_to_;
-  physics::Vec3 noise_m_per_s_;
+  math::Vec3 target_from_;
+  math::Vec3 target_to_;
+  math::Vec3 noise_m_per_s_;
   // the phase and its memory
   Phase phase_ = Phase::settle;
   std::int64_t phase_ns_ = 0;        // when the phase began

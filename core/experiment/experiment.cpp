@@ -7,7 +7,7 @@
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
-#include "core/devices/random.h"
+#include "core/math/random.h"
 #include "core/devices/virtual_subject.h"
 #include "core/haptics/computer_model.h"
 #include "core/launch/launch_file.h"
@@ -164,7 +164,7 @@ std::vector<std::size_t> condition_order(Order order, std::size_t n, std::size_t
   if (order == Order::random) {
     // Fisher-Yates with the subject's own stream
     for (std::size_t i = 0; i < n; ++i) out[i] = i;
-    devices::Random r(devices::derive_seed(seed, 2 * subject_index));
+    math::Random r(math::derive_seed(seed, 2 * subject_index));
     for (std::size_t i = n; i > 1; --i) std::swap(out[i - 1], out[r.below(i)]);
     return out;
   }
@@ -191,7 +191,7 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
     char padded[16];
     std::snprintf(padded, sizeof padded, "%0*lld", width, number ? config::parse_integer(id).value_or(0) : 0LL);
     const std::string subject_stem = "s" + (number ? std::string(padded) : safe(id));
-    const std::uint64_t subject_stream = devices::derive_seed(spec.seed, 2 * s + 1);
+    const std::uint64_t subject_stream = math::derive_seed(spec.seed, 2 * s + 1);
     const std::vector<std::size_t> order = condition_order(spec.order, spec.conditions.size(), s, spec.seed);
     auto add = [&](std::size_t c, int position, TrialKind kind, double limit_s) {
       Trial t;
@@ -203,7 +203,7 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
       t.kind = kind;
       t.limit_s = limit_s;
       t.subject_seed = static_cast<std::uint32_t>(subject_stream % kSeedRange);
-      t.noise_seed = static_cast<std::uint32_t>(devices::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind)) % kSeedRange);
+      t.noise_seed = static_cast<std::uint32_t>(math::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind)) % kSeedRange);
       t.file_stem = subject_stem + "_" + safe(t.condition.label) + "_" + to_string(kind);
       plan.push_back(t);
     };

@@ -15,7 +15,7 @@ using ::foxglove::Pose;
 constexpr double kFloorThickness_m = 0.001;
 constexpr double kFloorMargin_m = 0.02;
 
-void set(::foxglove::Vector3& v, const physics::Vec3& p) {
+void set(::foxglove::Vector3& v, const math::Vec3& p) {
   v.set_x(p.x);
   v.set_y(p.y);
   v.set_z(p.z);
@@ -29,7 +29,7 @@ void set(Color& c, double r, double g, double b, double a) {
 }
 
 // the quaternion of a rotation matrix (Shepperd's method: the largest of w, x, y, z first)
-void set(::foxglove::Quaternion& q, const physics::Mat3& m) {
+void set(::foxglove::Quaternion& q, const math::Mat3& m) {
   const double m00 = m.c0.x, m11 = m.c1.y, m22 = m.c2.z;
   const double m01 = m.c1.x, m10 = m.c0.y, m02 = m.c2.x, m20 = m.c0.z, m12 = m.c2.y, m21 = m.c1.z;
   const double trace = m00 + m11 + m22;
@@ -53,20 +53,20 @@ void set(::foxglove::Quaternion& q, const physics::Mat3& m) {
   q.set_w(w);
 }
 
-void set_pose(Pose& pose, const physics::Vec3& position, const physics::Mat3& rotation = {}) {
+void set_pose(Pose& pose, const math::Vec3& position, const math::Mat3& rotation = {}) {
   set(*pose.mutable_position(), position);
   set(*pose.mutable_orientation(), rotation);
 }
 
-physics::Vec3 cross(const physics::Vec3& a, const physics::Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+math::Vec3 cross(const math::Vec3& a, const math::Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 
 // the rotation taking +x to the unit vector d (for an arrow)
-physics::Mat3 rotation_to(const physics::Vec3& d) {
+math::Mat3 rotation_to(const math::Vec3& d) {
   // a second axis not parallel to d, then a right-handed frame around d
-  const physics::Vec3 helper = std::abs(d.z) < 0.9 ? physics::Vec3{0, 0, 1} : physics::Vec3{0, 1, 0};
-  physics::Vec3 y = cross(helper, d);
+  const math::Vec3 helper = std::abs(d.z) < 0.9 ? math::Vec3{0, 0, 1} : math::Vec3{0, 1, 0};
+  math::Vec3 y = cross(helper, d);
   y = y * (1.0 / norm(y));
-  return physics::Mat3{d, y, cross(d, y)};
+  return math::Mat3{d, y, cross(d, y)};
 }
 
 }  // namespace
@@ -75,7 +75,7 @@ SceneConverter::SceneConverter(const physics::Model& model) : model_(model) {
   fixed_.set_frame_id(kSceneFrame);
   fixed_.set_id("bridge");
   const int surface = model.task_surface.empty() ? -1 : model.find_object(model.task_surface);
-  physics::Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  math::Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
   std::optional<double> floor_z_m;
   // every box of every object: the task's surface in sand, others in grey
   for (std::size_t o = 0; o < model.objects.size(); ++o) {
@@ -100,9 +100,9 @@ SceneConverter::SceneConverter(const physics::Model& model) : model_(model) {
   if (floor_z_m) {
     if (lo.x > hi.x) lo = hi = {0, 0, 0};
     auto& floor = *fixed_.add_cubes();
-    const physics::Vec3 centre{(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, *floor_z_m - kFloorThickness_m / 2};
+    const math::Vec3 centre{(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, *floor_z_m - kFloorThickness_m / 2};
     set_pose(*floor.mutable_pose(), centre);
-    set(*floor.mutable_size(), physics::Vec3{hi.x - lo.x + 2 * kFloorMargin_m, hi.y - lo.y + 2 * kFloorMargin_m, kFloorThickness_m});
+    set(*floor.mutable_size(), math::Vec3{hi.x - lo.x + 2 * kFloorMargin_m, hi.y - lo.y + 2 * kFloorMargin_m, kFloorThickness_m});
     set(*floor.mutable_color(), 0.3, 0.35, 0.4, 1.0);
   }
 }
@@ -119,7 +119,7 @@ void SceneConverter::convert(const msgs::SceneState& state, ::foxglove::SceneUpd
     e->mutable_timestamp()->set_seconds(t_ns / 1'000'000'000);
     e->mutable_timestamp()->set_nanos(static_cast<std::int32_t>(t_ns % 1'000'000'000));
   }
-  const physics::Vec3 centre{state.body_position().x(), state.body_position().y(), state.body_position().z()};
+  const math::Vec3 centre{state.body_position().x(), state.body_position().y(), state.body_position().z()};
   // the grid's masses, red while in contact
   if (!model_.proxies.empty()) {
     const physics::Proxy& proxy = model_.proxies[0];
@@ -127,14 +127,14 @@ void SceneConverter::convert(const msgs::SceneState& state, ::foxglove::SceneUpd
     for (int i = 0; i < proxy.rows * proxy.cols; ++i) {
       auto& s = *body.add_spheres();
       set_pose(*s.mutable_pose(), centre + model_.points[proxy.first_body + i].offset_m);
-      set(*s.mutable_size(), physics::Vec3{diameter_m, diameter_m, diameter_m});
+      set(*s.mutable_size(), math::Vec3{diameter_m, diameter_m, diameter_m});
       const bool contact = i < state.in_contact_size() && state.in_contact(i);
       if (contact) set(*s.mutable_color(), 0.9, 0.15, 0.1, 1.0);
       else set(*s.mutable_color(), 0.75, 0.75, 0.8, 1.0);
     }
   }
   // the force sent to the device, from the body's centre
-  const physics::Vec3 f{state.resultant_force().x(), state.resultant_force().y(), state.resultant_force().z()};
+  const math::Vec3 f{state.resultant_force().x(), state.resultant_force().y(), state.resultant_force().z()};
   const double magnitude_n = norm(f);
   if (magnitude_n > 1e-9) {
     const double length_m = magnitude_n * kArrowLength_m_per_n;

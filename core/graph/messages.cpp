@@ -4,13 +4,13 @@
 
 namespace enact::graph {
 
-void set(msgs::Vec3& out, const physics::Vec3& v) {
+void set(msgs::Vec3& out, const math::Vec3& v) {
   out.set_x(v.x);
   out.set_y(v.y);
   out.set_z(v.z);
 }
 
-physics::Vec3 get(const msgs::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+math::Vec3 get(const msgs::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 std::uint32_t device_faults(std::uint32_t f) {
   using devices::DeviceFault;
@@ -32,7 +32,7 @@ void fill(msgs::DeviceState& m, const devices::ForceSample& s) {
   m.set_faults(device_faults(s.faults));
 }
 
-void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3& force_n, bool model_fault) {
+void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const math::Vec3& force_n, bool model_fault) {
   m.mutable_header()->set_stamp_ns(0);
   m.set_answered_seq(answered_seq);
   set(*m.mutable_force(), force_n);
@@ -66,7 +66,7 @@ void fill(msgs::TactileShown& m, int rows, int cols, const float* shown, std::ui
   m.set_frame_seq(frame_seq);
 }
 
-void snapshot(const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n, SceneSnapshot& out) {
+void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& force_n, SceneSnapshot& out) {
   const physics::State& state = s.state();
   const physics::Proxy& body = s.model().proxies[0];
   out.time_ns = static_cast<std::int64_t>(state.time_s * 1e9);

@@ -15,8 +15,8 @@
 
 namespace enact::graph {
 
-void set(msgs::Vec3& out, const physics::Vec3& v);
-physics::Vec3 get(const msgs::Vec3& v);
+void set(msgs::Vec3& out, const math::Vec3& v);
+math::Vec3 get(const msgs::Vec3& v);
 
 // device fault bits (devices::DeviceFault) as the bus's DeviceFault bits
 std::uint32_t device_faults(std::uint32_t faults);
@@ -26,7 +26,7 @@ std::uint32_t device_faults(std::uint32_t faults);
 bool force_path_cut(std::uint32_t bus_faults);
 
 void fill(msgs::DeviceState& m, const devices::ForceSample& s);
-void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const physics::Vec3& force_n, bool model_fault);
+void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const math::Vec3& force_n, bool model_fault);
 // pins as levels 0 / 1 (the repeated field is resized once, then overwritten)
 void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins);
 void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::uint64_t frame_seq);
@@ -35,16 +35,16 @@ void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::u
 // real-time thread takes it, the publisher thread sends it)
 struct SceneSnapshot {
   std::int64_t time_ns = 0;  // model time
-  physics::Vec3 body_m;
+  math::Vec3 body_m;
   int masses = 0;            // grid masses (pins), at most 32
-  physics::Vec3 contact_force_n[32];
+  math::Vec3 contact_force_n[32];
   std::uint32_t in_contact = 0;  // bit i: grid mass i touches
   std::uint32_t pins = 0;
-  physics::Vec3 force_n;     // sent to the device
+  math::Vec3 force_n;     // sent to the device
   bool on_top = false;
   double progress = 0.0;
 };
-void snapshot(const sim::Simulator& s, std::uint32_t pins, const physics::Vec3& force_n, SceneSnapshot& out);
+void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& force_n, SceneSnapshot& out);
 void fill(msgs::SceneState& m, const SceneSnapshot& s, const std::string& model);
 // a task event; false when there is none
 bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition);

@@ -12,7 +12,7 @@
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/logger.h"
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/rt/scheduler.h"
 #include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
@@ -156,7 +156,7 @@ const ParamTable& sim_table() {
 const ParamTable& force_table() {
   static const ParamTable t{
       {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon"}, .doc = "simulated, or a Novint Falcon over USB"},
-      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = haptics::device_profile_names(), .doc = "device profile (simulated device)"},
+      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device)"},
       {.name = "hand_path", .type = ParamType::text, .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"},
       {.name = "subject", .type = ParamType::text, .doc = "a virtual subject's file (YAML) holds the device instead"},
       {.name = "subject_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's traits"},

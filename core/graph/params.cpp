@@ -77,7 +77,7 @@ bool Params::flag(const std::string& name) const {
   bad(name, "must be true or false, got '" + v + "'\n  fix: write " + name + "=true or " + name + "=false");
 }
 
-physics::Vec3 Params::vec3(const std::string& name) const {
+math::Vec3 Params::vec3(const std::string& name) const {
   const std::string& v = value(name);
   double xyz[3];
   std::stringstream ss(v);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/graph/param_table.h"
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 
 namespace enact::graph {
 
@@ -39,7 +39,7 @@ class Params {
   int integer(const std::string& name) const;
   bool flag(const std::string& name) const;
   // "x,y,z"
-  physics::Vec3 vec3(const std::string& name) const;
+  math::Vec3 vec3(const std::string& name) const;
 
   // the params of one component: "sim.scene" -> "scene" for prefix "sim"
   Params scoped(const std::string& prefix) const;

@@ -29,12 +29,12 @@ namespace {
 struct State {
   std::uint64_t seq;
   std::int64_t stamp_ns;
-  physics::Vec3 position_m;
+  math::Vec3 position_m;
   bool cut;  // the force path was cut (the driver's watchdog, a device error): the simulator re-synchronises
 };
 
 struct Force {
-  physics::Vec3 force_n;
+  math::Vec3 force_n;
   bool zero;
 };
 
@@ -179,7 +179,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       ++out.forces_missing;
     } else {
       ++out.forces_compared;
-      const physics::Vec3& a = f->second.force_n;
+      const math::Vec3& a = f->second.force_n;
       const char* axis[3] = {"force.x", "force.y", "force.z"};
       const double rec[3] = {a.x, a.y, a.z}, rep[3] = {o.force_n.x, o.force_n.y, o.force_n.z};
       for (int k = 0; k < 3; ++k) {

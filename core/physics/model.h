@@ -7,9 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 
 namespace enact::physics {
+
+// the engine's vector and rotation types (core/math)
+using math::Mat3;
+using math::rotation_rpy;
+using math::Vec3;
 
 enum class Integrator : std::uint8_t {
   cordis,            // x(n+1) = 2x(n) - x(n-1) + F(n) dt^2 / m, velocities as backward differences

@@ -29,7 +29,7 @@ struct Key {
 
 }  // namespace
 
-Trajectory scripted_path(const Simulator& sim, double press) {
+task::Trajectory scripted_path(const Simulator& sim, double press) {
   if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <path object>} or give --input");
   const physics::Object& surface = sim.model().objects[sim.model().find_object(sim.model().task_surface)];
   const task::Polyline& path = sim.path();
@@ -70,7 +70,7 @@ Trajectory scripted_path(const Simulator& sim, double press) {
   travel_to(length);
   add(0.3, 0.0, -press, false);
 
-  Trajectory tr;
+  task::Trajectory tr;
   const double sample_s = 0.01;
   std::size_t k = 1;
   for (double time = 0.0; time <= t + 1e-9; time += sample_s) {
@@ -91,7 +91,7 @@ Trajectory scripted_path(const Simulator& sim, double press) {
   return tr;
 }
 
-RunSummary run_offline(Simulator& sim, const Trajectory& tr, std::ostream* csv) {
+RunSummary run_offline(Simulator& sim, const task::Trajectory& tr, std::ostream* csv) {
   RunSummary sum;
   sum.model = sim.computer_model().name;
   const double dt = sim.model().dt_s;
@@ -104,9 +104,9 @@ RunSummary run_offline(Simulator& sim, const Trajectory& tr, std::ostream* csv) 
   std::int64_t touching = 0;
   for (std::int64_t n = 0; n < steps; ++n) {
     const double t = static_cast<double>(n) * dt;
-    const physics::Vec3 p = tr.at(tr.start_s() + t);
+    const math::Vec3 p = tr.at(tr.start_s() + t);
     const StepOutput& o = sim.step(static_cast<std::int64_t>(std::llround(t * 1e9)), p);
-    const double f = physics::norm(o.force_n);
+    const double f = math::norm(o.force_n);
     force_sum += f;
     sum.peak_force_n = std::max(sum.peak_force_n, f);
     pins_sum += std::popcount(o.pins);

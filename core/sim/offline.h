@@ -6,21 +6,17 @@
 #include <string>
 #include <vector>
 
-#include "core/devices/trajectory.h"
+#include "core/task/trajectory.h"
 #include "core/physics/model.h"
 #include "core/sim/simulator.h"
 
 namespace enact::sim {
 
-// device paths live with the devices
-using devices::load_trajectory;
-using devices::Trajectory;
-using devices::write_trajectory;
 
 // a scripted hand along the task path of the scene (README, "The scripted path"): it presses
 // press_m into the top (a kinematic device: 0.05 mm; a hand target behind a spring: deeper), wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
 // about 2 s (a fall), climbs back, and reaches the end
-Trajectory scripted_path(const Simulator& simulator, double press_m = 0.00005);
+task::Trajectory scripted_path(const Simulator& simulator, double press_m = 0.00005);
 
 struct RunSummary {
   std::string model;
@@ -35,7 +31,7 @@ struct RunSummary {
 
 // one step per 1/rate from the trajectory's start to its end; writes one CSV row per step
 // when csv is not null
-RunSummary run_offline(Simulator& simulator, const Trajectory& trajectory, std::ostream* csv);
+RunSummary run_offline(Simulator& simulator, const task::Trajectory& trajectory, std::ostream* csv);
 void write_metrics_json(const RunSummary& summary, const Simulator& simulator, std::ostream& out);
 
 }  // namespace enact::sim

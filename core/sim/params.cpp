@@ -8,7 +8,7 @@
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/physics/stability.h"
 #include "core/sim/simulator.h"
 
@@ -102,7 +102,7 @@ void assign(haptics::ComputerModel& cm, const ModelChange& c) {
 
 ParamPlanner::ParamPlanner(const Simulator& simulator)
     : model_(simulator.model()), cm_(simulator.computer_model()), grid_masses_(simulator.grid_masses()) {
-  if (const auto profile = haptics::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
+  if (const auto profile = devices::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
   const int pair = first_body_contact(model_);
   const double loaded = pair < 0 ? 0.0 : body_passivity_demand(model_, model_.contacts[pair].stiffness_n_per_m, model_.contacts[pair].damping_n_s_per_m);
   envelope_ = std::max(device_damping_, loaded);

@@ -9,7 +9,7 @@
 // construction; never throws.
 #include <cstdint>
 
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 #include "core/sim/simulator.h"
 
 namespace enact::sim {
@@ -28,7 +28,7 @@ class Reengagement {
   // the position to give Simulator::step for the device at device_m at time_ns: the
   // device's own, plus an offset that keeps the body's points out of the objects at the
   // first step after interrupt() and shrinks smoothly to zero over duration_s
-  physics::Vec3 position(const Simulator& sim, std::int64_t time_ns, const physics::Vec3& device_m);
+  math::Vec3 position(const Simulator& sim, std::int64_t time_ns, const math::Vec3& device_m);
 
   // re-synchronisations so far, and the largest offset they needed (m)
   std::uint64_t count() const { return count_; }
@@ -37,7 +37,7 @@ class Reengagement {
  private:
   std::int64_t duration_ns_;
   bool pending_ = false;
-  physics::Vec3 offset_m_;
+  math::Vec3 offset_m_;
   std::int64_t from_ns_ = 0;
   std::uint64_t count_ = 0;
   double largest_m_ = 0.0;
@@ -46,6 +46,6 @@ class Reengagement {
 // the smallest offset (found by a few projections along the contact normals) that brings
 // every point of proxy 0's body at device_m out of the objects it would penetrate, given the
 // state's contact memory; zero when nothing penetrates
-physics::Vec3 resync_offset(const physics::Model& model, const physics::State& state, const physics::Vec3& device_m);
+math::Vec3 resync_offset(const physics::Model& model, const physics::State& state, const math::Vec3& device_m);
 
 }  // namespace enact::sim

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "core/config/yaml.h"
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/physics/scene.h"
 
 namespace enact::sim {
@@ -90,9 +90,9 @@ void Simulator::configure(const SimParams& params) {
   }
   felt_n_.assign(model_.points.size(), 0.0);
   felt_depth_m_.assign(model_.points.size(), 0.0);
-  felt_normal_.assign(model_.points.size(), physics::Vec3{});
+  felt_normal_.assign(model_.points.size(), math::Vec3{});
   deepest_pair_.assign(model_.points.size(), -1);
-  const auto profile = haptics::find_device_profile(model_.device_profile);
+  const auto profile = devices::find_device_profile(model_.device_profile);
   max_step_n_ = profile && profile->max_force_step_n_per_ms > 0.0 ? profile->max_force_step_n_per_ms * model_.dt_s * 1e3 : 0.0;
   state_ = physics::make_state(model_);
   lifecycle_ = Lifecycle::inactive;
@@ -201,7 +201,7 @@ void Simulator::reenter_contacts(bool from_scratch) {
     }
     model_.points[p].contact_threshold_m = std::max(cm_.threshold_m, depth_m);
     felt_depth_m_[p] = c < 0 ? 0.0 : std::max(0.0, state_.contacts[c].depth_m - model_.points[p].contact_threshold_m);
-    felt_normal_[p] = c < 0 ? physics::Vec3{} : state_.contacts[c].normal;
+    felt_normal_[p] = c < 0 ? math::Vec3{} : state_.contacts[c].normal;
     reentering_ = reentering_ || model_.points[p].contact_threshold_m > cm_.threshold_m;
   }
 }
@@ -215,8 +215,8 @@ void Simulator::follow_reentry() {
   for (const int p : body_points_) {
     const int c = deepest_pair_[p];
     const double depth_m = c < 0 ? 0.0 : state_.contacts[c].depth_m;
-    const physics::Vec3 normal = c < 0 ? physics::Vec3{} : state_.contacts[c].normal;
-    const double felt_m = physics::dot(normal, felt_normal_[p]) > kSameFaceCos ? felt_depth_m_[p] : 0.0;
+    const math::Vec3 normal = c < 0 ? math::Vec3{} : state_.contacts[c].normal;
+    const double felt_m = math::dot(normal, felt_normal_[p]) > kSameFaceCos ? felt_depth_m_[p] : 0.0;
     double& threshold_m = model_.points[p].contact_threshold_m;
     threshold_m = std::max({cm_.threshold_m, std::min(threshold_m - reentry_step_m_, depth_m), depth_m - felt_m - reentry_step_m_});
     felt_depth_m_[p] = std::max(0.0, depth_m - threshold_m);
@@ -225,7 +225,7 @@ void Simulator::follow_reentry() {
   }
 }
 
-physics::Vec3 Simulator::blend(const physics::Vec3& model_force_n) {
+math::Vec3 Simulator::blend(const math::Vec3& model_force_n) {
   const bool changing = capture_ || offset_left_ > 0 || reentering_;
   if (capture_) {
     // from what the device felt before the change to the new law's force, over the ramp
@@ -233,20 +233,20 @@ physics::Vec3 Simulator::blend(const physics::Vec3& model_force_n) {
     from_n_ = out_.force_n;
     offset_total_ = offset_left_ = static_cast<std::int64_t>(std::max(1.0, std::ceil(params_.change_ramp_s * model_.rate_hz)));
   }
-  physics::Vec3 force_n = model_force_n;
+  math::Vec3 force_n = model_force_n;
   if (offset_left_ > 0) {
     const double share = static_cast<double>(offset_left_) / static_cast<double>(offset_total_);
     --offset_left_;
     force_n = model_force_n * (1.0 - share) + from_n_ * share;
   }
   // while a change settles, the force never steps by more than the device profile allows
-  const physics::Vec3 step_n = force_n - out_.force_n;
-  const double size_n = physics::norm(step_n);
+  const math::Vec3 step_n = force_n - out_.force_n;
+  const double size_n = math::norm(step_n);
   if (changing && max_step_n_ > 0.0 && size_n > max_step_n_) force_n = out_.force_n + step_n * (max_step_n_ / size_n);
   return force_n;
 }
 
-const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& device_position_m) {
+const StepOutput& Simulator::step(std::int64_t time_ns, const math::Vec3& device_position_m) {
   if (lifecycle_ != Lifecycle::active) {
     out_ = {};
     return out_;
@@ -282,7 +282,7 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const physics::Vec3& dev
     out_.on_top = out_.on_top || (c.active && c.normal.z > kTopNormalZ);
   }
   if (has_task()) {
-    const physics::Vec3& centre = state_.x[body.point];
+    const math::Vec3& centre = state_.x[body.point];
     out_.progress = path_.project(centre.x, centre.y).fraction;
     out_.event = trial_running_ ? task_.update(time_ns, out_.on_top, out_.progress) : task::TaskEvent{};
   }

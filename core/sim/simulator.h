@@ -32,7 +32,7 @@ struct SimParams {
 };
 
 struct StepOutput {
-  physics::Vec3 force_n;           // force for the device (N)
+  math::Vec3 force_n;           // force for the device (N)
   int contacts = 0;                // grid masses touching
   std::uint32_t pins = 0;          // pin levels this step (bit i = pin i up)
   bool frame_due = false;          // a down-sampled tactile frame is due
@@ -52,7 +52,7 @@ class Simulator {
   void configure(const SimParams& params);
   void activate(std::int64_t start_ns = 0);
   void deactivate();
-  const StepOutput& step(std::int64_t time_ns, const physics::Vec3& device_position_m);
+  const StepOutput& step(std::int64_t time_ns, const math::Vec3& device_position_m);
 
   // between steps: switch the computer model
   void set_computer_model(const haptics::ComputerModel& cm);
@@ -94,7 +94,7 @@ class Simulator {
   void keep_felt_forces();
   void reenter_contacts(bool from_scratch);
   void follow_reentry();
-  physics::Vec3 blend(const physics::Vec3& model_force_n);
+  math::Vec3 blend(const math::Vec3& model_force_n);
 
   std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
   bool trial_running_ = true;
@@ -109,10 +109,10 @@ class Simulator {
   std::vector<int> body_points_, body_pairs_;
   std::vector<double> felt_n_;
   std::vector<double> felt_depth_m_;  // while re-entering: each point's depth beyond its re-entry depth
-  std::vector<physics::Vec3> felt_normal_;  // and the normal of the face it is felt through
+  std::vector<math::Vec3> felt_normal_;  // and the normal of the face it is felt through
   std::vector<int> deepest_pair_;  // each body point's deepest active contact pair (-1: none)
   bool reentering_ = false, capture_ = false;
-  physics::Vec3 from_n_;
+  math::Vec3 from_n_;
   std::int64_t offset_left_ = 0, offset_total_ = 0;
   double max_step_n_ = 0.0;     // the device profile's force step limit per step (0: none)
   double reentry_step_m_ = 0.0; // how far a re-entry depth rises back per step

@@ -27,14 +27,14 @@ void text(ImDrawList& dl, float x, float y, ImU32 colour, const char* s) { dl.Ad
 
 // grid mass i of the latest scene: position (m), in contact, its contact force (N)
 struct Mass {
-  physics::Vec3 at_m;
+  math::Vec3 at_m;
   bool touching = false;
-  physics::Vec3 force_n;
+  math::Vec3 force_n;
 };
 
 std::vector<Mass> masses(const SceneGeometry& g, const msgs::SceneState& s) {
   std::vector<Mass> out;
-  const physics::Vec3 body = graph::get(s.body_position());
+  const math::Vec3 body = graph::get(s.body_position());
   for (std::size_t i = 0; i < g.grid_offsets_m.size(); ++i) {
     Mass m{body + g.grid_offsets_m[i], false, {}};
     if (static_cast<int>(i) < s.in_contact_size()) m.touching = s.in_contact(static_cast<int>(i));
@@ -48,7 +48,7 @@ std::vector<Mass> masses(const SceneGeometry& g, const msgs::SceneState& s) {
 
 float mass_radius(const SceneGeometry& g, const TopView& view) {
   // a third of the grid pitch, at least 2 px
-  const double pitch = g.grid_offsets_m.size() > 1 ? physics::norm(g.grid_offsets_m[1] - g.grid_offsets_m[0]) : 0.0025;
+  const double pitch = g.grid_offsets_m.size() > 1 ? math::norm(g.grid_offsets_m[1] - g.grid_offsets_m[0]) : 0.0025;
   return std::max(2.0f, static_cast<float>(pitch / 3.0) * view.pixels_per_m());
 }
 
@@ -90,7 +90,7 @@ void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const 
     dl.AddCircleFilled(im(view.to_screen(m.at_m.x, m.at_m.y)), radius, m.touching ? palette::kMassContact : palette::kMassFree, 12);
   }
   char line[96];
-  const physics::Vec3 body = graph::get(model.scene().body_position());
+  const math::Vec3 body = graph::get(model.scene().body_position());
   std::snprintf(line, sizeof line, "body (%.2f, %.2f, %.2f) mm", body.x * 1e3, body.y * 1e3, body.z * 1e3);
   text(dl, r.x0 + kTitleX, r.y1 - 20, palette::kTitle, line);
 }
@@ -195,19 +195,19 @@ void draw_forces(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const Vi
   if (!model.has_scene() || g.cols <= 0) return;
   const std::vector<Mass> ms = masses(g, model.scene());
   double largest = 0.1;
-  for (const Mass& m : ms) largest = std::max(largest, physics::norm(m.force_n));
+  for (const Mass& m : ms) largest = std::max(largest, math::norm(m.force_n));
   // one cell per grid mass, filled in proportion to its force
   const float cell = std::min((r.width() - 24) / static_cast<float>(g.cols), (r.height() - 64) / static_cast<float>(g.rows));
   const float x0 = r.x0 + 12, y0 = r.y0 + 24;
   for (std::size_t i = 0; i < ms.size(); ++i) {
     const float cx = x0 + static_cast<float>(static_cast<int>(i) % g.cols) * cell, cy = y0 + static_cast<float>(static_cast<int>(i) / g.cols) * cell;
-    const float fill = static_cast<float>(physics::norm(ms[i].force_n) / largest);
+    const float fill = static_cast<float>(math::norm(ms[i].force_n) / largest);
     dl.AddRect({cx + 2, cy + 2}, {cx + cell - 2, cy + cell - 2}, palette::kWorkspace);
     dl.AddRectFilled({cx + 3, cy + cell - 3 - (cell - 6) * fill}, {cx + cell - 3, cy + cell - 3}, ms[i].touching ? palette::kMassContact : palette::kForce);
   }
-  const physics::Vec3 f = graph::get(model.scene().resultant_force());
+  const math::Vec3 f = graph::get(model.scene().resultant_force());
   char line[128];
-  std::snprintf(line, sizeof line, "resultant (%.3f, %.3f, %.3f) N, |F| %.3f N", f.x, f.y, f.z, physics::norm(f));
+  std::snprintf(line, sizeof line, "resultant (%.3f, %.3f, %.3f) N, |F| %.3f N", f.x, f.y, f.z, math::norm(f));
   text(dl, r.x0 + kTitleX, r.y1 - 36, palette::kTitle, line);
   std::snprintf(line, sizeof line, "full cell = %.3f N (largest mass force)", largest);
   text(dl, r.x0 + kTitleX, r.y1 - 20, palette::kWorkspace, line);

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/physics/scene.h"
 
 namespace enact::viewer {
@@ -31,11 +31,11 @@ SceneGeometry geometry_of(const physics::Model& m) {
     }
     for (int b = obj.first_box; b < obj.first_box + obj.box_count; ++b) {
       const physics::Box& box = m.boxes[b];
-      const physics::Vec3& h = box.half_extents_m;
+      const math::Vec3& h = box.half_extents_m;
       TopFace f;
       const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
       for (int i = 0; i < 4; ++i) {
-        const physics::Vec3 c = box.center_m + box.rotation * physics::Vec3{sx[i] * h.x, sy[i] * h.y, h.z};
+        const math::Vec3 c = box.center_m + box.rotation * math::Vec3{sx[i] * h.x, sy[i] * h.y, h.z};
         f.corner[i] = {c.x, c.y};
         f.top_z_m = c.z;
       }
@@ -44,7 +44,7 @@ SceneGeometry geometry_of(const physics::Model& m) {
     }
     if (static_cast<int>(o) == surface && obj.is_path) {
       std::vector<task::Point2> line;
-      for (const physics::Vec3& p : obj.path.centerline_m) line.push_back({p.x, p.y});
+      for (const math::Vec3& p : obj.path.centerline_m) line.push_back({p.x, p.y});
       g.path = task::Polyline(line);
       g.has_path = true;
       g.path_width_m = obj.path.width_m;
@@ -59,7 +59,7 @@ SceneGeometry geometry_of(const physics::Model& m) {
     for (int i = 0; i < body.rows * body.cols; ++i) g.grid_offsets_m.push_back(m.points[body.first_body + i].offset_m);
   }
   // the view: the workspace, else what there is
-  if (const auto profile = haptics::find_device_profile(m.device_profile)) {
+  if (const auto profile = devices::find_device_profile(m.device_profile)) {
     g.view_min_m = {profile->workspace_min_m.x, profile->workspace_min_m.y};
     g.view_max_m = {profile->workspace_max_m.x, profile->workspace_max_m.y};
     return g;
@@ -69,7 +69,7 @@ SceneGeometry geometry_of(const physics::Model& m) {
     for (const task::Point2& c : f.corner) grow(lo, hi, c.x_m, c.y_m);
   }
   if (!m.proxies.empty()) {
-    const physics::Vec3& start = m.points[m.proxies[0].point].position_m;
+    const math::Vec3& start = m.points[m.proxies[0].point].position_m;
     grow(lo, hi, start.x, start.y);
   }
   if (lo.x_m > hi.x_m) lo = hi = {0.0, 0.0};

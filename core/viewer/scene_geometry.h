@@ -29,7 +29,7 @@ struct SceneGeometry {
   double path_width_m = 0.0;
   double top_z_m = 0.0;               // its top surface
   int rows = 0, cols = 0;             // the body's grid (pin i = row * cols + col)
-  std::vector<physics::Vec3> grid_offsets_m;  // grid mass i relative to the body centre
+  std::vector<math::Vec3> grid_offsets_m;  // grid mass i relative to the body centre
 };
 
 // the scene a graph's simulator runs, as the graph names it (GraphInfo files, a recording's

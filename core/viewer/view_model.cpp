@@ -25,7 +25,7 @@ void ViewModel::on_scene(const msgs::SceneState& m) {
   scene_ = m;
   has_scene_ = true;
   trail_.push(graph::get(m.body_position()));
-  force_.push(static_cast<float>(physics::norm(graph::get(m.resultant_force()))));
+  force_.push(static_cast<float>(math::norm(graph::get(m.resultant_force()))));
   int touching = 0;
   for (const bool c : m.in_contact()) touching += c;
   contacts_.push(static_cast<float>(touching));

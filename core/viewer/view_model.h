@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/graph/param_bus.h"
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 #include "core/viewer/ring.h"
 #include "core/viewer/scene_geometry.h"
 #include "msgs/graph.pb.h"
@@ -75,7 +75,7 @@ class ViewModel {
   bool has_scene() const { return has_scene_; }
   const msgs::SceneState& scene() const { return scene_; }
   // the body centre over the last kHistory scenes, m
-  const Ring<physics::Vec3, kHistory>& trail() const { return trail_; }
+  const Ring<math::Vec3, kHistory>& trail() const { return trail_; }
   // |resultant force| (N) and grid masses in contact, per scene
   const Ring<float, kHistory>& force_history() const { return force_; }
   const Ring<float, kHistory>& contact_history() const { return contacts_; }
@@ -93,7 +93,7 @@ class ViewModel {
   std::optional<NamedScene> graph_scene_;
   bool has_scene_ = false;
   msgs::SceneState scene_;
-  Ring<physics::Vec3, kHistory> trail_;
+  Ring<math::Vec3, kHistory> trail_;
   Ring<float, kHistory> force_;
   Ring<float, kHistory> contacts_;
   std::vector<float> shown_;

@@ -40,7 +40,7 @@ parameters (--param NAME=VALUE):
 std::string safety_summary(devices::ForceDevice& device) {
   const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(&device);
   if (!safe) return "no safety layer";
-  const bool zero = safe->sent_force_n() == physics::Vec3{};
+  const bool zero = safe->sent_force_n() == math::Vec3{};
   return "force steps held to the profile's limit: " + std::to_string(safe->slew_limited()) + ", re-engagements: " +
          std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
 }
@@ -137,7 +137,7 @@ int run(int argc, char** argv) {
         ++late;  // an answer to an older sample: too late to apply
         continue;
       }
-      device->write(rt::now_ns(), command.zero() ? physics::Vec3{} : graph::get(command.force()));
+      device->write(rt::now_ns(), command.zero() ? math::Vec3{} : graph::get(command.force()));
       stats.latency.record(rt::now_ns() - sample.time_ns);
       answered = true;
     }

@@ -65,7 +65,7 @@ struct Felt {
 };
 
 void consume(const graph::Observation& o, Felt& felt) {
-  const double f = physics::norm(o.step.force_n);
+  const double f = math::norm(o.step.force_n);
   felt.ticks += 1;
   felt.force_sum_n += f;
   felt.force_max_n = std::max(felt.force_max_n, f);

@@ -30,7 +30,7 @@ namespace {
 
 using physics::Integrator;
 using physics::Model;
-using physics::Vec3;
+using math::Vec3;
 using reference::BounceErrors;
 using reference::OscillatorErrors;
 using reference::bounce_errors;
@@ -123,7 +123,7 @@ struct Settings {
 
 // ---- the bridge: scene, hand motion ----
 
-Vec3 unit(const Vec3& v) { return v * (1.0 / physics::norm(v)); }
+Vec3 unit(const Vec3& v) { return v * (1.0 / math::norm(v)); }
 
 // the path object the body explores: the task surface, else the first path
 const physics::Object& bridge_path(const Model& m) {
@@ -153,7 +153,7 @@ std::vector<Vec3> bridge_motion(const Model& m) {
 
 // the built-in scripted hand path of the scene (enact path): on the top, off the edges, a
 // fall and the climb back, the turns
-sim::Trajectory scripted_path(const std::string& scene) {
+task::Trajectory scripted_path(const std::string& scene) {
   sim::SimParams p;
   p.scene = find_file(scene);
   p.rate_hz = kBridgeRate_hz;
@@ -164,7 +164,7 @@ sim::Trajectory scripted_path(const std::string& scene) {
 }
 
 // the scripted path sampled at the bridge rate
-std::vector<Vec3> scripted_motion(const sim::Trajectory& tr) {
+std::vector<Vec3> scripted_motion(const task::Trajectory& tr) {
   std::vector<Vec3> motion(steps_in(tr.end_s() - tr.start_s(), kBridgeRate_hz));
   for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / kBridgeRate_hz);
   return motion;
@@ -492,7 +492,7 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
   const Model bridge_model = bridge(scene, motion);
   r.bridge_contacts = grid_contacts(bridge_model, motion);
-  const sim::Trajectory path = scripted_path(scene);
+  const task::Trajectory path = scripted_path(scene);
   const std::vector<Vec3> path_motion = scripted_motion(path);
   const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);

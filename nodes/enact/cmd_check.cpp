@@ -4,7 +4,7 @@
 
 #include "core/config/yaml.h"
 #include "core/haptics/computer_model.h"
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/physics/scene.h"
 #include "core/physics/stability.h"
 #include "core/sim/offline.h"
@@ -46,7 +46,7 @@ struct SweepPath {
 
 SweepPath sweep_path(const std::string& scene, const physics::Model& m) {
   if (m.task_surface.empty()) {
-    const physics::Vec3 still = m.points[m.proxies[0].point].position_m;
+    const math::Vec3 still = m.points[m.proxies[0].point].position_m;
     return {[still](double) { return still; }, 1.0};
   }
   sim::SimParams p;
@@ -54,11 +54,11 @@ SweepPath sweep_path(const std::string& scene, const physics::Model& m) {
   p.force = true;
   sim::Simulator simulator;
   simulator.configure(p);
-  const sim::Trajectory tr = sim::scripted_path(simulator);
+  const task::Trajectory tr = sim::scripted_path(simulator);
   return {[tr](double t) { return tr.at(tr.start_s() + t); }, tr.end_s() - tr.start_s()};
 }
 
-void json_vec(Json& j, const physics::Vec3& v) { j.begin_array().value(v.x).value(v.y).value(v.z).end_array(); }
+void json_vec(Json& j, const math::Vec3& v) { j.begin_array().value(v.x).value(v.y).value(v.z).end_array(); }
 
 void write_json(const physics::Model& m, const physics::StabilityReport& r, const std::string& device, const std::vector<reference::SweepRow>& sweep) {
   Json j;
@@ -175,7 +175,7 @@ int check(int argc, char** argv) {
   const std::string device = a.get("device", m.device_profile);
   double b = -1.0;
   if (!device.empty()) {
-    const auto profile = haptics::find_device_profile(device);
+    const auto profile = devices::find_device_profile(device);
     if (!profile) throw UsageError("unknown device profile '" + device + "' (ergos, falcon)");
     b = profile->damping_n_s_per_m;
   }

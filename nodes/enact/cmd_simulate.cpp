@@ -95,7 +95,7 @@ int simulate(int argc, char** argv) {
   for (const std::string& model : models) {
     sim::Simulator simulator;
     simulator.configure(params_from(a, model));
-    const sim::Trajectory path = a.has("input") ? sim::load_trajectory(a.get("input")) : sim::scripted_path(simulator);
+    const task::Trajectory path = a.has("input") ? task::load_trajectory(a.get("input")) : sim::scripted_path(simulator);
     std::ofstream csv;
     if (a.has("out")) csv = open_out(a.get("out"));
     const sim::RunSummary s = sim::run_offline(simulator, path, a.has("out") ? &csv : nullptr);
@@ -125,13 +125,13 @@ int path(int argc, char** argv) {
   simulator.configure(p);
   const double press = a.number("press", 0.00005);
   if (press < 0.0 || press > 0.01) throw UsageError("--press must be from 0 to 0.01 m");
-  const sim::Trajectory tr = sim::scripted_path(simulator, press);
+  const task::Trajectory tr = sim::scripted_path(simulator, press);
   if (!a.has("out")) {
-    sim::write_trajectory(tr, std::cout);
+    task::write_trajectory(tr, std::cout);
     return 0;
   }
   std::ofstream out = open_out(a.get("out"));
-  sim::write_trajectory(tr, out);
+  task::write_trajectory(tr, out);
   std::fprintf(stderr, "wrote %s: %zu samples, %.1f s\n", a.get("out").c_str(), tr.t_s.size(), tr.end_s());
   return 0;
 }

@@ -17,7 +17,7 @@ namespace {
 
 using physics::Integrator;
 using physics::Model;
-using physics::Vec3;
+using math::Vec3;
 
 // the test oscillator and the bouncing mass
 constexpr double kMass_kg = 0.01;
@@ -115,7 +115,7 @@ double predicted_omega(Integrator integrator, double dt_s) {
 // the bouncing mass's energy in flight, m v^2 / 2 + m g (z(n) + z(n-1)) / 2 with v the state's
 // velocity (x(n) - x(n-1)) / dt: what all three integrators keep exactly under gravity alone
 double flight_energy_j(const physics::State& s) {
-  return 0.5 * kMass_kg * physics::dot(s.v[0], s.v[0]) + 0.5 * kMass_kg * kGravity_m_per_s2 * (s.x[0].z + s.x_prev[0].z);
+  return 0.5 * kMass_kg * math::dot(s.v[0], s.v[0]) + 0.5 * kMass_kg * kGravity_m_per_s2 * (s.x[0].z + s.x_prev[0].z);
 }
 
 }  // namespace
@@ -280,7 +280,7 @@ std::vector<SweepRow> rate_sweep(const Model& scene, const haptics::ComputerMode
       if (k % r.every != 0) continue;
       r.state.proxy_position_m[0] = p;
       physics::step(r.model, r.state);
-      const double error = physics::norm(r.state.proxy_force_n[0] - ref.proxy_force_n[0]);
+      const double error = math::norm(r.state.proxy_force_n[0] - ref.proxy_force_n[0]);
       r.sum_squares += error * error;
       r.row.force_max_error_n = std::max(r.row.force_max_error_n, error);
       r.row.pins_mismatch_fraction += haptics::pins(cm, r.model, r.state) != ref_pins ? 1.0 : 0.0;

@@ -65,7 +65,7 @@ struct SweepRow {
 };
 
 // position of the hand (the scene's first body) at time t (s) from the start of the path
-using HandPath = std::function<physics::Vec3(double)>;
+using HandPath = std::function<math::Vec3(double)>;
 
 // the scene (its first body under computer model cm, starting at the path's start) driven
 // along `hand` for duration_s through each integrator at each rate; every step's device

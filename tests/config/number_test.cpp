@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/config/yaml.h"
-#include "core/devices/trajectory.h"
+#include "core/task/trajectory.h"
 #include "core/graph/params.h"
 #include "tests/support/test_util.h"
 
@@ -46,7 +46,7 @@ TEST(ParseNumber, ATrajectoryCellWithTrailingTextIsRefusedNamingTheLine) {
   const test::TempDir dir;
   test::write_file(dir.file("path.csv"), "t_s,x_m,y_m,z_m\n0,0,0,0.013\n0.5abc,0,0,0.012\n");
   try {
-    devices::load_trajectory(dir.file("path.csv"));
+    task::load_trajectory(dir.file("path.csv"));
     FAIL() << "0.5abc was read as a number";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("path.csv:3"), std::string::npos) << e.what();

@@ -19,7 +19,7 @@
 namespace enact::devices {
 namespace {
 
-using physics::Vec3;
+using math::Vec3;
 
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kT0 = 2'000 * kMs;  // an arbitrary time of the last write
@@ -35,7 +35,7 @@ class RecordingDevice final : public ForceDevice {
  public:
   // the ERGOS profile; `step_limit_n_per_ms` 0 keeps its force step limit, else replaces it
   explicit RecordingDevice(std::vector<Call>& log, double step_limit_n_per_ms = 0.0)
-      : log_(log), profile_(*haptics::find_device_profile("ergos")) {
+      : log_(log), profile_(*devices::find_device_profile("ergos")) {
     if (step_limit_n_per_ms > 0.0) profile_.max_force_step_n_per_ms = step_limit_n_per_ms;
   }
   void configure() override { log_.push_back({Call::configure, 0, {}}); }
@@ -49,12 +49,12 @@ class RecordingDevice final : public ForceDevice {
   }
   void write(std::int64_t now_ns, const Vec3& force_n) noexcept override { log_.push_back({Call::write, now_ns, force_n}); }
   void deactivate() noexcept override { log_.push_back({Call::deactivate, 0, {}}); }
-  const haptics::DeviceProfile& profile() const override { return profile_; }
+  const devices::DeviceProfile& profile() const override { return profile_; }
   bool fail = false;
 
  private:
   std::vector<Call>& log_;
-  haptics::DeviceProfile profile_;
+  devices::DeviceProfile profile_;
 };
 
 struct Fixture {

@@ -17,7 +17,7 @@
 namespace enact::devices {
 namespace {
 
-using physics::Vec3;
+using math::Vec3;
 
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kUs = 1'000;

@@ -18,8 +18,8 @@ constexpr double kOnZ = 0.012 - 0.00005, kOffZ = 0.014;
 
 // a path that is on the top except over the given [from, to) intervals, until end_s; each
 // change is a step between two samples 1 us apart, so every 200 us step sees one or the other
-Trajectory path(const std::vector<std::pair<double, double>>& off, double end_s) {
-  Trajectory t;
+task::Trajectory path(const std::vector<std::pair<double, double>>& off, double end_s) {
+  task::Trajectory t;
   auto add = [&](double time, bool on) {
     t.t_s.push_back(time);
     t.position_m.push_back({kX, kY, on ? kOnZ : kOffZ});
@@ -35,7 +35,7 @@ Trajectory path(const std::vector<std::pair<double, double>>& off, double end_s)
   return t;
 }
 
-task::Metrics run(const Trajectory& t) {
+task::Metrics run(const task::Trajectory& t) {
   Simulator sim;
   SimParams p;
   p.scene = test::source_path("launch/scenes/bridge.yaml");

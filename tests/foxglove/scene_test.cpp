@@ -13,10 +13,10 @@ namespace enact::foxglove {
 namespace {
 
 // v rotated by the quaternion q
-physics::Vec3 rotate(const ::foxglove::Quaternion& q, const physics::Vec3& v) {
-  const physics::Vec3 u{q.x(), q.y(), q.z()};
-  const auto cross = [](const physics::Vec3& a, const physics::Vec3& b) { return physics::Vec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; };
-  const physics::Vec3 t = cross(u, v) * 2.0;
+math::Vec3 rotate(const ::foxglove::Quaternion& q, const math::Vec3& v) {
+  const math::Vec3 u{q.x(), q.y(), q.z()};
+  const auto cross = [](const math::Vec3& a, const math::Vec3& b) { return math::Vec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; };
+  const math::Vec3 t = cross(u, v) * 2.0;
   return v + t * q.w() + cross(u, t);
 }
 
@@ -44,7 +44,7 @@ TEST(FoxgloveScene, BoxesGridContactsAndForceArrow) {
     EXPECT_NEAR(fixed.cubes(b).pose().position().x(), model.boxes[b].center_m.x, 1e-12);
     EXPECT_NEAR(fixed.cubes(b).size().z(), 2 * model.boxes[b].half_extents_m.z, 1e-12);
     // the box's own x axis, through the quaternion
-    const physics::Vec3 x = rotate(fixed.cubes(b).pose().orientation(), {1, 0, 0});
+    const math::Vec3 x = rotate(fixed.cubes(b).pose().orientation(), {1, 0, 0});
     EXPECT_NEAR(x.x, model.boxes[b].rotation.c0.x, 1e-9);
     EXPECT_NEAR(x.y, model.boxes[b].rotation.c0.y, 1e-9);
   }
@@ -61,7 +61,7 @@ TEST(FoxgloveScene, BoxesGridContactsAndForceArrow) {
   ASSERT_EQ(body.arrows_size(), 1);
   const auto& arrow = body.arrows(0);
   EXPECT_NEAR(arrow.pose().position().x(), 0.01, 1e-12);
-  const physics::Vec3 dir = rotate(arrow.pose().orientation(), {1, 0, 0});
+  const math::Vec3 dir = rotate(arrow.pose().orientation(), {1, 0, 0});
   EXPECT_NEAR(dir.y, -1.0, 1e-9);
   EXPECT_NEAR(arrow.shaft_length() + arrow.head_length(), 2.0 * kArrowLength_m_per_n, 1e-12);
   // no force, no arrow

@@ -11,7 +11,7 @@
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/colocated.h"
 #include "core/haptics/computer_model.h"
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "core/sim/params.h"
 #include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
@@ -70,7 +70,7 @@ TEST(Colocated, ForceIsWrittenInTheSameTickAsTheSample) {
       EXPECT_GT(o.step.force_n.z, 0.0) << "on the top the bridge pushes up, tick " << n;
     }
     if (o.step.contacts == 0) {
-      EXPECT_EQ(physics::norm(o.step.force_n), 0.0) << "in the air no force, tick " << n;
+      EXPECT_EQ(math::norm(o.step.force_n), 0.0) << "in the air no force, tick " << n;
     }
   }
   EXPECT_GT(on_top, 1000) << "the hand path reaches the top";
@@ -170,7 +170,7 @@ Felt walk(const std::vector<Request>& requests, const std::string& model = "CM1"
   rig.loop->connect_params(changes, applied);
   sim::ParamPlanner planner(rig.simulator);
   Felt felt;
-  physics::Vec3 last;
+  math::Vec3 last;
   std::size_t next = 0;
   std::int64_t settling_until = -1;
   sim::ParamApplied a;
@@ -181,8 +181,8 @@ Felt walk(const std::vector<Request>& requests, const std::string& model = "CM1"
     }
     const Observation& o = rig.tick(n);
     while (applied.try_pop(a)) settling_until = n + 250;
-    felt.peak_n = std::max(felt.peak_n, physics::norm(o.step.force_n));
-    if (n <= settling_until) felt.change_step_n = std::max(felt.change_step_n, physics::norm(o.step.force_n - last));
+    felt.peak_n = std::max(felt.peak_n, math::norm(o.step.force_n));
+    if (n <= settling_until) felt.change_step_n = std::max(felt.change_step_n, math::norm(o.step.force_n - last));
     last = o.step.force_n;
   }
   return felt;
@@ -192,7 +192,7 @@ sim::ParamValue text_value(const std::string& v) { return {std::nullopt, v, std:
 sim::ParamValue number_value(double v) { return {v, std::nullopt, std::nullopt}; }
 
 // the ERGOS profile's force step limit over one 5 kHz tick (0.2 ms)
-const double kMaxStep_n = haptics::find_device_profile("ergos")->max_force_step_n_per_ms * 0.2;
+const double kMaxStep_n = devices::find_device_profile("ergos")->max_force_step_n_per_ms * 0.2;
 
 TEST(ColocatedNoJolt, EachKindOfChangeAloneNeverMakesTheHandFeelMore) {
   // the walk without changes peaks at 8.57 N (the first touch of the top); each kind of
@@ -267,11 +267,11 @@ TEST(ColocatedNoJolt, AHostileBurstNeverStepsTheForcePastTheDeviceLimit) {
 // a read fails while it is broken; it keeps the largest force step written, per ms
 class ScriptedDevice final : public devices::ForceDevice {
  public:
-  physics::Vec3 position_m;
+  math::Vec3 position_m;
   bool broken = false;
   double largest_step_n_per_ms = 0.0;
 
-  void configure() override { profile_ = *haptics::find_device_profile("ergos"); }
+  void configure() override { profile_ = *devices::find_device_profile("ergos"); }
   void activate() override {}
   bool read(std::int64_t now_ns, devices::ForceSample& out) noexcept override {
     out = {};
@@ -282,27 +282,27 @@ class ScriptedDevice final : public devices::ForceDevice {
   }
   // the step over the time since the last write, counted as at most a millisecond (the
   // profile's limit: a write after a silence may move one millisecond's worth)
-  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override {
+  void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept override {
     const double ms = std::min(1.0, static_cast<double>(now_ns - written_ns_) * 1e-6);
-    if (written_any_ && ms > 0.0) largest_step_n_per_ms = std::max(largest_step_n_per_ms, physics::norm(force_n - written_n_) / ms);
+    if (written_any_ && ms > 0.0) largest_step_n_per_ms = std::max(largest_step_n_per_ms, math::norm(force_n - written_n_) / ms);
     written_n_ = force_n;
     written_ns_ = now_ns;
     written_any_ = true;
   }
   void deactivate() noexcept override {}
-  const haptics::DeviceProfile& profile() const override { return profile_; }
+  const devices::DeviceProfile& profile() const override { return profile_; }
 
  private:
-  haptics::DeviceProfile profile_;
-  physics::Vec3 written_n_;
+  devices::DeviceProfile profile_;
+  math::Vec3 written_n_;
   std::int64_t written_ns_ = 0;
   bool written_any_ = false;
 };
 
 // 1 mm into the middle of the bridge's first top (as in tests/sim/reengage_test.cpp), and
 // 4 mm deeper, where the hand pushes the device while the force path is cut
-const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
-const physics::Vec3 kDeep{0.0, -0.0148492, 0.007};
+const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
+const math::Vec3 kDeep{0.0, -0.0148492, 0.007};
 
 enum class Cut { late_tick, long_overrun, device_error };
 
@@ -336,7 +336,7 @@ AroundCut around(Cut cut) {
   device.position_m = kPressed;
   AroundCut r;
   std::int64_t t = 0;
-  for (int n = 0; n < 1000; ++n, t += kPeriod_ns) r.resting_n = physics::norm(loop.tick(t).step.force_n);
+  for (int n = 0; n < 1000; ++n, t += kPeriod_ns) r.resting_n = math::norm(loop.tick(t).step.force_n);
   r.last_whole_ns = t - kPeriod_ns;
   device.position_m = kDeep;
   if (cut == Cut::late_tick) t += 12'000'000;  // the watchdog's 10 ms passed
@@ -346,7 +346,7 @@ AroundCut around(Cut cut) {
   for (int n = 0; n < 1500; ++n, t += kPeriod_ns) {
     if (n == 50) device.broken = false;
     const Observation& o = loop.tick(t);
-    const double f = physics::norm(o.step.force_n);
+    const double f = math::norm(o.step.force_n);
     if (o.cut && r.cut_since_ns < 0) r.cut_since_ns = o.cut_since_ns;
     if (r.cut_ticks > 0) r.model_step_n = std::max(r.model_step_n, std::abs(f - last));
     r.cut_ticks += o.cut;
@@ -360,7 +360,7 @@ AroundCut around(Cut cut) {
 }
 
 TEST(ColocatedNoJolt, EachCutOfTheForcePathComesBackFromZeroWithinTheDeviceLimit) {
-  const double limit_n_per_ms = haptics::find_device_profile("ergos")->max_force_step_n_per_ms;
+  const double limit_n_per_ms = devices::find_device_profile("ergos")->max_force_step_n_per_ms;
   for (const Cut cut : {Cut::late_tick, Cut::long_overrun, Cut::device_error}) {
     const AroundCut r = around(cut);
     const int kind = static_cast<int>(cut);
@@ -436,7 +436,7 @@ TEST(ColocatedNoJolt, NoShippedModelOrThresholdMakesTheHandFeelMoreThanTheSceneA
   }
   // other thresholds change what is felt where (1.5 mm: 8.8 N), never beyond what the ERGOS
   // may give continuously (60 N)
-  const double continuous_n = haptics::find_device_profile("ergos")->continuous_force_n;
+  const double continuous_n = devices::find_device_profile("ergos")->continuous_force_n;
   for (const double threshold_m : {0.0015, 0.003, 0.005}) {
     EXPECT_LE(walk({{0, "threshold_m", number_value(threshold_m)}}).peak_n, continuous_n) << "threshold " << threshold_m;
   }
@@ -445,10 +445,10 @@ TEST(ColocatedNoJolt, NoShippedModelOrThresholdMakesTheHandFeelMoreThanTheSceneA
 TEST(Colocated, DeactivateZeroesTheForceAndLowersThePins) {
   Rig rig("CM1");
   std::int64_t n = 0;
-  while (n < 20'000 && (rig.tick(n).step.contacts == 0 || physics::norm(rig.device->applied_force_n()) == 0.0)) ++n;
+  while (n < 20'000 && (rig.tick(n).step.contacts == 0 || math::norm(rig.device->applied_force_n()) == 0.0)) ++n;
   ASSERT_LT(n, 20'000) << "the hand never touched";
   rig.loop->deactivate();
-  EXPECT_EQ(rig.device->applied_force_n(), physics::Vec3{});
+  EXPECT_EQ(rig.device->applied_force_n(), math::Vec3{});
   EXPECT_EQ(rig.tactile.targets(), 0u);
 }
 

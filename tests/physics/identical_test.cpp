@@ -40,7 +40,7 @@ std::vector<Vec3> scripted_motion(double rate_hz) {
   p.rate_hz = rate_hz;
   sim::Simulator simulator;
   simulator.configure(p);
-  const sim::Trajectory tr = sim::scripted_path(simulator);
+  const task::Trajectory tr = sim::scripted_path(simulator);
   std::vector<Vec3> motion(static_cast<std::size_t>(std::lround((tr.end_s() - tr.start_s()) * rate_hz)));
   for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / rate_hz);
   return motion;

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 #include "tests/physics/models.h"
 
 namespace enact::physics {
@@ -50,7 +50,7 @@ class Tunnelling : public ::testing::TestWithParam<double> {};
 // the device (moving mass, physical damping b) pushed by the hand at its continuous maximum,
 // arriving at its maximum speed, grid 6 mm below the top; semi-implicit Euler for the device
 TEST_P(Tunnelling, ClosedLoopAtTheDeviceExtremesIsHeldByTheEntryFace) {
-  const haptics::DeviceProfile ergos = *haptics::find_device_profile("ergos");
+  const devices::DeviceProfile ergos = *devices::find_device_profile("ergos");
   const Approach a = approach(GetParam());
   const double dt = a.model.dt_s;
   const Vec3 hand = a.direction * ergos.continuous_force_n;  // 60 N

@@ -34,8 +34,8 @@ void expect_steps_allocate_nothing(double rate_hz) {
   p.rate_hz = rate_hz;
   Simulator sim;
   sim.configure(p);
-  const Trajectory tr = scripted_path(sim);
-  std::vector<physics::Vec3> positions(kSteps);
+  const task::Trajectory tr = scripted_path(sim);
+  std::vector<math::Vec3> positions(kSteps);
   std::vector<std::int64_t> times_ns(kSteps);
   for (int n = 0; n < kSteps; ++n) {
     const double t = n * sim.model().dt_s;

@@ -37,13 +37,13 @@ struct ScriptedRun {
 ScriptedRun run_scripted(const std::string& model, double rate_hz = 0.0) {
   Simulator sim;
   sim.configure(bridge(model, rate_hz));
-  const Trajectory tr = scripted_path(sim);
+  const task::Trajectory tr = scripted_path(sim);
   ScriptedRun run;
   sim.activate(0);
   const double dt = sim.model().dt_s;
   for (double t = 0.0; t <= tr.end_s(); t = static_cast<double>(run.rows.size()) * dt) {
     const StepOutput& o = sim.step(std::llround(t * 1e9), tr.at(t));
-    run.rows.push_back({physics::norm(o.force_n), o.contacts, o.pins, o.on_top});
+    run.rows.push_back({math::norm(o.force_n), o.contacts, o.pins, o.on_top});
   }
   run.summary.metrics = sim.metrics();
   return run;
@@ -168,7 +168,7 @@ TEST(RunOffline, MetricsAreRateIndependent) {
 }
 
 TEST(Trajectory, InterpolatesAndClamps) {
-  Trajectory tr;
+  task::Trajectory tr;
   tr.t_s = {1.0, 2.0};
   tr.position_m = {{0, 0, 0}, {2, 4, 6}};
   EXPECT_DOUBLE_EQ(tr.at(1.5).y, 2.0);
@@ -179,12 +179,12 @@ TEST(Trajectory, InterpolatesAndClamps) {
 TEST(Trajectory, WriteThenLoadRoundTrips) {
   Simulator sim;
   sim.configure(bridge());
-  const Trajectory tr = scripted_path(sim);
+  const task::Trajectory tr = scripted_path(sim);
   const test::TempDir dir;
   std::ostringstream out;
-  write_trajectory(tr, out);
+  task::write_trajectory(tr, out);
   test::write_file(dir.file("path.csv"), out.str());
-  const Trajectory back = load_trajectory(dir.file("path.csv"));
+  const task::Trajectory back = task::load_trajectory(dir.file("path.csv"));
   ASSERT_EQ(back.t_s.size(), tr.t_s.size());
   for (std::size_t i = 0; i < tr.t_s.size(); ++i) {
     EXPECT_NEAR(back.t_s[i], tr.t_s[i], 1e-9);

@@ -17,8 +17,8 @@ namespace enact::sim {
 namespace {
 
 // the middle of the first segment's top, 1 mm deep: 14 grid masses touch (simulator_test.cpp)
-const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
-const physics::Vec3 kAbove{0.0, -0.0148492, 0.020};
+const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
+const math::Vec3 kAbove{0.0, -0.0148492, 0.020};
 constexpr std::int64_t kPeriod_ns = 200'000;
 
 SimParams bridge(const std::string& scene = "launch/scenes/bridge.yaml") {
@@ -47,7 +47,7 @@ struct Rig {
     sim.configure(p);
     sim.activate(0);
   }
-  const StepOutput& step(const physics::Vec3& at) { return sim.step(n++ * kPeriod_ns, at); }
+  const StepOutput& step(const math::Vec3& at) { return sim.step(n++ * kPeriod_ns, at); }
   ParamApplied apply(ParamPlanner& planner, const std::string& name, const ParamValue& v) {
     const ParamPlan plan = planner.plan(name, v, 7);
     EXPECT_TRUE(plan.accepted) << name << ": " << plan.reason;

@@ -15,8 +15,8 @@ namespace {
 
 constexpr std::int64_t kStep_ns = 200'000;  // 5 kHz
 // 1 mm into the middle of the first segment's top (as in simulator_test.cpp), and 8 mm deeper
-const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
-const physics::Vec3 kDeep{0.0, -0.0148492, 0.003};
+const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
+const math::Vec3 kDeep{0.0, -0.0148492, 0.003};
 
 Simulator pressed_bridge() {
   Simulator sim;
@@ -34,12 +34,12 @@ Simulator pressed_bridge() {
 struct Forces {
   double largest_step_n = 0.0, first_n = 0.0, last_n = 0.0;
 };
-Forces run(Simulator& sim, std::int64_t from_ns, const physics::Vec3& at, Reengagement* reengage) {
+Forces run(Simulator& sim, std::int64_t from_ns, const math::Vec3& at, Reengagement* reengage) {
   Forces r;
   double previous = 0.0;
   for (int i = 0; i < 750; ++i) {
     const std::int64_t t = from_ns + i * kStep_ns;
-    const double f = physics::norm(sim.step(t, reengage ? reengage->position(sim, t, at) : at).force_n);
+    const double f = math::norm(sim.step(t, reengage ? reengage->position(sim, t, at) : at).force_n);
     if (i == 0) r.first_n = f;
     if (i > 0) r.largest_step_n = std::max(r.largest_step_n, std::abs(f - previous));
     previous = f;
@@ -51,7 +51,7 @@ Forces run(Simulator& sim, std::int64_t from_ns, const physics::Vec3& at, Reenga
 TEST(Reengagement, DeepDeviceAfterAnInterruptionComesBackWithoutAJolt) {
   // without: the first step 8 mm deeper answers hundreds of N at once
   Simulator plain = pressed_bridge();
-  const double resting_n = physics::norm(plain.output().force_n);
+  const double resting_n = math::norm(plain.output().force_n);
   const Forces jolt = run(plain, 50 * kStep_ns, kDeep, nullptr);
   EXPECT_GT(jolt.first_n - resting_n, 100.0);
 
@@ -73,8 +73,8 @@ TEST(Reengagement, DeepDeviceAfterAnInterruptionComesBackWithoutAJolt) {
 
 TEST(Reengagement, NothingToDoOutOfContactAndNoAllocation) {
   Simulator sim = pressed_bridge();
-  const physics::Vec3 above{0.0, -0.0148492, 0.030};
-  EXPECT_EQ(resync_offset(sim.model(), sim.state(), above), physics::Vec3{});
+  const math::Vec3 above{0.0, -0.0148492, 0.030};
+  EXPECT_EQ(resync_offset(sim.model(), sim.state(), above), math::Vec3{});
   Reengagement reengage;
   std::size_t allocations = 0;
   {

@@ -22,7 +22,7 @@ SimParams bridge(const std::string& model = "CM1") {
 // a point pressed 1 mm into the middle of the first segment's top. The segment runs at 45
 // degrees and is 10 mm wide, so the grid's far-left (r0c0) and near-right (r3c3) corners,
 // 5.2 mm from its centreline, overhang: 14 grid masses touch.
-const physics::Vec3 kPressed{0.0, -0.0148492, 0.011};
+const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
 constexpr std::uint32_t kPressedPins = 0xffffu & ~((1u << 0) | (1u << 15));
 
 TEST(Simulator, StepBeforeActivateGivesZeroForce) {

@@ -114,7 +114,7 @@ TEST_F(Headless, TopViewDrawsTheBridgeFacesAndTheGridWhereTheSceneSays) {
   const physics::Model model = physics::load_scene(test::source_path("launch/scenes/bridge.yaml"));
   // a scene: the body over the start of the path, its first 6 masses in contact
   msgs::SceneState s;
-  const physics::Vec3 body{-0.0074246, -0.0222739, 0.0119};
+  const math::Vec3 body{-0.0074246, -0.0222739, 0.0119};
   s.mutable_body_position()->set_x(body.x);
   s.mutable_body_position()->set_y(body.y);
   s.mutable_body_position()->set_z(body.z);
@@ -137,7 +137,7 @@ TEST_F(Headless, TopViewDrawsTheBridgeFacesAndTheGridWhereTheSceneSays) {
     const physics::Box& box = model.boxes[b];
     for (const double sx : {-1.0, 1.0}) {
       for (const double sy : {-1.0, 1.0}) {
-        const physics::Vec3 c = box.center_m + box.rotation * physics::Vec3{sx * box.half_extents_m.x, sy * box.half_extents_m.y, box.half_extents_m.z};
+        const math::Vec3 c = box.center_m + box.rotation * math::Vec3{sx * box.half_extents_m.x, sy * box.half_extents_m.y, box.half_extents_m.z};
         EXPECT_FALSE(vertices(dl, palette::kBridge, view.to_screen(c.x, c.y), 1.0f).empty()) << "box " << b << " corner " << sx << ", " << sy;
       }
     }

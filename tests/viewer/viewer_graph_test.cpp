@@ -117,7 +117,7 @@ class ViewerTest : public ::testing::Test {
 
 // what the viewer says it showed in its snapshot
 struct Shown {
-  physics::Vec3 body_m;
+  math::Vec3 body_m;
   std::uint32_t contact = 0;
   std::string model;
 };
@@ -190,7 +190,7 @@ void expect_bridge_and_grid(const std::string& png, const Shown& shown) {
   EXPECT_GT(empty, empty_samples * 90 / 100) << empty << " of " << empty_samples << " points off the bridge are empty";
   // the grid: each mass where the body and its offset put it, in its contact colour
   for (int i = 0; i < 16; ++i) {
-    const physics::Vec3& offset = model.points[model.proxies[0].first_body + i].offset_m;
+    const math::Vec3& offset = model.points[model.proxies[0].first_body + i].offset_m;
     const viewer::Pixel at = view.to_screen(shown.body_m.x + offset.x, shown.body_m.y + offset.y);
     const bool touching = (shown.contact >> i) & 1u;
     EXPECT_TRUE(img.is(at, touching ? viewer::palette::kMassContact : viewer::palette::kMassFree)) << "mass " << i << (touching ? " (in contact)" : " (free)");

@@ -54,7 +54,7 @@ void FalconForceDevice::configure() {
   io_.stop();
   configured_ = false;
   validate();
-  profile_ = *haptics::find_device_profile("falcon");
+  profile_ = *devices::find_device_profile("falcon");
   profile_.peak_force_n = params_.max_force_n;
   stale_ns_ = std::llround(params_.stale_s * 1e9);
   zero_packet_ = encode(Command{});
@@ -173,9 +173,9 @@ bool FalconForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept {
   return true;
 }
 
-void FalconForceDevice::write(std::int64_t, const physics::Vec3& force_n) noexcept {
+void FalconForceDevice::write(std::int64_t, const math::Vec3& force_n) noexcept {
   // NaN/Inf: no force (the safety layer above says so in its fault bits)
-  const Vec3 f = physics::finite(force_n) ? force_n : Vec3{};
+  const Vec3 f = math::finite(force_n) ? force_n : Vec3{};
   force_.store({f, force_.load().count + 1});
 }
 
@@ -191,7 +191,7 @@ Command FalconForceDevice::command(std::int64_t now_ns) noexcept {
   if (!active_.load() || silent) return c;
   // clamp, then the transposed Jacobian at the last measured position
   Vec3 force = f.force_n;
-  if (const double m = physics::norm(force); m > params_.max_force_n) force = force * (params_.max_force_n / m);
+  if (const double m = math::norm(force); m > params_.max_force_n) force = force * (params_.max_force_n / m);
   Vec3 tau;
   if (torques(jacobian_, direction_to_device(force), tau)) c.motor = motor_commands(tau);
   return c;

@@ -60,10 +60,10 @@ class FalconForceDevice final : public ForceDevice {
   // commands reach the motors from now on
   void activate() override;
   bool read(std::int64_t now_ns, ForceSample& out) noexcept override;
-  void write(std::int64_t now_ns, const physics::Vec3& force_n) noexcept override;
+  void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept override;
   void deactivate() noexcept override;
   // the "falcon" profile, peak force = max_force_n
-  const haptics::DeviceProfile& profile() const override { return profile_; }
+  const devices::DeviceProfile& profile() const override { return profile_; }
 
   // since configure: exchanges answered, exchanges without an answer in time
   std::uint64_t exchanges() const { return exchanges_.load(); }
@@ -101,7 +101,7 @@ class FalconForceDevice final : public ForceDevice {
 
   FalconParams params_;
   std::unique_ptr<usb::Bus> bus_;
-  haptics::DeviceProfile profile_;
+  devices::DeviceProfile profile_;
   std::unique_ptr<usb::Transport> transport_;
   std::unique_ptr<Link> link_;
   usb::EmergencyStop emergency_;

@@ -33,13 +33,13 @@ Vec3 leg_frame(const Geometry& g, int leg, const Vec3& p) {
 bool solve(const std::array<Vec3, 3>& rows, const Vec3& y, Vec3& x) {
   const Vec3 &r0 = rows[0], &r1 = rows[1], &r2 = rows[2];
   const Vec3 c12{r1.y * r2.z - r1.z * r2.y, r1.z * r2.x - r1.x * r2.z, r1.x * r2.y - r1.y * r2.x};
-  const double det = physics::dot(r0, c12);
+  const double det = math::dot(r0, c12);
   if (!std::isfinite(det) || std::abs(det) < 1e-300) return false;
   // x = adj(A) y / det, with adj's columns the cross products of the rows
   const Vec3 c20{r2.y * r0.z - r2.z * r0.y, r2.z * r0.x - r2.x * r0.z, r2.x * r0.y - r2.y * r0.x};
   const Vec3 c01{r0.y * r1.z - r0.z * r1.y, r0.z * r1.x - r0.x * r1.z, r0.x * r1.y - r0.y * r1.x};
   x = (c12 * y.x + c20 * y.y + c01 * y.z) * (1.0 / det);
-  return physics::finite(x);
+  return math::finite(x);
 }
 
 // the transpose of rows: A^T
@@ -125,7 +125,7 @@ bool forward(const std::array<double, 3>& t1, const Vec3& guess, Vec3& out) noex
       LegAngles next;
       if (!inverse(p + step, next)) continue;
       const Vec3 next_miss = miss_at(next);
-      if (physics::norm(next_miss) >= physics::norm(miss)) continue;
+      if (math::norm(next_miss) >= math::norm(miss)) continue;
       p += step;
       at = next;
       miss = next_miss;

@@ -22,11 +22,11 @@
 #include <array>
 #include <cstdint>
 
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 
 namespace enact::devices::falcon {
 
-using physics::Vec3;
+using math::Vec3;
 
 // libnifalcon's FalconGeometry.h (metres, radians)
 struct Geometry {

@@ -56,7 +56,7 @@ ForceSample read_now(ForceDevice& d) {
 bool pushes(ForceDevice& d, FalconEmulator& emu, const Vec3& force, const Vec3& want, double tolerance_n) {
   return eventually([&] {
     d.write(rt::now_ns(), force);
-    return physics::norm(emu.motor_force_n() - want) < tolerance_n;
+    return math::norm(emu.motor_force_n() - want) < tolerance_n;
   });
 }
 
@@ -146,7 +146,7 @@ TEST(FalconDevice, HomingWaitsUntilTheGripPassesTheIndex) {
   rig.device.activate();
   ASSERT_TRUE(eventually([&] {
     const ForceSample s = read_now(rig.device);
-    return s.faults == 0 && physics::norm(s.position_m - rig.on.emulator->grip_position_m()) < 2e-4;
+    return s.faults == 0 && math::norm(s.position_m - rig.on.emulator->grip_position_m()) < 2e-4;
   }));
 }
 
@@ -194,8 +194,8 @@ TEST(FalconDevice, ReadsTrackTheMovingGrip) {
       const Vec3 hi{std::max(before.x, after.x), std::max(before.y, after.y), std::max(before.z, after.z)};
       const Vec3 p = s.position_m;
       const Vec3 out{std::max({lo.x - p.x, p.x - hi.x, 0.0}), std::max({lo.y - p.y, p.y - hi.y, 0.0}), std::max({lo.z - p.z, p.z - hi.z, 0.0})};
-      worst = std::max(worst, physics::norm(out));
-      moved = std::max(moved, physics::norm(s.position_m - first));
+      worst = std::max(worst, math::norm(out));
+      moved = std::max(moved, math::norm(s.position_m - first));
     }
     std::this_thread::sleep_for(std::chrono::microseconds(500));
   }
@@ -226,7 +226,7 @@ TEST(FalconDevice, ALoopThatStopsWritingGetsZeroForce) {
   rig.device.activate();
   ASSERT_TRUE(pushes(rig.device, *rig.on.emulator, {2, 0, 0}, {2, 0, 0}, 0.02));
   // no more writes: the I/O thread zeroes the force on its own
-  EXPECT_TRUE(eventually([&] { return physics::norm(rig.on.emulator->motor_force_n()) < 1e-9; }));
+  EXPECT_TRUE(eventually([&] { return math::norm(rig.on.emulator->motor_force_n()) < 1e-9; }));
 }
 
 TEST(FalconDevice, DeactivateReturnsAfterAZeroPacketWentOut) {

@@ -13,7 +13,7 @@ namespace {
 
 constexpr double kHalf_m = 0.04;  // the workspace checked: a 80 mm cube about the centre
 
-double distance(const Vec3& a, const Vec3& b) { return physics::norm(a - b); }
+double distance(const Vec3& a, const Vec3& b) { return math::norm(a - b); }
 
 std::array<double, 3> arm_angles(const Vec3& p) {
   LegAngles a;
@@ -99,7 +99,7 @@ TEST(FalconKinematics, TorquesDoTheWorkOfTheForce) {
     for (const Vec3& dp : {Vec3{1e-7, 0, 0}, Vec3{0, 1e-7, 0}, Vec3{0, 0, 1e-7}, Vec3{3e-8, -5e-8, 4e-8}}) {
       const auto t0 = arm_angles(p - dp * 0.5), t1 = arm_angles(p + dp * 0.5);
       const double work_joints = tau.x * (t1[0] - t0[0]) + tau.y * (t1[1] - t0[1]) + tau.z * (t1[2] - t0[2]);
-      EXPECT_NEAR(work_joints, physics::dot(f, dp), 1e-6 * physics::norm(f) * physics::norm(dp));
+      EXPECT_NEAR(work_joints, math::dot(f, dp), 1e-6 * math::norm(f) * math::norm(dp));
     }
     // and the emulator's way back, F = J^T tau
     const Vec3 back = force_of(j, tau);

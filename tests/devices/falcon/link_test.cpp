@@ -135,8 +135,8 @@ TEST(FalconLink, ExchangesCarryTheCommandAndTheGripsPosition) {
   // the encoder counts through the forward kinematics: the grip, within the encoders' resolution
   Vec3 p;
   ASSERT_TRUE(forward({angle_of(r.encoder[0]), angle_of(r.encoder[1]), angle_of(r.encoder[2])}, {0, 0, kCentreZ_m}, p));
-  EXPECT_LT(physics::norm(to_enact(p) - w.emulator->grip_position_m()), 1e-4);
-  EXPECT_LT(physics::norm(to_enact(p) - e.grip.start_m), 1e-4);
+  EXPECT_LT(math::norm(to_enact(p) - w.emulator->grip_position_m()), 1e-4);
+  EXPECT_LT(math::norm(to_enact(p) - e.grip.start_m), 1e-4);
 }
 
 TEST(FalconLink, AnUnpluggedDeviceAnswersNoDevice) {

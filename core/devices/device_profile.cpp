@@ -1,6 +1,6 @@
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 
-namespace enact::haptics {
+namespace enact::devices {
 namespace {
 
 std::vector<DeviceProfile> profiles() {
@@ -35,4 +35,4 @@ std::vector<std::string> device_profile_names() {
   return out;
 }
 
-}  // namespace enact::haptics
+}  // namespace enact::devices

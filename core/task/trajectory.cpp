@@ -1,4 +1,4 @@
-#include "core/devices/trajectory.h"
+#include "core/task/trajectory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "core/config/number.h"
 #include "core/config/yaml.h"
 
-namespace enact::devices {
+namespace enact::task {
 namespace {
 
 using config::number;
@@ -23,7 +23,7 @@ using config::number;
 
 }  // namespace
 
-physics::Vec3 Trajectory::at(double t) const {
+math::Vec3 Trajectory::at(double t) const {
   if (t <= t_s.front()) return position_m.front();
   if (t >= t_s.back()) return position_m.back();
   const auto it = std::upper_bound(t_s.begin(), t_s.end(), t);
@@ -70,4 +70,4 @@ void write_trajectory(const Trajectory& tr, std::ostream& out) {
   }
 }
 
-}  // namespace enact::devices
+}  // namespace enact::task

@@ -1,10 +1,10 @@
-#include "core/haptics/device_profile.h"
+#include "core/devices/device_profile.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-namespace enact::haptics {
+namespace enact::devices {
 namespace {
 
 TEST(DeviceProfile, ErgosHasThePublishedFigures) {
@@ -34,4 +34,4 @@ TEST(DeviceProfile, NamesListEveryProfile) {
 }
 
 }  // namespace
-}  // namespace enact::haptics
+}  // namespace enact::devices

@@ -5,14 +5,14 @@
 #include <string>
 #include <vector>
 
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 
-namespace enact::haptics {
+namespace enact::devices {
 
 struct DeviceProfile {
   std::string name;
-  physics::Vec3 workspace_min_m;
-  physics::Vec3 workspace_max_m;
+  math::Vec3 workspace_min_m;
+  math::Vec3 workspace_max_m;
   double peak_force_n = 0.0;
   double continuous_force_n = 0.0;
   double max_speed_m_per_s = 0.0;
@@ -28,4 +28,4 @@ struct DeviceProfile {
 std::optional<DeviceProfile> find_device_profile(const std::string& name);
 std::vector<std::string> device_profile_names();
 
-}  // namespace enact::haptics
+}  // namespace enact::devices

@@ -6,14 +6,14 @@
 #include <string>
 #include <vector>
 
-#include "core/physics/vec3.h"
+#include "core/math/vec3.h"
 
-namespace enact::devices {
+namespace enact::task {
 
 struct Trajectory {
   std::vector<double> t_s;
-  std::vector<physics::Vec3> position_m;
-  physics::Vec3 at(double t_s) const;  // clamped to the ends
+  std::vector<math::Vec3> position_m;
+  math::Vec3 at(double t_s) const;  // clamped to the ends
   double start_s() const { return t_s.front(); }
   double end_s() const { return t_s.back(); }
 };
@@ -22,4 +22,4 @@ struct Trajectory {
 Trajectory load_trajectory(const std::string& path);
 void write_trajectory(const Trajectory& trajectory, std::ostream& out);
 
-}  // namespace enact::devices
+}  // namespace enact::task

@@ -1,8 +1,9 @@
 #pragma once
-// Small fixed-size vector and rotation types for the physics engine (header only, no heap).
+// Small fixed-size vector and rotation types shared by the physics engine
+// and the devices (header only, no heap).
 #include <cmath>
 
-namespace enact::physics {
+namespace enact::math {
 
 struct Vec3 {
   double x = 0.0;
@@ -47,4 +48,4 @@ inline Mat3 rotation_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
           {cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr}};
 }
 
-}  // namespace enact::physics
+}  // namespace enact::math

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace enact::devices {
+namespace enact::math {
 
 class Random {
  public:
@@ -56,4 +56,4 @@ inline std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t index) noexce
   return r.next();
 }
 
-}  // namespace enact::devices
+}  // namespace enact::math
