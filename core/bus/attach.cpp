@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <chrono>
 #include <exception>
@@ -37,9 +38,9 @@ std::string control_endpoint() {
 
 }  // namespace
 
-int observer_queue_messages(std::size_t queue_bytes, std::size_t largest_cost_bytes) {
-  if (largest_cost_bytes == 0) return kObserverQueue;
-  return static_cast<int>(std::clamp<std::size_t>(queue_bytes / largest_cost_bytes, 1, kObserverQueue));
+int observer_queue_messages(std::size_t queue_bytes, std::size_t cost_bytes) {
+  if (cost_bytes == 0) return kObserverQueue;
+  return static_cast<int>(std::clamp<std::size_t>(queue_bytes / cost_bytes, 1, kObserverQueue));
 }
 
 AttachPoint::AttachPoint(std::string graph, AttachOptions options)
@@ -55,7 +56,7 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
       access_(std::move(options.access)),
       refused_ack_topic_(options.refused_ack_topic),
       descriptor_set_(msgs_descriptor_set()),
-      queue_bytes_(options.observer_queue_bytes) {
+      observer_queue_(observer_queue_messages(options.observer_queue_bytes, kMeanCost_bytes)) {
   // refuse a bad or exposed endpoint before binding it
   const std::string& bind = options.bind_endpoint;
   validate_endpoint(bind, "attach endpoint");
@@ -71,9 +72,9 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
   // observers' side: every subscription reaches us (so each new observer of graph/topics
   // gets a GraphInfo at once); lossy, so a slow observer never holds the publishers back
   xpub_.set(zmq::sockopt::xpub_verbose, true);
-  // deep queues both ways (seconds of a 5 kHz graph's every topic, fewer as larger messages
-  // appear: fit_queue), so an observer that pauses (a logger compressing a chunk) loses nothing
-  xpub_.set(zmq::sockopt::sndhwm, kObserverQueue);
+  // deep queues both ways (seconds of a 5 kHz graph's every topic), so an observer that
+  // pauses (a logger compressing a chunk) loses nothing
+  xpub_.set(zmq::sockopt::sndhwm, observer_queue_);
   xsub_.set(zmq::sockopt::rcvhwm, kObserverQueue);
   // with an access file, only its keys connect, and what they send passes its gate
   if (access_) {
@@ -215,15 +216,13 @@ bool AttachPoint::handle_command() {
 void AttachPoint::forward_data() {
   // publishers -> observers, whole messages, a batch at a time; the last of a state topic kept
   for (int i = 0; i < kForwardBatch; ++i) {
-    // the whole message first: the queue limit fits it before any of its frames is queued
-    std::size_t n = 0, cost = 0;
+    // the whole message first
+    std::size_t n = 0;
     for (bool more = true; more; ++n) {
       if (n == frames_.size()) frames_.emplace_back();
       if (!xsub_.recv(frames_[n], n == 0 ? zmq::recv_flags::dontwait : zmq::recv_flags::none)) return;
       more = frames_[n].more();
-      cost += frames_[n].size() + kFrameCost_bytes;
     }
-    fit_queue(cost);
     std::vector<std::string>* keep = nullptr;
     if (latched(frames_[0].to_string_view())) {
       keep = &latched_[frames_[0].to_string()];
@@ -329,16 +328,6 @@ void AttachPoint::publish_own(std::string_view topic, const std::string& type, c
   if (!xpub_.send(zmq::const_buffer(topic.data(), topic.size()), more)) return;
   (void)xpub_.send(zmq::const_buffer(type.data(), type.size()), more);
   (void)xpub_.send(zmq::const_buffer(payload.data(), payload.size()), zmq::send_flags::dontwait);
-}
-
-void AttachPoint::fit_queue(std::size_t cost_bytes) {
-  if (cost_bytes <= largest_cost_) return;
-  largest_cost_ = cost_bytes;
-  const int messages = observer_queue_messages(queue_bytes_, largest_cost_);
-  if (messages == observer_queue_.load()) return;
-  // ZeroMQ applies a new limit to the connected observers' queues too
-  xpub_.set(zmq::sockopt::sndhwm, messages);
-  observer_queue_.store(messages);
 }
 
 void AttachPoint::publish_graph() {

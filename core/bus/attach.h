@@ -12,9 +12,10 @@
 // Observers are lossy: a slow observer loses messages at the attach point (it sees gaps,
 // and counts them by header.seq), and never slows the publishers. Each observer's queue
 // holds at most kObserverQueue messages, and the nodes' messages in it at most
-// observer_queue_bytes: each counted at the cost of the largest forwarded so far (frames
-// plus kFrameCost_bytes each), the message limit is lowered as larger ones appear, for every
-// observer at once. The attach point's own GraphInfo (one a second, with the launch files:
+// observer_queue_bytes: the message limit is those bytes over an assumed mean message cost
+// (kMeanCost_bytes, frames and their overhead; a 5 kHz graph's stream averages less), set
+// once before any observer connects: ZeroMQ stalls a connected observer's stream when its
+// limit changes (tests/bus/attach_test.cpp), so it is never adapted while running. The attach point's own GraphInfo (one a second, with the launch files:
 // tens of kB) is not counted: a stopped observer's queue takes one a second beside the
 // nodes' messages, until the queue is full. What a slow observer's queue held goes back to
 // the system once it drained or left.
@@ -51,13 +52,13 @@ inline constexpr std::string_view kGraphTopic = "graph/topics";
 
 // messages queued per observer (and from each publisher) at the attach point, at most
 inline constexpr int kObserverQueue = 100000;
-// what a queued frame costs beside its bytes (ZeroMQ's message slot and content header, and
-// malloc's own), an estimate
-inline constexpr std::size_t kFrameCost_bytes = 128;
 
-// the messages an observer's queue may hold when the largest message costs
-// largest_cost_bytes: as many as fit in queue_bytes, between 1 and kObserverQueue
-int observer_queue_messages(std::size_t queue_bytes, std::size_t largest_cost_bytes);
+// the mean cost of a queued message assumed by the byte bound (64 MB: 100,000 messages)
+inline constexpr std::size_t kMeanCost_bytes = 671;
+
+// the messages an observer's queue may hold when a message costs cost_bytes (on average):
+// as many as fit in queue_bytes, between 1 and kObserverQueue
+int observer_queue_messages(std::size_t queue_bytes, std::size_t cost_bytes);
 
 struct AttachOptions {
   // where observers connect; loopback only by default
@@ -105,7 +106,7 @@ class AttachPoint {
 
   // how many messages each observer's queue may hold now (observer_queue_bytes over the
   // cost of the largest message forwarded so far, at most kObserverQueue). Thread-safe.
-  int observer_queue() const { return observer_queue_.load(); }
+  int observer_queue() const { return observer_queue_; }
 
   // forwards the topics published at `endpoint` (a BytePublisher::endpoint() of node
   // `node`) to observers; the publisher may start later. Throws config::Error for a
@@ -156,9 +157,6 @@ class AttachPoint {
   bool latched(std::string_view topic) const;
   // a message of the attach point's own to the observers (dropped when none subscribed)
   void publish_own(std::string_view topic, const std::string& type, const std::string& payload);
-  // a message of cost_bytes is about to be queued: lower every observer's queue if it is the
-  // largest so far
-  void fit_queue(std::size_t cost_bytes);
 
   std::string graph_;         // owned by the forwarding thread
   std::string endpoint_;
@@ -185,10 +183,8 @@ class AttachPoint {
   msgs::GraphInfo launch_;    // launch details, under launch_mutex_
   std::string descriptor_set_;
   std::uint64_t graph_seq_ = 0;
-  std::size_t queue_bytes_;
-  std::size_t largest_cost_ = 0;  // bytes, forwarding thread
   std::vector<zmq::message_t> frames_;  // the message being forwarded
-  std::atomic<int> observer_queue_ = kObserverQueue;
+  int observer_queue_ = kObserverQueue;
   std::thread thread_;
 };
 

@@ -13,6 +13,7 @@
 #include <google/protobuf/descriptor.pb.h>
 #include <google/protobuf/dynamic_message.h>
 
+#include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
@@ -161,7 +162,8 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
 }  // namespace
 
 int record(int argc, char** argv) {
-  const std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  std::vector<std::string> topics = take_list(argc, argv, "--topics");
+  for (std::string& t : topics) t = topic_name(t);
   const Args a = parse(argc, argv, 2, {"out", "split-size", "split-duration", "compression", "chunk-duration", "graph", "attach", "duration", "wait", "regex", "exclude", "key", "server-key"}, {"all"});
   if (a.flag("help")) {
     std::fputs(kRecordHelp, stdout);
@@ -279,7 +281,7 @@ int export_csv(int argc, char** argv) {
   }
   if (a.has("foxglove")) return export_foxglove(a);
   if (a.positional.size() != 1 || !a.has("topic") || !a.has("csv")) throw UsageError("give FILE, --topic T and --csv OUT.csv");
-  const std::string topic = a.get("topic"), publisher = a.get("publisher", "");
+  const std::string topic = topic_name(a.get("topic")), publisher = a.get("publisher", "");
   record::Reader r(a.positional[0]);
   Decoder decoder;
   std::vector<std::string> columns;
@@ -312,8 +314,9 @@ int export_csv(int argc, char** argv) {
   });
   if (rows.empty()) {
     std::string known;
-    for (const auto& [id, c] : r.channels()) known += (known.empty() ? "" : ", ") + c.topic;
-    throw config::Error(r.path() + ": no decodable message on topic '" + topic + "'\n  fix: choose among " + known);
+    std::vector<std::string> names;
+    for (const auto& [id, c] : r.channels()) known += (known.empty() ? "" : ", ") + c.topic, names.push_back(c.topic);
+    throw config::Error(r.path() + ": no decodable message on topic '" + topic + "'" + config::did_you_mean(topic, names) + "\n  fix: choose among " + known);
   }
   // "-": standard output (the summary line then goes to standard error)
   const bool to_stdout = a.get("csv") == "-";

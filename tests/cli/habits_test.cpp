@@ -64,10 +64,20 @@ TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
   ASSERT_EQ(relative.exit_code, 0) << relative.err;
   EXPECT_NE(relative.out.find("\n0.000000000,"), std::string::npos) << relative.out.substr(0, 300);
   EXPECT_TRUE(relative.out.starts_with("time_s,"));
+  // a leading '/' is the same topic; a misspelled one gets the closest
+  const RunResult slash = enact("export " + file + " --topic /sim/scene --csv -");
+  ASSERT_EQ(slash.exit_code, 0) << slash.err;
+  EXPECT_EQ(slash.out, csv.out);
+  const RunResult typo = enact("export " + file + " --topic sim/scen --csv -");
+  EXPECT_EQ(typo.exit_code, 1);
+  EXPECT_NE(typo.err.find("did you mean sim/scene?"), std::string::npos) << typo.err;
 
   // record --regex keeps the topics it matches, --exclude drops those it matches
   const std::string some = dir.file("some.mcap");
   ASSERT_EQ(enact("record -o " + some + " --duration 1 --regex ^ffd/ --exclude force" + at).exit_code, 0);
+  const std::string slashed = dir.file("slashed.mcap");
+  ASSERT_EQ(enact("record -o " + slashed + " --duration 1 --topics /ffd/state" + at).exit_code, 0);
+  EXPECT_NE(enact("info " + slashed).out.find("ffd/state"), std::string::npos);
   const RunResult kept = enact("info " + some);
   EXPECT_NE(kept.out.find("ffd/state"), std::string::npos) << kept.out;
   EXPECT_EQ(kept.out.find("ffd/force"), std::string::npos) << kept.out;
