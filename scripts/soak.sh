@@ -35,8 +35,16 @@ mkdir -p "$dir"
 pids=() loops=()
 # observers' loops end with TERM, the graph's processes with INT (a clean stop)
 cleanup() {
-  for p in "${loops[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  for p in "${loops[@]}"; do pkill -TERM -P "$p" 2>/dev/null || true; kill -TERM "$p" 2>/dev/null || true; done
   for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+  # whatever did not stop on SIGINT within 10 s (the viewer) is terminated
+  for _ in $(seq 100); do
+    alive=0
+    for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && alive=1; done
+    (( alive )) || break
+    sleep 0.1
+  done
+  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
   wait 2>/dev/null || true
 }
 trap cleanup EXIT
@@ -106,7 +114,7 @@ for p in "${!name_of[@]}"; do
   printf "%-14s %12s kB %12s kB %9s kB %+9d\n" "${name_of[$p]}" "${rss_start[$p]:-?}" "${rss_end[$p]:-?}" "${rss_peak[$p]:-?}" "$growth"
   (( growth <= max_growth_kb )) || fail "${name_of[$p]} grew $growth kB (bound $max_growth_kb kB)"
 done
-for p in "${loops[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+for p in "${loops[@]}"; do pkill -TERM -P "$p" 2>/dev/null || true; kill -TERM "$p" 2>/dev/null || true; done
 (( refused == 0 )) || fail "$refused of $changes parameter changes were not applied (see $dir/param.log)"
 kill -INT "$record_pid"
 wait "$record_pid" || fail "enact record exited with an error (see $dir/record.log)"
