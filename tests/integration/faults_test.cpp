@@ -353,6 +353,7 @@ void expect_loop_kept(const msgs::NodeStatus& before, const msgs::NodeStatus& af
 // while their queues are full and goes back once they leave; the recording counts exactly
 // what it lost
 TEST(Faults, StoppedObserversCostTheLoopNothing) {
+  ExclusiveTiming timing;  // its loop figures must be its own
   constexpr double kStop_s = 30.0;
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge.yaml"), 120.0);
@@ -419,6 +420,7 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
 // readable file holding every message from the first up to its last whole chunk; the loop
 // never notices
 TEST(Faults, LoggerWithAFullDiskClosesAReadableFileAndTheLoopGoesOn) {
+  ExclusiveTiming timing;  // its loop figures must be its own
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
   ASSERT_TRUE(launcher.wait_log("waiting up to", kReadyTimeout_s)) << launcher.log();
