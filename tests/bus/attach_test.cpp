@@ -177,7 +177,7 @@ TEST_F(Graph, GraphInfoIsRepeatedAndFollowsDeclarations) {
   EXPECT_EQ(graph.counters().malformed, 0u);
 }
 
-TEST(ObserverQueue, HoldsWhatFitsInItsBytesAtTheLargestMessageCost) {
+TEST(ObserverQueue, HoldsWhatFitsInItsBytesAtAMessagesCost) {
   EXPECT_EQ(bus::observer_queue_messages(64 << 20, 0), bus::kObserverQueue);
   EXPECT_EQ(bus::observer_queue_messages(64 << 20, 300), bus::kObserverQueue);  // small messages: the message limit
   EXPECT_EQ(bus::observer_queue_messages(64 << 20, 2000), (64 << 20) / 2000);
