@@ -16,6 +16,11 @@ constexpr double kParallelCos = 0.999;
 // the near-box cache of a contact holds while the point stays this close to where it was made
 constexpr double kNearMargin_m = 0.002;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// a parallel face of another box this close to the pushing face's depth (in hold distance) is a
+// tie, checked each step, rather than a bound on the hold (coplanar tops of a union: 0)
+constexpr double kTieBand_m = 1e-5;
+// taken off every hold distance: far above the rounding of depths at workspace scale (m)
+constexpr double kHoldTolerance_m = 1e-10;
 
 double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 double sign_of(int face) { return face % 2 == 0 ? 1.0 : -1.0; }
@@ -210,12 +215,43 @@ bool competes(const Box& box, const double local[3], const Vec3& normal, double 
   return false;
 }
 
-// the common case in a few dot products: the point is still inside the box of the face that
-// pushed it last step, that face is always exposed, and no face of any box containing the
-// point would take over; then that face still pushes (choose_face would pick it). false:
-// take the general path.
+// how far the point at `local` (in `box`, not the box of the pushing face) can move before a
+// face of the box could take over from the face `own_m` deep with outward normal `normal`
+// (competes' rule): outside the box with that margin, or every face deep enough. Coplanar
+// faces (parallel, within kTieBand_m of the pushing one) are left to a tie of the contact while
+// one is free: checked exactly each step, they do not bound the distance
+double takeover_distance(const Box& box, int index, const double local[3], const Vec3& normal, double own_m, double skin_m,
+                         ContactState& contact) {
+  double outside = -kInfinity;
+  for (int axis = 0; axis < 3; ++axis) outside = std::max(outside, std::abs(local[axis]) - component(box.half_extents_m, axis));
+  const Vec3 e = box.rotation.transpose_times(normal);
+  double faces = kInfinity;
+  for (int face = 0; face < 6; ++face) {
+    const double along = sign_of(face) * component(e, face / 2);
+    if (!((box.faces >> face) & 1u) || along < kOppositeCos) continue;
+    const double depth = depth_below(box, local, face);
+    const bool parallel = along > kParallelCos;
+    const double margin = std::max(parallel ? -kInfinity : depth - skin_m, 0.5 * (depth - own_m));
+    if (parallel && margin < kTieBand_m) {
+      auto free = std::find_if(std::begin(contact.ties), std::end(contact.ties), [](const ContactState::Tie& t) { return t.box < 0; });
+      if (free != std::end(contact.ties)) {
+        *free = {index, face};
+        continue;
+      }
+    }
+    faces = std::min(faces, margin);
+  }
+  return std::max(outside, faces);
+}
+
+// the common case: the point is still inside the box of the face that pushed it last step,
+// that face is always exposed, and no face of any box containing the point would take over;
+// then that face still pushes (choose_face would pick it). Also plans the contact's hold
+// (held): how far the point can move while all of this stays true, each distance bounding a
+// depth that moves at most as far as the point. false: take the general path.
 bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m,
                ContactState& contact) {
+  contact.hold_r2 = 0.0;
   const Box& own_box = model.boxes[contact.box];
   if (!((own_box.exposed >> contact.face) & 1u)) return false;
   // depths below the six faces of the own box, straight from its axes
@@ -225,30 +261,59 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
   const double depth[6] = {h.x - lx, h.x + lx, h.y - ly, h.y + ly, h.z - lz, h.z + lz};
   const double own = depth[contact.face];
   // left the box
-  if (std::min(std::min(std::min(depth[0], depth[1]), std::min(depth[2], depth[3])), std::min(depth[4], depth[5])) <= 0.0) return false;
+  const double inside = std::min(std::min(std::min(depth[0], depth[1]), std::min(depth[2], depth[3])), std::min(depth[4], depth[5]));
+  if (inside <= 0.0) return false;
   // in its own box the other faces are perpendicular or opposite: they take over only within
-  // the skin, and one does when the shallowest of them does (branch-free: a face that
-  // cannot push counts as infinitely deep)
-  const int own_axis = contact.face / 2;
+  // the skin, and one does when the shallowest of them does (a face that cannot push counts
+  // as infinitely deep)
+  const unsigned side_faces = own_box.faces & ~(3u << (contact.face & ~1));
   double side = kInfinity;
-  for (int face = 0; face < 6; ++face) {
-    const bool pushes = face / 2 != own_axis && ((own_box.faces >> face) & 1u);
-    side = std::min(side, pushes ? depth[face] : kInfinity);
-  }
+  for (int face = 0; face < 6; ++face) side = std::min(side, (side_faces >> face) & 1u ? depth[face] : kInfinity);
   if (side <= skin_m && side < own) return false;
-  // the other boxes of the object the point may be in (the near ones, bit by bit)
+  double radius = std::min(inside, std::max(side - skin_m, 0.5 * (side - own)));
+  // the other boxes of the object the point may be in (the near ones, bit by bit); outside
+  // the near boxes' margin others could be too
+  std::fill(std::begin(contact.ties), std::end(contact.ties), ContactState::Tie{});
   auto taken_over = [&](int i) {
-    double local[3];
-    return i != contact.box && local_coordinates(model.boxes[i], x, local) && competes(model.boxes[i], local, contact.normal, own, skin_m);
+    const Box& box = model.boxes[i];
+    const Vec3 l = box.rotation.transpose_times(x - box.center_m);
+    const double local[3] = {l.x, l.y, l.z};
+    const bool in = std::abs(l.x) < box.half_extents_m.x && std::abs(l.y) < box.half_extents_m.y && std::abs(l.z) < box.half_extents_m.z;
+    if (in && competes(box, local, contact.normal, own, skin_m)) return true;
+    radius = std::min(radius, takeover_distance(box, i, local, contact.normal, own, skin_m, contact));
+    return false;
   };
   if (object.box_count > 64) {
     for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
-      if (taken_over(i)) return false;
+      if (i != contact.box && taken_over(i)) return false;
     }
   } else {
     for (std::uint64_t rest = near & ~(std::uint64_t{1} << (contact.box - object.first_box)); rest != 0; rest &= rest - 1) {
       if (taken_over(object.first_box + std::countr_zero(rest))) return false;
     }
+    radius = std::min(radius, kNearMargin_m - norm(x - contact.near_at_m));
+  }
+  contact.depth_m = own;
+  radius -= kHoldTolerance_m;
+  if (radius > 0.0) {
+    contact.hold_at_m = x;
+    contact.hold_r2 = radius * radius;
+  }
+  return true;
+}
+
+// the held face (same_face's plan): the point is within the hold's distance and no tie has
+// become shallower; then that face still pushes, at the depth same_face would compute
+bool held(const Model& model, const Vec3& x, ContactState& contact) {
+  const Vec3 moved = x - contact.hold_at_m;
+  if (!(dot(moved, moved) < contact.hold_r2)) return false;
+  const Box& box = model.boxes[contact.box];
+  const int axis = contact.face / 2;
+  const double l = dot(box.rotation.column(axis), x - box.center_m);
+  const double own = contact.face % 2 == 0 ? component(box.half_extents_m, axis) - l : component(box.half_extents_m, axis) + l;
+  for (const ContactState::Tie& tie : contact.ties) {
+    double local[3];
+    if (tie.box >= 0 && local_coordinates(model.boxes[tie.box], x, local) && depth_below(model.boxes[tie.box], local, tie.face) < own) return false;
   }
   contact.depth_m = own;
   return true;
@@ -351,7 +416,7 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
 }
 
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
-                      ContactState& contact) {
+                      ContactState& contact, bool hold) {
   if (object.type == ObjectType::plane) {
     const double depth = dot(object.plane_normal, object.plane_point_m - x);
     contact.active = depth > 0.0;
@@ -359,8 +424,10 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
     if (contact.active) contact.normal = contact.entry_normal = object.plane_normal;
     return contact.depth_m;
   }
+  if (hold && contact.active && contact.box >= 0 && contact.hold_r2 > 0.0 && held(model, x, contact)) return contact.depth_m;
   const std::uint64_t near = near_boxes(model, object, x, contact);
   if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, contact)) return contact.depth_m;
+  contact.hold_r2 = 0.0;
   if (!contact.active) {
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
     if (!inside_near(model, object, near, x)) return 0.0;

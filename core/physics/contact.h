@@ -7,9 +7,10 @@ namespace enact::physics {
 
 // update one contact pair for a point that moved from x_prev to x; returns the penetration
 // depth below the face that pushes (0 when not in contact). skin_m: how far below another
-// face a point may be to ride over an edge onto it (ContactPair::edge_skin_m)
+// face a point may be to ride over an edge onto it (ContactPair::edge_skin_m). hold: use the
+// contact's held face while it holds (false: the full face test, the reference)
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
-                      ContactState& contact);
+                      ContactState& contact, bool hold = true);
 
 // can no point within radius_m of centre_m be inside the object? (a plane: the sphere is
 // above it; boxes: the sphere is outside every box along one of its axes)

@@ -23,6 +23,17 @@ struct ContactState {
   std::uint64_t near_boxes = 0;
   Vec3 near_at_m;
   bool near_valid = false;
+  // the held face: while the point stays closer than sqrt(hold_r2) to hold_at_m, the face that
+  // pushes keeps pushing (no other face of the object can take over, the point stays in its
+  // box) unless one of the coplanar faces in `ties` becomes shallower, checked each step
+  // (contact.cpp, plan_hold). hold_r2 0: none
+  struct Tie {
+    int box = -1;
+    int face = -1;
+  };
+  Vec3 hold_at_m;
+  double hold_r2 = 0.0;
+  Tie ties[2];
   // passive pairs (ContactPair::passive), a passivity observer after Hannaford & Ryu (2002):
   // the energy the contact's spring absorbed and has not returned (J), from the discrete work
   // the three integrators give, F(n) . (x(n+1) - x(n-1)) / 2; and this step's spring and
@@ -79,6 +90,9 @@ struct State {
   std::vector<PairRun> runs;
   std::vector<std::uint8_t> group_apart;
   bool cull = true;
+  // with hold false every contact takes the full face test every step (the reference for
+  // ContactState's held face)
+  bool hold = true;
 
   std::int64_t steps = 0;
   double time_s = 0.0;

@@ -96,7 +96,7 @@ void observe(const State& s, int point, ContactState& cs) {
 void contact_force(const Model& m, const ContactPair& c, State& s) {
   ContactState& cs = s.contacts[&c - m.contacts.data()];
   if (c.passive) observe(s, c.point, cs);
-  const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs);
+  const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs, s.hold);
   if (depth <= 0.0) return;
   s.in_contact[c.point] = 1;
   const double felt = depth - m.points[c.point].contact_threshold_m;
