@@ -246,10 +246,10 @@ double takeover_distance(const Box& box, int index, const double local[3], const
 
 // the common case: the point is still inside the box of the face that pushed it last step,
 // that face is always exposed, and no face of any box containing the point would take over;
-// then that face still pushes (choose_face would pick it). Also plans the contact's hold
-// (held): how far the point can move while all of this stays true, each distance bounding a
-// depth that moves at most as far as the point. false: take the general path.
-bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m,
+// then that face still pushes (choose_face would pick it). With `plan`, also plans the
+// contact's hold (held): how far the point can move while all of this stays true, each
+// distance bounding a depth that moves at most as far as the point. false: take the general path.
+bool same_face(const Model& model, const Object& object, std::uint64_t near, const Vec3& x, double skin_m, bool plan,
                ContactState& contact) {
   contact.hold_r2 = 0.0;
   const Box& own_box = model.boxes[contact.box];
@@ -276,6 +276,10 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
   std::fill(std::begin(contact.ties), std::end(contact.ties), ContactState::Tie{});
   auto taken_over = [&](int i) {
     const Box& box = model.boxes[i];
+    if (!plan) {
+      double local[3];
+      return local_coordinates(box, x, local) && competes(box, local, contact.normal, own, skin_m);
+    }
     const Vec3 l = box.rotation.transpose_times(x - box.center_m);
     const double local[3] = {l.x, l.y, l.z};
     const bool in = std::abs(l.x) < box.half_extents_m.x && std::abs(l.y) < box.half_extents_m.y && std::abs(l.z) < box.half_extents_m.z;
@@ -291,11 +295,11 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
     for (std::uint64_t rest = near & ~(std::uint64_t{1} << (contact.box - object.first_box)); rest != 0; rest &= rest - 1) {
       if (taken_over(object.first_box + std::countr_zero(rest))) return false;
     }
-    radius = std::min(radius, kNearMargin_m - norm(x - contact.near_at_m));
+    if (plan) radius = std::min(radius, kNearMargin_m - norm(x - contact.near_at_m));
   }
   contact.depth_m = own;
   radius -= kHoldTolerance_m;
-  if (radius > 0.0) {
+  if (plan && radius > 0.0) {
     contact.hold_at_m = x;
     contact.hold_r2 = radius * radius;
   }
@@ -426,7 +430,7 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
   }
   if (hold && contact.active && contact.box >= 0 && contact.hold_r2 > 0.0 && held(model, x, contact)) return contact.depth_m;
   const std::uint64_t near = near_boxes(model, object, x, contact);
-  if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, contact)) return contact.depth_m;
+  if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, hold, contact)) return contact.depth_m;
   contact.hold_r2 = 0.0;
   if (!contact.active) {
     // a new contact remembers the face it came through (or, starting inside, the shallowest)
