@@ -323,14 +323,16 @@ bool held(const Model& model, const Vec3& x, ContactState& contact) {
   return true;
 }
 
-// the boxes the point can be inside: cached per contact, refreshed when it moved too far
-std::uint64_t near_boxes(const Model& model, const Object& object, const Vec3& x, ContactState& contact) {
+// the boxes the point can be inside or within the skin of (extend_near): cached per contact,
+// refreshed when it moved too far. With the skin in the margin the cache never changes a
+// result, only how many boxes are tried: which steps refresh it does not matter
+std::uint64_t near_boxes(const Model& model, const Object& object, const Vec3& x, double skin_m, ContactState& contact) {
   if (object.box_count > 64) return kAllBoxes;
   const Vec3 moved = x - contact.near_at_m;
   if (contact.near_valid && dot(moved, moved) < kNearMargin_m * kNearMargin_m) return contact.near_boxes;
   contact.near_boxes = 0;
   for (int k = 0; k < object.box_count; ++k) {
-    if (inside_box(model.boxes[object.first_box + k], x, kNearMargin_m)) contact.near_boxes |= std::uint64_t{1} << k;
+    if (inside_box(model.boxes[object.first_box + k], x, kNearMargin_m + skin_m)) contact.near_boxes |= std::uint64_t{1} << k;
   }
   contact.near_at_m = x;
   contact.near_valid = true;
@@ -429,7 +431,7 @@ double update_contact(const Model& model, const Object& object, const Vec3& x_pr
     return contact.depth_m;
   }
   if (hold && contact.active && contact.box >= 0 && contact.hold_r2 > 0.0 && held(model, x, contact)) return contact.depth_m;
-  const std::uint64_t near = near_boxes(model, object, x, contact);
+  const std::uint64_t near = near_boxes(model, object, x, skin_m, contact);
   if (contact.active && contact.box >= 0 && same_face(model, object, near, x, skin_m, hold, contact)) return contact.depth_m;
   contact.hold_r2 = 0.0;
   if (!contact.active) {
