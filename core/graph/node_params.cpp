@@ -143,7 +143,7 @@ const ParamTable& sim_table() {
       {.name = "end_progress", .fallback = number(kSim.task.end_progress), .min = 0, .max = 1, .doc = "progress that completes the bridge"},
       {.name = "reengage_s", .fallback = number(sim::kReengageDefault_s), .min = 0, .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"},
       {.name = "change_ramp_s", .fallback = number(kSim.change_ramp_s), .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true},
-      {.name = "threshold_m", .min = 0, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false},
+      {.name = "threshold_m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false},
       {.name = "stiffness_n_per_m", .min = 0, .doc = "contact stiffness of the body (checked against the stability analysis)", .live = true, .at_start = false},
       {.name = "damping_n_s_per_m", .min = 0, .doc = "contact damping of the body (checked against the stability analysis)", .live = true, .at_start = false},
       {.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false},

@@ -202,7 +202,7 @@ std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
     Pending& p = it->second;
     if (now_ns - p.first_ns >= kTimeout_ns) {
       given_up.push_back({it->first, p.update.name(), false,
-                          "no answer in 5 s: no simulator of that name in the graph, or the graph is not running", false});
+                          "no answer in 5 s: no simulator of that name in the graph, or the graph is not running", false, 0});
       it = pending_.erase(it);
       continue;
     }
@@ -218,7 +218,7 @@ std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
 std::optional<ParamAnswer> ParamClient::take(const msgs::ParamAck& ack) {
   const auto it = pending_.find(ack.request_id());
   if (it == pending_.end()) return std::nullopt;
-  ParamAnswer answer{ack.request_id(), it->second.update.name(), ack.applied(), ack.reason(), true};
+  ParamAnswer answer{ack.request_id(), it->second.update.name(), ack.applied(), ack.reason(), true, ack.state_seq()};
   pending_.erase(it);
   return answer;
 }

@@ -98,6 +98,7 @@ struct ParamAnswer {
   bool applied = false;
   std::string reason;    // refused: why; no answer in time: says so
   bool answered = false; // false: the graph did not answer in time
+  std::uint64_t state_seq = 0;  // applied: the ffd/state seq whose step first used it (0: not said)
 };
 
 class ParamClient {

@@ -1,5 +1,6 @@
 #include "core/haptics/computer_model.h"
 
+#include "core/config/format.h"
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 
@@ -78,6 +79,10 @@ ComputerModel resolve_computer_model(const std::string& name_or_path, int masses
   cm.pin_mask = cm.pins == PinDrive::none ? 0 : all(masses);
   if (m.has("pin_masses")) cm.pin_mask = parse_indices(m, "pin_masses", masses);
   cm.threshold_m = m.positive("threshold_m", 0.0, true);
+  if (cm.threshold_m > kMaxThreshold_m) {
+    m.fail("threshold_m", "threshold_m " + config::number(cm.threshold_m) + " m is deeper than any device reaches into an object",
+           "give at most " + config::number(kMaxThreshold_m) + " m (CM2's is 0.003)");
+  }
   return cm;
 }
 

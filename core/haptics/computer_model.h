@@ -28,6 +28,10 @@ struct ComputerModel {
   double threshold_m = 0.0;           // penetration before force is felt (pins ignore it)
 };
 
+// the largest threshold a computer model may have: deeper than any device here reaches into
+// an object (the ERGOS workspace is 25 mm high, the Falcon's about 100 mm across)
+inline constexpr double kMaxThreshold_m = 0.05;
+
 // CM0, CM1, CM2, CM3, P, T, PT for a body of `masses` grid masses; nullopt for other names
 std::optional<ComputerModel> preset(const std::string& name, int masses = 16);
 std::vector<std::string> preset_names();

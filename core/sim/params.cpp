@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/config/format.h"
 #include "core/config/number.h"
 #include "core/config/yaml.h"
 #include "core/devices/device_profile.h"
@@ -158,7 +159,9 @@ ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, s
   }
   if (name == "threshold_m") {
     const std::optional<double> t = number_of(value);
-    if (!t || !std::isfinite(*t) || *t < 0.0) return refuse("threshold_m must be a finite number >= 0\n  fix: give a penetration in m, e.g. 0.003");
+    if (!t || !std::isfinite(*t) || *t < 0.0 || *t > haptics::kMaxThreshold_m) {
+      return refuse("threshold_m must be from 0 to " + config::number(haptics::kMaxThreshold_m) + " m\n  fix: give a penetration in m, e.g. 0.003");
+    }
     cm_.threshold_m = *t;
     return accept(ParamKind::threshold, request_id, *t);
   }

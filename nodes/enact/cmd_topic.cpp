@@ -47,8 +47,9 @@ Attach to a running graph (like `ros2 topic`), at any time, without disturbing i
          and mapped onto the message by field name, e.g.
            enact topic pub param/set '{name: sim.stiffness_n_per_m, number: 3000}'
          once (--once, the default), or --rate HZ until Ctrl-C or --count N; each message
-         is a request the simulator answers (printed: applied or refused; exit 1 when one
-         is refused or unanswered). On a graph launched with --access it needs an operate key.
+         is a request the simulator answers (printed: applied from ffd/state seq N, the
+         state whose step first used it, or refused; exit 1 when one is refused or
+         unanswered). On a graph launched with --access it needs an operate key.
 TOPIC may start with '/' (ROS 2 style): /ffd/state is ffd/state.
 options:
 )";
@@ -179,7 +180,8 @@ int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) 
 
 // a parameter request's answer, as enact param set prints it
 void print_answer(const graph::ParamAnswer& a) {
-  if (a.applied) std::printf("%s: applied\n", a.name.c_str());
+  if (a.applied && a.state_seq > 0) std::printf("%s: applied from ffd/state seq %llu\n", a.name.c_str(), static_cast<unsigned long long>(a.state_seq));
+  else if (a.applied) std::printf("%s: applied\n", a.name.c_str());
   else std::printf("%s: %s%s\n", a.name.c_str(), a.answered ? "refused: " : "", a.reason.c_str());
   std::fflush(stdout);
 }

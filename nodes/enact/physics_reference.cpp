@@ -261,7 +261,9 @@ std::vector<SweepRow> rate_sweep(const Model& scene, const haptics::ComputerMode
   std::vector<SweepRun> runs;
   for (Integrator integrator : kIntegrators) {
     for (double rate_hz : kRates_hz) {
-      SweepRun r{.model = sweep_model(scene, cm, start, integrator, rate_hz), .every = steps_in(1.0 / rate_hz, reference_hz)};
+      SweepRun r;
+      r.model = sweep_model(scene, cm, start, integrator, rate_hz);
+      r.every = steps_in(1.0 / rate_hz, reference_hz);
       r.state = physics::make_state(r.model);
       r.row = {.integrator = integrator, .rate_hz = rate_hz};
       runs.push_back(std::move(r));

@@ -111,6 +111,18 @@ TEST(ResolveComputerModel, UnknownKeyNamesFileLineAndFix) {
   EXPECT_NE(msg.find("fix:"), std::string::npos) << msg;
 }
 
+TEST(ResolveComputerModel, AThresholdDeeperThanAnyDeviceReachesIsRefused) {
+  const test::TempDir dir;
+  const std::string path = dir.file("deep.yaml");
+  test::write_file(path, "name: deep\nforce: grid\nthreshold_m: 1e12\n");
+  const std::string msg = resolve_error(path);
+  EXPECT_NE(msg.find(path + ":3:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("at most 0.05 m"), std::string::npos) << msg;
+  // the largest allowed is taken
+  test::write_file(path, "name: deep\nforce: grid\nthreshold_m: 0.05\n");
+  EXPECT_DOUBLE_EQ(resolve_computer_model(path).threshold_m, 0.05);
+}
+
 TEST(ResolveComputerModel, BadPinsValueNamesFileLineAndFix) {
   const test::TempDir dir;
   const std::string path = dir.file("bad.yaml");

@@ -74,6 +74,17 @@ TEST(ParamPlanner, BridgeStiffnessCanGoDownButNotPastTheSceneAsLoaded) {
   EXPECT_EQ(planner.stiffness_n_per_m(), 6000.0);  // the refused values left the mirror alone
 }
 
+TEST(ParamPlanner, AThresholdIsFromZeroToFiftyMillimetres) {
+  Rig rig;
+  ParamPlanner planner(rig.sim);
+  EXPECT_TRUE(planner.plan("threshold_m", number(0.05), 1).accepted);
+  for (double wild : {1e12, 0.0501, -0.001}) {
+    const ParamPlan refused = planner.plan("threshold_m", number(wild), 2);
+    EXPECT_FALSE(refused.accepted) << wild;
+    EXPECT_NE(refused.reason.find("from 0 to 0.05 m"), std::string::npos) << refused.reason;
+  }
+}
+
 TEST(ParamPlanner, PassiveSceneMayRiseUpToTheDeviceDamping) {
   // 1000 N/m per pair: K T/2 + B = 17 x 1000 x 1e-4 + 0.34 = 2.04 N s/m, passive on the ERGOS
   // (b = 6): the envelope is b, reached at (6 - 0.34) / (17 x 1e-4) = 3329.41 N/m
