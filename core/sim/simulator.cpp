@@ -107,7 +107,7 @@ void Simulator::activate(std::int64_t start_ns) {
   trial_running_ = true;
   trial_change_ = TrialChange::none;
   steps_ = 0;
-  reentering_ = capture_ = false;
+  reentering_ = capture_ = settling_ = false;
   offset_left_ = offset_total_ = 0;
   out_ = {};
   lifecycle_ = Lifecycle::active;
@@ -226,12 +226,18 @@ void Simulator::follow_reentry() {
 }
 
 math::Vec3 Simulator::blend(const math::Vec3& model_force_n) {
-  const bool changing = capture_ || offset_left_ > 0 || reentering_;
+  const bool changing = capture_ || offset_left_ > 0 || reentering_ || settling_;
   if (capture_) {
     // from what the device felt before the change to the new law's force, over the ramp
     capture_ = false;
     from_n_ = out_.force_n;
     offset_total_ = offset_left_ = static_cast<std::int64_t>(std::max(1.0, std::ceil(params_.change_ramp_s * model_.rate_hz)));
+  }
+  // the force felt before the change was the body pressing on something: once no body point
+  // touches anything it ends (at the step limit), never pushing a hand that left the surface
+  // (it pushed a hand 4 mm up over 50 ms, which fell back at 15 N: hostile burst seed 23)
+  if (offset_left_ > 0 && std::none_of(body_points_.begin(), body_points_.end(), [this](int p) { return state_.in_contact[p] != 0; })) {
+    offset_left_ = 0;
   }
   math::Vec3 force_n = model_force_n;
   if (offset_left_ > 0) {
@@ -242,7 +248,8 @@ math::Vec3 Simulator::blend(const math::Vec3& model_force_n) {
   // while a change settles, the force never steps by more than the device profile allows
   const math::Vec3 step_n = force_n - out_.force_n;
   const double size_n = math::norm(step_n);
-  if (changing && max_step_n_ > 0.0 && size_n > max_step_n_) force_n = out_.force_n + step_n * (max_step_n_ / size_n);
+  settling_ = changing && max_step_n_ > 0.0 && size_n > max_step_n_;
+  if (settling_) force_n = out_.force_n + step_n * (max_step_n_ / size_n);
   return force_n;
 }
 
@@ -263,7 +270,7 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const math::Vec3& device
   out_.fault = state_.faults != faults;
   if (out_.fault) {
     // a fault's zero force is not blended
-    capture_ = false;
+    capture_ = settling_ = false;
     offset_left_ = 0;
   }
   out_.force_n = out_.fault ? state_.proxy_force_n[0] : blend(state_.proxy_force_n[0]);

@@ -112,6 +112,7 @@ class Simulator {
   std::vector<math::Vec3> felt_normal_;  // and the normal of the face it is felt through
   std::vector<int> deepest_pair_;  // each body point's deepest active contact pair (-1: none)
   bool reentering_ = false, capture_ = false;
+  bool settling_ = false;  // the last step's force was held to the step limit on its way to the law's
   math::Vec3 from_n_;
   std::int64_t offset_left_ = 0, offset_total_ = 0;
   double max_step_n_ = 0.0;     // the device profile's force step limit per step (0: none)

@@ -177,7 +177,9 @@ Felt walk(const std::vector<Request>& requests, const std::string& model = "CM1"
   for (std::int64_t n = 0; n < 46'000; ++n) {
     for (; next < requests.size() && requests[next].tick <= n; ++next) {
       const sim::ParamPlan plan = planner.plan(requests[next].name, requests[next].value, next + 1);
-      if (plan.accepted) EXPECT_TRUE(changes.try_push(plan.change));
+      if (plan.accepted) {
+        EXPECT_TRUE(changes.try_push(plan.change));
+      }
     }
     const Observation& o = rig.tick(n);
     while (applied.try_pop(a)) settling_until = n + 250;
@@ -412,6 +414,21 @@ TEST(ColocatedNoJolt, ARestoreInOneTickAfterASinkingModelNeverMakesTheHandFeelMo
       EXPECT_LE(felt.peak_n, baseline_n + 1e-9) << "threshold " << threshold_m << " at tick " << at;
       EXPECT_LE(felt.change_step_n, kMaxStep_n + 1e-9) << "threshold " << threshold_m << " at tick " << at;
     }
+  }
+}
+
+TEST(ColocatedNoJolt, AChangeNeverPushesAHandThatLeftTheSurface) {
+  // (hostile burst seed 23, minimised): the body softened, the subject put back at the start,
+  // the scene's stiffness restored just as the hand lands on the top. The blend from the force
+  // felt before the change went on pushing the hand for 50 ms after it left the top: 4 mm up,
+  // and it fell back at 15.1 N
+  const double baseline_n = walk({}).peak_n;
+  for (const std::int64_t restore_at : {7930, 7949, 7970}) {
+    const Felt felt = walk({{5495, "stiffness_n_per_m", number_value(3475.0)},
+                            {7784, "reposition", {}},
+                            {restore_at, "stiffness_n_per_m", number_value(6000.0)}});
+    EXPECT_LE(felt.peak_n, baseline_n + 1e-9) << "restored at tick " << restore_at;
+    EXPECT_LE(felt.change_step_n, kMaxStep_n + 1e-9) << "restored at tick " << restore_at;
   }
 }
 

@@ -86,7 +86,9 @@ Coverage compare(const Model& m, Walk walk, long steps) {
     }
   }
   EXPECT_EQ(fast.faults, 0u);
-  std::printf("%ld contact steps with boxes, %.1f %% held, %.1f %% with a tie\n", c.contact_steps, 100.0 * c.held / c.contact_steps, 100.0 * c.tied / c.contact_steps);
+  const double all = static_cast<double>(c.contact_steps);
+  std::printf("%ld contact steps with boxes, %.1f %% held, %.1f %% with a tie\n", c.contact_steps, 100.0 * static_cast<double>(c.held) / all,
+              100.0 * static_cast<double>(c.tied) / all);
   return c;
 }
 
