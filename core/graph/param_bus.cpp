@@ -215,6 +215,11 @@ std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
   return given_up;
 }
 
+std::string answer_text(const ParamAnswer& a) {
+  if (a.applied) return a.state_seq > 0 ? "applied from ffd/state seq " + std::to_string(a.state_seq) : "applied";
+  return a.answered ? "refused: " + a.reason : a.reason;
+}
+
 std::optional<ParamAnswer> ParamClient::take(const msgs::ParamAck& ack) {
   const auto it = pending_.find(ack.request_id());
   if (it == pending_.end()) return std::nullopt;

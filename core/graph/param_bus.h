@@ -101,6 +101,10 @@ struct ParamAnswer {
   std::uint64_t state_seq = 0;  // applied: the ffd/state seq whose step first used it (0: not said)
 };
 
+// what the command line prints after a request's name: "applied from ffd/state seq N",
+// "refused: REASON", or why no answer came
+std::string answer_text(const ParamAnswer& answer);
+
 class ParamClient {
  public:
   // sends through the attach point at `endpoint` with `keys` (none: plain); `source` names

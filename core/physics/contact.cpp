@@ -280,10 +280,8 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
       double local[3];
       return local_coordinates(box, x, local) && competes(box, local, contact.normal, own, skin_m);
     }
-    const Vec3 l = box.rotation.transpose_times(x - box.center_m);
-    const double local[3] = {l.x, l.y, l.z};
-    const bool in = std::abs(l.x) < box.half_extents_m.x && std::abs(l.y) < box.half_extents_m.y && std::abs(l.z) < box.half_extents_m.z;
-    if (in && competes(box, local, contact.normal, own, skin_m)) return true;
+    double local[3];
+    if (all_coordinates(box, x, local) && competes(box, local, contact.normal, own, skin_m)) return true;
     radius = std::min(radius, takeover_distance(box, i, local, contact.normal, own, skin_m, contact));
     return false;
   };
@@ -311,6 +309,8 @@ bool same_face(const Model& model, const Object& object, std::uint64_t near, con
 bool held(const Model& model, const Vec3& x, ContactState& contact) {
   const Vec3 moved = x - contact.hold_at_m;
   if (!(dot(moved, moved) < contact.hold_r2)) return false;
+  // the pushing face's axis alone, as same_face computes it (depth_below's sum, unrolled: this
+  // is the step's hot path)
   const Box& box = model.boxes[contact.box];
   const int axis = contact.face / 2;
   const double l = dot(box.rotation.column(axis), x - box.center_m);

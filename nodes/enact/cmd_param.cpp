@@ -178,15 +178,13 @@ class Changes {
     while (!pending_.empty()) {
       if (acks_.receive(ack, 50)) {
         if (const auto answer = client_.take(ack)) {
-          const std::string& line = pending_[answer->request_id];
-          if (answer->applied) std::printf("%s: applied from ffd/state seq %llu\n", line.c_str(), static_cast<unsigned long long>(ack.state_seq()));
-          else std::printf("%s: refused: %s\n", line.c_str(), answer->reason.c_str());
+          std::printf("%s: %s\n", pending_[answer->request_id].c_str(), graph::answer_text(*answer).c_str());
           all = all && answer->applied;
           pending_.erase(answer->request_id);
         }
       }
       for (const graph::ParamAnswer& lost : client_.tick(rt::now_ns())) {
-        std::printf("%s: %s\n", pending_[lost.request_id].c_str(), lost.reason.c_str());
+        std::printf("%s: %s\n", pending_[lost.request_id].c_str(), graph::answer_text(lost).c_str());
         pending_.erase(lost.request_id);
         all = false;
       }

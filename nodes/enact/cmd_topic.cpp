@@ -178,14 +178,6 @@ int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) 
   return 0;
 }
 
-// a parameter request's answer, as enact param set prints it
-void print_answer(const graph::ParamAnswer& a) {
-  if (a.applied && a.state_seq > 0) std::printf("%s: applied from ffd/state seq %llu\n", a.name.c_str(), static_cast<unsigned long long>(a.state_seq));
-  else if (a.applied) std::printf("%s: applied\n", a.name.c_str());
-  else std::printf("%s: %s%s\n", a.name.c_str(), a.answered ? "refused: " : "", a.reason.c_str());
-  std::fflush(stdout);
-}
-
 // the message of enact topic pub TOPIC YAML, checked before anything attaches: TOPIC one
 // of the graph's inbound topics, YAML mapped onto its message by field name
 msgs::ParamUpdate pub_message(const std::string& topic, const std::string& yaml) {
@@ -227,7 +219,8 @@ int pub(const Attached& graph, const msgs::ParamUpdate& update, long count, doub
       if (auto a = client.take(ack)) answers.push_back(*a);
     }
     for (const graph::ParamAnswer& a : answers) {
-      print_answer(a);
+      std::printf("%s: %s\n", a.name.c_str(), graph::answer_text(a).c_str());
+      std::fflush(stdout);
       ++answered;
       applied += a.applied ? 1 : 0;
     }
