@@ -209,6 +209,11 @@ void ByteSubscriber::count_rejected(std::string_view topic) noexcept {
   ++it->second.malformed;
 }
 
+void ByteSubscriber::count_received(std::string_view topic) noexcept {
+  const auto it = counters_.find(topic);
+  if (it != counters_.end()) ++it->second.received;
+}
+
 void ByteSubscriber::count_gap(std::string_view topic, std::uint64_t lost) noexcept {
   const auto it = counters_.find(topic);
   if (it == counters_.end()) return;

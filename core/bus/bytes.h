@@ -159,6 +159,9 @@ class ByteSubscriber {
   // parse failure): moves it from received to malformed
   void count_rejected(std::string_view topic) noexcept;
 
+  // for the typed layer: a message of `topic` that came another way (the loop's hop)
+  void count_received(std::string_view topic) noexcept;
+
   // for the typed layer: a jump in header.seq on `topic`, `lost` messages missing
   void count_gap(std::string_view topic, std::uint64_t lost) noexcept;
 

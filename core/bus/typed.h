@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/bus/bytes.h"
+#include "core/bus/loop_link.h"
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 
@@ -45,8 +46,14 @@ class Publisher {
     const std::size_t size = msg.ByteSizeLong();
     if (size > buffer_.size()) buffer_.resize(size);
     msg.SerializeWithCachedSizesToArray(buffer_.data());
+    // the loop's hop first: its reader waits for it; then the bus, for every observer
+    if (hop_) hop_->send(buffer_.data(), size);
     return bytes_.send(topic_, type_, buffer_.data(), size);
   }
+
+  // every message published from now on goes over `hop` too (the loop's same-host link,
+  // which must outlive this publisher), before the bus; nullptr: the bus alone
+  void also_over(LoopLink* hop) { hop_ = hop; }
 
   // header.seq of the last message published (0 before the first)
   std::uint64_t last_seq() const { return seq_; }
@@ -62,6 +69,7 @@ class Publisher {
   std::string_view type_;  // Msg's full name, owned by its descriptor
   std::uint64_t seq_ = 0;
   std::vector<std::uint8_t> buffer_;
+  LoopLink* hop_ = nullptr;
 };
 
 // receives Msg on one topic. Counters live on the ByteSubscriber, per topic.
@@ -108,6 +116,19 @@ class Subscriber {
       bytes_.count_rejected(topic_);
       return false;
     }
+    track(out.header());
+    return true;
+  }
+
+  // decodes a payload of this topic that came another way (the loop's hop) into `out`:
+  // counted received, or malformed when it does not parse; sequence gaps counted as above
+  bool accept_payload(const void* data, std::size_t size, Msg& out) {
+    if (size > INT_MAX || !out.ParseFromArray(data, static_cast<int>(size))) {
+      bytes_.count_received(topic_);
+      bytes_.count_rejected(topic_);
+      return false;
+    }
+    bytes_.count_received(topic_);
     track(out.header());
     return true;
   }

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +20,7 @@ namespace enact::graph {
 namespace {
 
 std::atomic<bool> g_stop{false};
+bool g_loop_pinned = false;
 void on_stop(int) {
   // the first request arms the grace period: SIGALRM's default action ends the process
   if (!g_stop.exchange(true)) alarm(kStopGrace_s);
@@ -88,6 +90,17 @@ void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count,
   else say(node, std::to_string(n) + " " + who + " listening to " + topic + "; starting");
 }
 
+bool wait_for_loop_peer(bus::LoopLink& link, const std::string& node, const std::string& peer) {
+  if (link.wait_for_peer(rt::now_ns() + 200'000'000)) return true;
+  tell_launcher("wait " + std::to_string(kObserversWait_s));
+  say(node, "waiting up to " + std::to_string(static_cast<int>(kObserversWait_s)) + " s for " + peer + " on the loop link " + link.path());
+  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9);
+  while (!stop_requested() && rt::now_ns() < give_up && !link.wait_for_peer(std::min(give_up, rt::now_ns() + 100'000'000))) {
+  }
+  if (!link.connected()) say(node, peer + " did not connect to the loop link in " + std::to_string(static_cast<int>(kObserversWait_s)) + " s; running anyway");
+  return link.connected();
+}
+
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in) {
   status.clear_topics();
   for (const auto& [topic, c] : out.all_counters()) {
@@ -110,9 +123,12 @@ void apply_rt_profile(const std::string& node) {
   const char* text = std::getenv(rt::kProfileEnv);
   if (!text) return;
   const rt::NodeProfileReport report = rt::apply_node_profile(rt::NodeProfile::from_env(text));
+  g_loop_pinned = report.pinned;
   bus::set_io_threads({report.io_cpus, report.io_fifo_priority});
   say(node, report.summary());
 }
+
+bool loop_pinned() { return g_loop_pinned; }
 
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv) {
   try {

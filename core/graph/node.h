@@ -7,6 +7,7 @@
 #include <zmq.hpp>
 
 #include "core/bus/bytes.h"
+#include "core/bus/loop_link.h"
 #include "msgs/node_status.pb.h"
 
 namespace enact::graph {
@@ -41,6 +42,11 @@ void announce_topics(const bus::BytePublisher& out);
 // launcher to wait that long more for "ready"; says so again, naming `who`, when they do
 // not come (the node then runs anyway)
 void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who);
+// the clock master: waits up to kObserversWait_s (or a stop request) until the peer of the
+// loop's same-host link (node `peer`) connects, saying so when it takes longer than a moment;
+// false when it did not come (the node then runs anyway, every sample unanswered)
+bool wait_for_loop_peer(bus::LoopLink& link, const std::string& node, const std::string& peer);
+
 // per-topic counters of a node's sockets into its NodeStatus
 void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);
 
@@ -48,6 +54,10 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
 // put in ENACT_RT_PROFILE to this thread and to the I/O threads of the bus, and says what
 // it applied. Call it first, before any socket. Nothing when the variable is not set.
 void apply_rt_profile(const std::string& node);
+
+// whether apply_rt_profile pinned this process to the loop's CPU (the graph's other processes
+// run elsewhere: the loop's CPU is its own and its hop peer's)
+bool loop_pinned();
 
 // a node's main: runs `run`, and reports an exception as "<program>: error: ..." with exit 1
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv);

@@ -39,16 +39,24 @@ const graph::LoggerOptions kLogger{};
 ParamTable loop_table() {
   return {
       {.name = "rate_hz", .fallback = "5000", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"},
-      {.name = "spin_us", .fallback = "50", .min = 0, .doc = "spin on the clock for the last microseconds before each tick"},
+      {.name = "spin_us", .fallback = "-1", .min = -1, .doc = "spin on the clock for the last microseconds before each tick (-1: sized from this machine's probe, enact doctor)"},
       {.name = "duration_s", .fallback = "0", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"},
       {.name = "lock_memory", .type = ParamType::flag, .fallback = "false", .doc = "mlockall the process"},
       {.name = "fifo_priority", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"},
   };
 }
 
+// the ffd <-> sim hop, declared by both ends
+ParamSpec loop_transport_decl() {
+  return {.name = "loop_transport", .type = ParamType::choice, .fallback = "auto", .choices = {"auto", "local", "zeromq"},
+          .doc = "the ffd <-> sim hop: local (a same-host Unix link the loop threads read themselves: the machine's pipe floor), zeromq (the bus), "
+                 "auto (local: a graph's nodes share one host); observers see every message either way"};
+}
+
 ParamTable sim_node_table() {
   ParamTable t = sim_table();
   const ParamTable own{
+      loop_transport_decl(),
       {.name = "ffd_node", .type = ParamType::text, .fallback = "ffd", .doc = "the FFD driver's node name (its ffd/state)"},
       {.name = "scene_rate_hz", .fallback = "60", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"},
       {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/force before answering"},
@@ -60,6 +68,7 @@ ParamTable sim_node_table() {
 ParamTable ffd_node_table() {
   const ParamTable loop = loop_table(), device = force_table();
   const ParamTable own{
+      loop_transport_decl(),
       {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its ffd/force)"},
       {.name = "tactile_node", .type = ParamType::text, .fallback = "tactile", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"},
       {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 10 s for this many observers of ffd/state besides the simulator"},

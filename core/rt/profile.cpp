@@ -100,7 +100,7 @@ void GraphProfile::validate() const {
 }
 
 std::string NodeProfile::to_env() const {
-  return "cpus=" + cpu_list(cpus) + " fifo=" + std::to_string(fifo_priority) + " io_fifo=" + std::to_string(io_fifo_priority);
+  return "cpus=" + cpu_list(cpus) + " io_cpus=" + cpu_list(io_cpus) + " fifo=" + std::to_string(fifo_priority) + " io_fifo=" + std::to_string(io_fifo_priority);
 }
 
 NodeProfile NodeProfile::from_env(const std::string& text) {
@@ -111,6 +111,7 @@ NodeProfile NodeProfile::from_env(const std::string& text) {
     const std::string key = word.substr(0, eq), value = eq == std::string::npos ? "" : word.substr(eq + 1);
     try {
       if (key == "cpus") out.cpus = value.empty() ? std::vector<int>{} : parse_cpus(value);
+      else if (key == "io_cpus") out.io_cpus = value.empty() ? std::vector<int>{} : parse_cpus(value);
       else if (key == "fifo") out.fifo_priority = parse_priority(value);
       else if (key == "io_fifo") out.io_fifo_priority = parse_priority(value);
       else throw std::invalid_argument(key);
@@ -140,8 +141,8 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     const int err = system_.pin_thread(other_cpus_);
     pinned_ = err == 0;
     if (pinned_) {
-      notes_.push_back("loop (" + joined(profile_.loop, ", ") + ") on CPU " + cpu_list(loop_cpus_) +
-                       ", the launcher and the other nodes on CPU " + cpu_list(other_cpus_));
+      notes_.push_back("loop (" + joined(profile_.loop, ", ") + ") on CPU " + cpu_list(loop_cpus_) + ", the launcher, the other nodes" +
+                       (profile_.io_with_loop ? "" : " and the loop's ZeroMQ I/O threads") + " on CPU " + cpu_list(other_cpus_));
     } else {
       notes_.push_back(refused("pinning to CPU " + cpu_list(other_cpus_), err, "allow this process every CPU of its cpuset (taskset -p, container cpuset)"));
       loop_cpus_.clear();
@@ -166,8 +167,8 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     fifo_ok_ = err == 0;
     if (fifo_ok_) {
       system_.set_fifo(0);
-      notes_.push_back("SCHED_FIFO: I/O threads " + std::to_string(profile_.fifo_priority) + ", " + joined(profile_.loop, " then ") + " from " +
-                       std::to_string(profile_.fifo_priority - 1) + " down");
+      const std::string io = profile_.io_with_loop ? "I/O threads " + std::to_string(profile_.fifo_priority) + ", " : "";
+      notes_.push_back("SCHED_FIFO: " + io + joined(profile_.loop, " then ") + " from " + std::to_string(profile_.fifo_priority - 1) + " down");
     } else {
       notes_.push_back(refused("SCHED_FIFO " + std::to_string(profile_.fifo_priority), err,
                                "run as root or grant CAP_SYS_NICE / rtprio in /etc/security/limits.conf"));
@@ -195,8 +196,9 @@ NodeProfile LauncherProfile::node(const std::string& name) const {
   for (std::size_t i = 0; i < profile_.loop.size(); ++i) {
     if (profile_.loop[i] != name) continue;
     out.cpus = loop_cpus_;
+    if (!profile_.io_with_loop) out.io_cpus = other_cpus_;
     if (fifo_ok_) {
-      out.io_fifo_priority = profile_.fifo_priority;
+      if (profile_.io_with_loop) out.io_fifo_priority = profile_.fifo_priority;
       out.fifo_priority = profile_.fifo_priority - 1 - static_cast<int>(i);
     }
   }
@@ -211,8 +213,8 @@ NodeProfileReport apply_node_profile(const NodeProfile& profile, const ProfileSy
     const int err = system.pin_thread(profile.cpus);
     r.pinned = err == 0;
     if (r.pinned) {
-      r.io_cpus = profile.cpus;
-      r.notes.push_back("pinned to CPU " + cpu_list(profile.cpus) + " with its ZeroMQ I/O threads");
+      r.io_cpus = profile.io_cpus.empty() ? profile.cpus : profile.io_cpus;
+      r.notes.push_back("pinned to CPU " + cpu_list(profile.cpus) + ", its ZeroMQ I/O threads to CPU " + cpu_list(r.io_cpus));
     } else {
       r.notes.push_back(refused("pinning to CPU " + cpu_list(profile.cpus), err, "see the launcher's real-time profile"));
     }
@@ -222,7 +224,8 @@ NodeProfileReport apply_node_profile(const NodeProfile& profile, const ProfileSy
     r.fifo = err == 0;
     if (r.fifo) {
       r.io_fifo_priority = profile.io_fifo_priority;
-      r.notes.push_back("SCHED_FIFO " + std::to_string(profile.fifo_priority) + ", I/O threads " + std::to_string(profile.io_fifo_priority));
+      r.notes.push_back("SCHED_FIFO " + std::to_string(profile.fifo_priority) + ", I/O threads " +
+                        (profile.io_fifo_priority > 0 ? std::to_string(profile.io_fifo_priority) : std::string("normal")));
     } else {
       r.notes.push_back(refused("SCHED_FIFO " + std::to_string(profile.fifo_priority), err, "see the launcher's real-time profile"));
     }

@@ -26,6 +26,10 @@ struct GraphProfile {
   std::vector<std::string> loop;  // the loop's processes, by node name, highest priority first
   int fifo_priority = 0;          // 0: normal scheduling; P: I/O threads P, loop[i] at P-1-i
   bool cpu_latency = true;        // hold /dev/cpu_dma_latency at 0 while the graph runs
+  // the loop's hop goes through ZeroMQ (loop_transport=zeromq): its I/O threads carry the
+  // loop, so they share the loop's CPU and priority. Otherwise (the same-host link) they carry
+  // only the observers' copies and run on the other CPUs, at normal priority.
+  bool io_with_loop = false;
 
   // throws config::Error for a priority outside 0..99, or too low to order the loop
   // (P - loop.size() must be >= 1)
@@ -35,10 +39,11 @@ struct GraphProfile {
 // what one loop process applies to itself (and to the ZeroMQ context it is about to make)
 struct NodeProfile {
   std::vector<int> cpus;     // pin the process (its main thread, and every thread it starts)
+  std::vector<int> io_cpus;  // the ZeroMQ I/O threads' CPUs (empty: the process's)
   int fifo_priority = 0;     // SCHED_FIFO for the main thread (0: normal)
   int io_fifo_priority = 0;  // SCHED_FIFO for the ZeroMQ I/O threads (0: normal)
 
-  // "cpus=1 fifo=79 io_fifo=80" (the environment form); from_env reads it back
+  // "cpus=1 io_cpus=0 fifo=79 io_fifo=80" (the environment form); from_env reads it back
   std::string to_env() const;
   // throws config::Error naming ENACT_RT_PROFILE and the fix on a malformed text
   static NodeProfile from_env(const std::string& text);

@@ -123,4 +123,10 @@ __attribute__((noinline)) std::size_t prefault_stack(std::size_t bytes) {
   return bytes;
 }
 
+bool running_fifo() {
+  int policy = 0;
+  sched_param sp{};
+  return pthread_getschedparam(pthread_self(), &policy, &sp) == 0 && policy == SCHED_FIFO;
+}
+
 }  // namespace enact::rt

@@ -32,6 +32,9 @@ struct RtReport {
 // process-wide). Refusals are reported, never thrown.
 RtReport apply_rt_setup(const RtParams& params);  // also sets the thread's timer slack to 1 ns
 
+// whether the calling thread runs under SCHED_FIFO (set here or by a graph's profile)
+bool running_fifo();
+
 // touch `bytes` of stack below the caller so the loop never page-faults on it (call it from
 // the loop thread, after locking memory, so the pages stay resident). Stops short of the end
 // of the thread's stack; returns the bytes touched.

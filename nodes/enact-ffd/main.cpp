@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
 #include "core/devices/hand.h"
@@ -18,6 +19,9 @@
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
+#include "core/rt/probe.h"
+#include "core/rt/profile.h"
+#include "core/rt/round_trip.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
 
@@ -57,10 +61,8 @@ int run(int argc, char** argv) {
   p.refuse_unknown();
   rt::SchedulerParams sched;
   sched.rate_hz = p.number("rate_hz");
-  sched.spin_ns = static_cast<std::int64_t>(p.number("spin_us") * 1e3);
-  // the simulator shares this CPU (the real-time profile): leave it every period's other half
-  sched.sleep_every_tick = true;
   sched.validate();
+  const double spin_us = p.number("spin_us");
   const std::string sim_node = p.text("sim_node");
   const double duration_s = p.number("duration_s");
   const int observers = p.integer("observers");
@@ -69,6 +71,7 @@ int run(int argc, char** argv) {
   rtp.fifo_priority = p.integer("fifo_priority");
   auto device = graph::make_force_device(p);
   const std::string tactile_node = p.text("tactile_node");
+  const bool local_hop = p.text("loop_transport") != "zeromq";
   if (args.check) return 0;
 
   // the bus: publish the samples, receive the answers straight from the simulator
@@ -82,7 +85,30 @@ int run(int argc, char** argv) {
   board.start();
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands(in, graph::kForceCommand);
-  in.connect(graph::node_endpoint(sim_node));
+  // the hop to the simulator: the same-host link (the bus still carries every state to the
+  // observers), or the bus itself
+  bus::LoopLink link;
+  if (local_hop) {
+    link = bus::LoopLink::listen(bus::loop_link_path(graph::graph_dir(), args.name));
+    state_pub.also_over(&link);
+  } else {
+    in.connect(graph::node_endpoint(sim_node));
+  }
+  char answer[bus::LoopLink::kMaxMessage];
+  msgs::ForceCommand command;
+  // the next answer from the simulator until deadline_ns: false when none came
+  auto next_answer = [&](std::int64_t deadline_ns) {
+    if (!local_hop) {
+      while (graph::wait_readable(in.socket(), deadline_ns)) {
+        if (commands.receive(command, 0)) return true;
+      }
+      return false;
+    }
+    for (long n; (n = link.receive(answer, sizeof answer, deadline_ns)) > 0;) {
+      if (commands.accept_payload(answer, static_cast<std::size_t>(n), command)) return true;
+    }
+    return false;
+  };
   // a virtual subject's fingertip: the latest pins the tactile driver shows
   devices::HandSource* hand = device->simulated_hand();
   const bool feels_pins = hand && hand->feels_pins();
@@ -95,17 +121,33 @@ int run(int argc, char** argv) {
   std::uint64_t pins_felt = 0;
   // wait until the simulator (and the observers asked for) listen: ZeroMQ drops what it
   // sends before that
-  graph::wait_for_subscribers(out, graph::kDeviceState, 1 + observers, args.name, "subscriber (the simulator, then observers)");
+  if (local_hop) {
+    graph::wait_for_loop_peer(link, args.name, sim_node);
+    graph::wait_for_subscribers(out, graph::kDeviceState, observers, args.name, "observer");
+  } else {
+    graph::wait_for_subscribers(out, graph::kDeviceState, 1 + observers, args.name, "subscriber (the simulator, then observers)");
+  }
+  graph::say(args.name, local_hop ? "loop hop to " + sim_node + ": local (Unix link " + link.path() + ", read by the loop thread)"
+                                  : "loop hop to " + sim_node + ": ZeroMQ (loop_transport=zeromq)");
 
   const rt::RtReport report = rt::apply_rt_setup(rtp);
   graph::say(args.name, report.summary());
+  // how to wait, from this machine's probe: the spin window covers its wake-up lateness; a
+  // period shorter than twice the lateness is spun whole on the loop's CPU, under normal
+  // scheduling (the simulator, woken by each state, still gets the CPU it needs)
+  const bool fifo = rt::running_fifo();
+  const rt::WaitPlan wait = rt::loop_wait(spin_us, rt::PeriodicScheduler(sched).period_ns(), fifo, false, graph::loop_pinned());
+  if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
+  sched.spin_ns = wait.spin_ns;
+  sched.sleep_every_tick = !wait.spin_whole_period;
+  graph::say(args.name, "the loop " + wait.why);
   rt::PeriodicScheduler scheduler(sched);
   rt::LoopStats stats;
   devices::ForceSample sample;
   msgs::DeviceState state;
-  msgs::ForceCommand command;
   msgs::NodeStatus status;
-  std::uint64_t late = 0, missing = 0;
+  // each sample and the answer that carries its seq: unanswered samples, late (stale) answers
+  rt::RoundTrip answers;
   graph::WatchdogLog watchdog(args.name, "no force answer: force ramped to zero");
   device->activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
@@ -126,26 +168,24 @@ int run(int argc, char** argv) {
     watchdog.update(devices::has(sample.faults, devices::DeviceFault::watchdog), now);
     state.mutable_header()->set_stamp_ns(0);
     graph::fill(state, sample);
+    if (local_hop && !link.connected()) link.accept_peer();  // a respawned simulator
     state_pub.publish(state);
-    const std::uint64_t seq = state.header().seq();
-    // the answer to this sample, until just before the next tick
-    const std::int64_t answer_by = scheduler.next_deadline_ns() - sched.spin_ns;
-    bool answered = false;
-    while (!answered && graph::wait_readable(in.socket(), answer_by)) {
-      if (!commands.receive(command, 0)) continue;
-      if (command.answered_seq() != seq) {
-        ++late;  // an answer to an older sample: too late to apply
-        continue;
-      }
+    answers.sent(state.header().seq(), now);
+    // the answer to this sample, until just before the next tick; an answer to an older
+    // sample is too late to apply (counted stale)
+    const std::int64_t answer_by = scheduler.next_deadline_ns() - scheduler.spin_ns();
+    while (next_answer(answer_by)) {
+      if (!answers.reply(command.answered_seq(), rt::now_ns())) continue;
       device->write(rt::now_ns(), command.zero() ? math::Vec3{} : graph::get(command.force()));
       stats.latency.record(rt::now_ns() - sample.time_ns);
-      answered = true;
+      break;
     }
-    missing += !answered;
+    answers.close();
     if (now >= next_status) {
       next_status += 1'000'000'000;
       rt::take_timing(scheduler, stats);
-      graph::fill(status, args.name, rt::summarize(stats, sched.rate_hz), missing + late, missing ? "samples without a force answer in time" : "");
+      graph::fill(status, args.name, rt::summarize(stats, sched.rate_hz), answers.unanswered(),
+                  answers.unanswered() ? "samples without a force answer in time" : "");
       graph::add_counters(status, out, &in);
       watchdog.fill(status);
       status.mutable_header()->set_stamp_ns(0);
@@ -154,8 +194,9 @@ int run(int argc, char** argv) {
   }
   device->deactivate();  // zero force first
   rt::take_timing(scheduler, stats);
-  graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(missing) +
-                            ", late answers: " + std::to_string(late) + ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
+  graph::say(args.name, rt::format(rt::summarize(stats, sched.rate_hz)) + " Samples without an answer in time: " + std::to_string(answers.unanswered()) +
+                            " of " + std::to_string(answers.requests()) + ", late answers: " + std::to_string(answers.stale()) +
+                            ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
   graph::say(args.name, watchdog.summary() + "; " + safety_summary(*device));
   if (feels_pins) graph::say(args.name, "the virtual subject felt " + std::to_string(pins_felt) + " pin states from " + tactile_node + " (tactile/shown).");
   return 0;

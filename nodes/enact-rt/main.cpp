@@ -21,6 +21,7 @@
 #include "core/graph/watchdog_log.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
+#include "core/rt/probe.h"
 #include "core/rt/profile.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
@@ -106,7 +107,6 @@ int run(int argc, char** argv) {
   args.params.refuse_unknown();
   rt::SchedulerParams sched;
   sched.rate_hz = args.params.number("rate_hz");
-  sched.spin_ns = static_cast<std::int64_t>(args.params.number("spin_us") * 1e3);
   sched.validate();
   const double duration_s = args.params.number("duration_s");
   rt::RtParams rtp;
@@ -120,6 +120,15 @@ int run(int argc, char** argv) {
     if (!np.cpus.empty()) rtp.cpus = np.cpus;
     if (np.fifo_priority > 0) rtp.fifo_priority = np.fifo_priority;
   }
+  // how the loop waits, from this machine's probe: a period shorter than twice its wake-up
+  // lateness is spun whole, on the loop's own CPU under normal scheduling (a FIFO thread that
+  // never sleeps is throttled by the kernel); otherwise it sleeps and spins the lateness
+  const bool own_cpu = !rtp.cpus.empty() && std::thread::hardware_concurrency() >= 2;
+  const double spin_us = args.params.number("spin_us");
+  const std::int64_t period_ns = rt::PeriodicScheduler(sched).period_ns();
+  const rt::WaitPlan wait = rt::loop_wait(spin_us, period_ns, rtp.fifo_priority > 0, false, own_cpu);
+  if (!wait.fifo) rtp.fifo_priority = 0;
+  sched.spin_ns = wait.spin_ns;
   // components, configured (bad input is refused here, before anything moves)
   sim::SimParams sp = graph::sim_params(sim_p);
   const double reengage_s = sim_p.number("reengage_s");
@@ -294,6 +303,7 @@ int run(int argc, char** argv) {
       status_pub.publish(status_msg);
     }
   };
+  graph::say(args.name, "the loop " + wait.why);
   graph::report_ready();
   while (!rt_done.load()) {
     drain();

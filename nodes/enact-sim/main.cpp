@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
 #include "core/graph/components.h"
@@ -59,6 +60,7 @@ int run(int argc, char** argv) {
   const double scene_rate_hz = p.number("scene_rate_hz");
   const int observers = p.integer("observers");
   sim::Reengagement reengage(p.number("reengage_s"));
+  const bool local_hop = p.text("loop_transport") != "zeromq";
   if (args.check) return 0;
 
   graph::install_stop_handlers();
@@ -70,7 +72,24 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
-  in.connect(graph::node_endpoint(ffd_node));
+  // the hop from the FFD driver: its same-host link (connected once it listens, again after
+  // it restarts), or the bus itself
+  const std::string link_path = local_hop ? bus::loop_link_path(graph::graph_dir(), ffd_node) : "";
+  bus::LoopLink link;
+  if (local_hop) force_pub.also_over(&link);
+  else in.connect(graph::node_endpoint(ffd_node));
+  char sample[bus::LoopLink::kMaxMessage];
+  msgs::DeviceState state;
+  // the next state within timeout_ns: false when none came
+  auto next_state = [&](std::int64_t timeout_ns) {
+    if (!local_hop) return states.receive(state, static_cast<int>(timeout_ns / 1'000'000));
+    const std::int64_t deadline = rt::now_ns() + timeout_ns;
+    if (!link.connected()) link = bus::LoopLink::connect(link_path, deadline);
+    for (long n; (n = link.receive(sample, sizeof sample, deadline)) > 0;) {
+      if (states.accept_payload(sample, static_cast<std::size_t>(n), state)) return true;
+    }
+    return false;
+  };
   graph::ParamBoard board(args.name);
   board.add(p, args.name);
   graph::ParamPort params(simulator, args.name, out, event_pub, &board);
@@ -78,7 +97,6 @@ int run(int argc, char** argv) {
   graph::announce_topics(out);
   board.start();
 
-  msgs::DeviceState state;
   msgs::ForceCommand command;
   msgs::TactileFrame frame;
   msgs::SceneState scene;
@@ -121,7 +139,7 @@ int run(int argc, char** argv) {
   };
   while (!graph::stop_requested()) {
     task_state.publish_due(rt::now_ns(), simulator.computer_model().name);
-    if (!states.receive(state, 100)) {
+    if (!next_state(100'000'000)) {
       apply_params();
       continue;
     }

@@ -2,7 +2,10 @@
 // lab would meet them: a stopped launcher (Ctrl-Z, a debugger), a killed launcher. The loop
 // must not notice an observer's trouble, and the force and the pins must end safe.
 //
-// Machine assumptions: 2 noisy shared cores; bounds are generous, the figures are printed.
+// Timing is the machine's: where a test bounds what a fault costs the loop, it measures the
+// same graph without the fault first, in the same run, and bounds the fault against that
+// (LoopWindow); the figures are printed. The graph tests never run side by side (the ctest
+// resource lock `graph`).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/prctl.h>
@@ -37,16 +40,39 @@ bool exits_within(pid_t pid, double timeout_s) {
   return false;
 }
 
-// the first node/status of `node` stamped after after_ns, within timeout_s
-std::optional<msgs::NodeStatus> status_after(Observer& obs, Observed& seen, const std::string& node, std::int64_t after_ns, double timeout_s) {
-  std::optional<msgs::NodeStatus> found;
-  obs.observe(timeout_s, seen, [&](std::string_view topic) {
-    if (topic != "node/status") return true;
-    const msgs::NodeStatus& s = seen.statuses.back();
-    if (s.node() == node && s.header().stamp_ns() > after_ns) found = s;
-    return !found;
-  });
-  return found;
+// the FFD driver's loop between two of its node/status: samples, those without an answer in
+// time (its cumulative count), watchdog episodes
+struct LoopWindow {
+  double seconds = 0.0, samples = 0.0;
+  std::uint64_t unanswered = 0, episodes = 0;
+  double fraction() const { return samples > 0.0 ? static_cast<double>(unanswered) / samples : 0.0; }
+};
+LoopWindow loop_window(const msgs::NodeStatus& from, const msgs::NodeStatus& to) {
+  LoopWindow w;
+  w.seconds = static_cast<double>(to.header().stamp_ns() - from.header().stamp_ns()) * 1e-9;
+  w.samples = w.seconds * kRate_hz;
+  w.unanswered = to.faults() - from.faults();
+  w.episodes = to.watchdog_episodes() - from.watchdog_episodes();
+  return w;
+}
+
+// the loop with the fault (`faulted`, ending at status `end`) against the same graph without
+// it (`clean`, measured just before in the same run), where the fault lasted fault_s: a loop
+// the fault held would leave every sample of fault_s unanswered and have one watchdog episode
+// as long as fault_s. The fault may cost at most what the machine's own noise explains: 3x the
+// clean window's share of misses plus 2 % of the samples (load from the tests beside it), and
+// no episode longer than a tenth of the fault or twice the longest seen without it
+void expect_fault_costs_nothing(const LoopWindow& clean, const LoopWindow& faulted, const msgs::NodeStatus& end, double clean_longest_s,
+                                double fault_s, const char* what) {
+  std::printf("[ measure ] %s: %llu of %.0f samples (%.3f %%) without an answer in time, %llu watchdog episodes; without the fault %llu of %.0f "
+              "(%.3f %%), %llu episodes, longest %.3f s; longest episode of the run %.3f s\n",
+              what, static_cast<unsigned long long>(faulted.unanswered), faulted.samples, 100.0 * faulted.fraction(),
+              static_cast<unsigned long long>(faulted.episodes), static_cast<unsigned long long>(clean.unanswered), clean.samples,
+              100.0 * clean.fraction(), static_cast<unsigned long long>(clean.episodes), clean_longest_s, end.watchdog_longest_s());
+  // one counter per sample: never more unanswered than samples (the 187 % of #22)
+  EXPECT_LE(static_cast<double>(faulted.unanswered), faulted.samples * 1.01 + kRate_hz) << what;
+  EXPECT_LE(faulted.fraction(), 3.0 * clean.fraction() + 0.02) << what << ": the fault cost the loop more than this machine's noise";
+  EXPECT_LT(end.watchdog_longest_s(), std::max(fault_s / 10.0, 2.0 * clean_longest_s)) << what << ": the loop stopped answering during the fault";
 }
 
 // the launcher, and with it the attach point, stopped for 3 s: the loop goes on answering
@@ -63,8 +89,10 @@ TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
   // `enact topic echo` attached too: it reports its losses when it exits
   const pid_t echo = spawn({ENACT_CLI, "topic", "echo", "ffd/state", "--count", "20000", "--attach", launcher.endpoint()}, dir.file("echo.out"),
                            dir.file("echo.err"));
-  // the driver's cumulative count of samples without an answer in time, before
-  const auto before = status_after(obs, seen, "ffd", 0, 5.0);
+  // the loop without the fault: kStop_s of the same graph
+  const auto start = obs.status_after(seen, "ffd", 0, 5.0);
+  ASSERT_TRUE(start) << "no node/status from ffd";
+  const auto before = obs.status_after(seen, "ffd", start->header().stamp_ns() + static_cast<std::int64_t>(kStop_s * 1e9), kStop_s + 5.0);
   ASSERT_TRUE(before) << "no node/status from ffd";
 
   // stop the launcher (its attach point thread and its ZeroMQ I/O thread with it)
@@ -74,20 +102,13 @@ TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
     std::this_thread::sleep_for(std::chrono::duration<double>(kStop_s));
   }
   const std::int64_t resumed_ns = rt::now_ns();
-  const auto resumed = status_after(obs, seen, "ffd", resumed_ns, 5.0);
+  const auto resumed = obs.status_after(seen, "ffd", resumed_ns, 5.0);
   ASSERT_TRUE(resumed) << "no node/status from ffd after the launcher resumed\n" << launcher.log();
 
-  // the loop went on: no watchdog episode (no answer for 10 ms) lasted anywhere near the
-  // stop (a blocked loop has one of 3 s; a busy machine alone, some of up to ~0.2 s). The
-  // samples left without an answer in time are printed: a busy machine misses many
-  const double window_s = static_cast<double>(resumed->header().stamp_ns() - before->header().stamp_ns()) * 1e-9;
-  const double samples = window_s * kRate_hz;
-  const std::uint64_t unanswered = resumed->faults() - before->faults();
-  std::printf("[ measure ] launcher stopped %.1f s: %llu of %.0f samples without an answer in time; watchdog episodes %llu, longest %.3f s\n",
-              kStop_s, static_cast<unsigned long long>(unanswered), samples, static_cast<unsigned long long>(resumed->watchdog_episodes()),
-              resumed->watchdog_longest_s());
-  EXPECT_GT(window_s, kStop_s);
-  EXPECT_LT(resumed->watchdog_longest_s(), kStop_s / 3) << "the loop stopped answering while the launcher was stopped";
+  // the loop went on as it did without the fault
+  const LoopWindow faulted = loop_window(*before, *resumed);
+  EXPECT_GT(faulted.seconds, kStop_s);
+  expect_fault_costs_nothing(loop_window(*start, *before), faulted, *resumed, before->watchdog_longest_s(), kStop_s, "launcher stopped 3 s");
   // and the launcher, resumed, does not take the statuses it missed for hung nodes
   std::this_thread::sleep_for(std::chrono::seconds(4));
   EXPECT_EQ(launcher.log().find("hangs"), std::string::npos) << launcher.log();
@@ -333,27 +354,12 @@ std::uint64_t info_gaps(const std::string& file) {
   return gaps;
 }
 
-// the driver's loop over a window: samples without an answer in time, its watchdog episodes
-void expect_loop_kept(const msgs::NodeStatus& before, const msgs::NodeStatus& after, const char* what) {
-  const double window_s = static_cast<double>(after.header().stamp_ns() - before.header().stamp_ns()) * 1e-9;
-  const double samples = window_s * kRate_hz;
-  const std::uint64_t unanswered = after.faults() - before.faults();
-  std::printf("[ measure ] %s: %llu of %.0f samples (%.2f %%) without an answer in time; watchdog episodes %llu, longest %.3f s\n", what,
-              static_cast<unsigned long long>(unanswered), samples, 100.0 * static_cast<double>(unanswered) / samples,
-              static_cast<unsigned long long>(after.watchdog_episodes() - before.watchdog_episodes()), after.watchdog_longest_s());
-  // generous bounds for a loaded machine; a loop the observers held would miss about every
-  // sample of the window and have one episode as long as the stop
-  EXPECT_LT(static_cast<double>(unanswered), 0.2 * samples) << what;
-  EXPECT_LT(after.watchdog_longest_s(), 0.5) << what;
-}
-
 #ifdef ENACT_VIEWER  // (a build without the viewer skips it)
 // a logger (enact record --all), a viewer (SDL offscreen) and an `enact topic echo`, all
 // stopped 30 s at once: the loop keeps answering; the attach point's memory stays bounded
 // while their queues are full and goes back once they leave; the recording counts exactly
 // what it lost
 TEST(Faults, StoppedObserversCostTheLoopNothing) {
-  ExclusiveTiming timing;  // its loop figures must be its own
   constexpr double kStop_s = 30.0;
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge.yaml"), 120.0);
@@ -368,7 +374,10 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
                              {"SDL_VIDEODRIVER=offscreen", "LP_NUM_THREADS=1"});
   std::this_thread::sleep_for(std::chrono::seconds(4));
   for (const pid_t p : {logger, echo, viewer}) ASSERT_FALSE(process_gone(p)) << read_file(dir.file("viewer.err")) << read_file(dir.file("rec.err"));
-  const auto before = status_after(obs, seen, "ffd", 0, 5.0);
+  // the loop with the observers running, 5 s: what the stop is measured against
+  const auto start = obs.status_after(seen, "ffd", 0, 5.0);
+  ASSERT_TRUE(start) << "no node/status from ffd";
+  const auto before = obs.status_after(seen, "ffd", start->header().stamp_ns() + 5'000'000'000, 10.0);
   ASSERT_TRUE(before) << "no node/status from ffd";
   const double rss_before_mb = rss_mb(launcher.pid());
   double rss_peak_mb = rss_before_mb;
@@ -381,9 +390,10 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
   }
-  const auto resumed = status_after(obs, seen, "ffd", rt::now_ns(), 5.0);
+  const auto resumed = obs.status_after(seen, "ffd", rt::now_ns(), 5.0);
   ASSERT_TRUE(resumed) << "no node/status from ffd after the observers resumed\n" << launcher.log();
-  expect_loop_kept(*before, *resumed, "logger, viewer and echo stopped 30 s");
+  expect_fault_costs_nothing(loop_window(*start, *before), loop_window(*before, *resumed), *resumed, before->watchdog_longest_s(), kStop_s,
+                             "logger, viewer and echo stopped 30 s");
 
   // they leave: each says what it lost
   std::this_thread::sleep_for(std::chrono::seconds(2));
@@ -420,7 +430,6 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
 // readable file holding every message from the first up to its last whole chunk; the loop
 // never notices
 TEST(Faults, LoggerWithAFullDiskClosesAReadableFileAndTheLoopGoesOn) {
-  ExclusiveTiming timing;  // its loop figures must be its own
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge.yaml"), 60.0, {"observers=1"});
   ASSERT_TRUE(launcher.wait_log("waiting up to", kReadyTimeout_s)) << launcher.log();
@@ -450,12 +459,17 @@ TEST(Faults, LoggerWithAFullDiskClosesAReadableFileAndTheLoopGoesOn) {
   EXPECT_EQ(recover.exit_code, 0) << recover.out << recover.err;
   EXPECT_EQ(read_states(dir.file("fixed.mcap"), 0).states, states.states);
 
-  // the loop went on as before
-  const auto first = status_after(obs, seen, "ffd", 0, 5.0);
+  // the loop went on: from when the logger started (the observer's statuses queued since)
+  // to 2 s after, against the 2 s that follow, the logger gone
+  const auto first = obs.status_after(seen, "ffd", 0, 5.0);
   ASSERT_TRUE(first);
-  const auto later = status_after(obs, seen, "ffd", first->header().stamp_ns() + 2'000'000'000, 5.0);
+  const auto later = obs.status_after(seen, "ffd", first->header().stamp_ns() + 2'000'000'000, 5.0);
   ASSERT_TRUE(later) << launcher.log();
-  expect_loop_kept(*first, *later, "after the logger's disk filled");
+  const auto last = obs.status_after(seen, "ffd", std::max(later->header().stamp_ns(), rt::now_ns()) + 2'000'000'000, 5.0);
+  ASSERT_TRUE(last) << launcher.log();
+  const LoopWindow faulted = loop_window(*first, *later);
+  expect_fault_costs_nothing(loop_window(*later, *last), faulted, *later, first->watchdog_longest_s(), faulted.seconds,
+                             "while the logger's disk filled");
   EXPECT_FALSE(process_gone(launcher.pid())) << launcher.log();
 }
 

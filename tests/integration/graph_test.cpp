@@ -253,6 +253,7 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   ASSERT_GT(sim, 0) << launcher.log();
   Observer obs(launcher.endpoint());
   obs.states.emplace(obs.bytes(), "ffd/state");
+  obs.statuses.emplace(obs.bytes(), "node/status");
   Observed seen;
   constexpr std::uint32_t kWatchdog = msgs::DEVICE_FAULT_WATCHDOG;
 
@@ -264,6 +265,12 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
     return healthy < 200;
   });
   ASSERT_GE(healthy, 200u) << "no healthy ffd/state before the stall";
+
+  // and 2 s of the loop without the stall, counted: what the machine misses on its own
+  const auto clean_start = obs.status_after(seen, "ffd", rt::now_ns(), 5.0);
+  ASSERT_TRUE(clean_start) << "no node/status from ffd";
+  const auto before = obs.status_after(seen, "ffd", clean_start->header().stamp_ns() + 2'000'000'000, 5.0);
+  ASSERT_TRUE(before) << "no node/status from ffd";
 
   // stall the simulator: within 2 s, samples taken after the stall carry the watchdog bit
   // (the watchdog trips after 10 ms; the stopped simulator loses the driver's ffd/state
@@ -295,6 +302,23 @@ TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
   });
   EXPECT_TRUE(cleared) << "the watchdog bit did not clear within 2 s of resuming the simulator";
   std::printf("[ timing ] watchdog bit cleared %.3f s after SIGCONT\n", seconds_since(continued));
+
+  // the driver counted each sample of the stall once: the simulator, resumed, answered the
+  // samples it had queued, too late to apply (stale, not samples without an answer again)
+  const auto after_stall = obs.status_after(seen, "ffd", rt::now_ns(), 5.0);
+  ASSERT_TRUE(after_stall) << "no node/status from ffd after the stall";
+  const double window_samples = static_cast<double>(after_stall->header().stamp_ns() - before->header().stamp_ns()) * 1e-9 * 5000.0;
+  const double stall_samples = static_cast<double>(cont_ns - stop_ns) * 1e-9 * 5000.0;
+  const double unanswered = static_cast<double>(after_stall->faults() - before->faults());
+  const double clean_fraction = static_cast<double>(before->faults() - clean_start->faults()) /
+                                (static_cast<double>(before->header().stamp_ns() - clean_start->header().stamp_ns()) * 1e-9 * 5000.0);
+  std::printf("[ measure ] stalled %.0f samples' time: %.0f of %.0f samples in the window without an answer in time (without the stall %.3f %%)\n",
+              stall_samples, unanswered, window_samples, 100.0 * clean_fraction);
+  EXPECT_GE(unanswered, 0.9 * stall_samples) << "the stall's samples were not counted unanswered";
+  // the stall's samples, what the machine misses on its own in the rest of the window (the
+  // bound of tests/integration/faults_test.cpp) and 50 ms of the simulator catching up
+  EXPECT_LE(unanswered, stall_samples + (window_samples - stall_samples) * (3.0 * clean_fraction + 0.02) + 250.0)
+      << "more samples unanswered than the stall left: one counter counts something else";
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
   // both drivers said when their watchdog began and ended (the tactile driver lowered the
   // pins: no frame for 0.25 s), and counted it in their summaries

@@ -258,6 +258,19 @@ class Observer {
     observe(seconds, out, [](std::string_view) { return true; });
   }
 
+  // the first node/status of `node` stamped after after_ns, within timeout_s (statuses must
+  // be subscribed)
+  std::optional<msgs::NodeStatus> status_after(Observed& seen, const std::string& node, std::int64_t after_ns, double timeout_s) {
+    std::optional<msgs::NodeStatus> found;
+    observe(timeout_s, seen, [&](std::string_view topic) {
+      if (topic != "node/status") return true;
+      const msgs::NodeStatus& s = seen.statuses.back();
+      if (s.node() == node && s.header().stamp_ns() > after_ns) found = s;
+      return !found;
+    });
+    return found;
+  }
+
   std::optional<bus::Subscriber<msgs::DeviceState>> states;
   std::optional<bus::Subscriber<msgs::ForceCommand>> forces;
   std::optional<bus::Subscriber<msgs::TactileFrame>> frames;

@@ -67,13 +67,23 @@ TEST(RtProfile, FifoIsOrderedIoThreadsFirstThenTheLoopInItsOrder) {
   FakeSystem sys;
   const LauncherProfile p(bridge(80), sys.calls());
   ASSERT_TRUE(p.fifo_permitted());
-  EXPECT_EQ(p.node("ffd").io_fifo_priority, 80);
+  // the loop's hop is the local link, read by the loop threads: their ZeroMQ I/O threads
+  // (observers) stay at normal scheduling, off the loop's CPU
+  EXPECT_EQ(p.node("ffd").io_fifo_priority, 0);
   EXPECT_EQ(p.node("ffd").fifo_priority, 79);
-  EXPECT_EQ(p.node("sim").io_fifo_priority, 80);
+  EXPECT_EQ(p.node("sim").io_fifo_priority, 0);
   EXPECT_EQ(p.node("sim").fifo_priority, 78);
   EXPECT_EQ(p.node("viewer").fifo_priority, 0);
   // the launcher tried FIFO and went back to normal scheduling
   EXPECT_EQ(sys.fifo_calls, (std::vector<int>{80, 0}));
+  // the hop forced onto ZeroMQ (loop_transport=zeromq): the I/O threads carry the loop, first
+  GraphProfile zmq_hop = bridge(80);
+  zmq_hop.io_with_loop = true;
+  const LauncherProfile q(zmq_hop, sys.calls());
+  EXPECT_EQ(q.node("ffd").io_fifo_priority, 80);
+  EXPECT_EQ(q.node("ffd").fifo_priority, 79);
+  EXPECT_EQ(q.node("sim").io_fifo_priority, 80);
+  EXPECT_EQ(q.node("sim").fifo_priority, 78);
 }
 
 TEST(RtProfile, RefusalsAreSaidOnceAndNothingRefusedReachesTheNodes) {

@@ -1,7 +1,5 @@
 #include "tests/support/test_util.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -50,15 +48,5 @@ RunResult run(const std::string& command_line) {
 }
 
 std::string source_path(const std::string& relative) { return std::string(ENACT_SOURCE_DIR) + "/" + relative; }
-
-ExclusiveTiming::ExclusiveTiming() {
-  const std::string path = "/tmp/enact-test-timing-" + std::to_string(getuid()) + ".lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
-  if (fd_ < 0 || flock(fd_, LOCK_EX) != 0) throw std::runtime_error("cannot lock " + path);
-}
-
-ExclusiveTiming::~ExclusiveTiming() {
-  if (fd_ >= 0) ::close(fd_);  // releases the lock
-}
 
 }  // namespace enact::test

@@ -47,18 +47,4 @@ RunResult run(const std::string& command_line);
 // a path under the source tree
 std::string source_path(const std::string& relative);
 
-// held by a test that asserts a loop's deadline figures: two such tests (ctest --parallel)
-// would each measure the other's graph; an exclusive lock on a file shared by all test
-// processes of this user makes them take turns
-class ExclusiveTiming {
- public:
-  ExclusiveTiming();
-  ~ExclusiveTiming();
-  ExclusiveTiming(const ExclusiveTiming&) = delete;
-  ExclusiveTiming& operator=(const ExclusiveTiming&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
 }  // namespace enact::test

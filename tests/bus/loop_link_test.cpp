@@ -1,0 +1,148 @@
+// LoopLink: the loop's same-host hop between the FFD driver (it listens) and the simulator.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <thread>
+
+#include "core/bus/loop_link.h"
+#include "core/config/yaml.h"
+#include "core/rt/clock.h"
+#include "tests/support/alloc_guard.h"
+#include "tests/support/test_util.h"
+
+namespace enact::bus {
+namespace {
+
+using test::TempDir;
+
+constexpr std::int64_t kSecond_ns = 1'000'000'000;
+
+// a master and a connected follower in `dir`
+struct Pair {
+  LoopLink master, follower;
+  explicit Pair(const TempDir& dir) {
+    master = LoopLink::listen(loop_link_path(dir.path(), "ffd"));
+    follower = LoopLink::connect(master.path(), rt::now_ns() + kSecond_ns);
+    master.wait_for_peer(rt::now_ns() + kSecond_ns);
+  }
+};
+
+TEST(LoopLink, MessagesKeepTheirBoundariesBothWays) {
+  TempDir dir;
+  Pair p(dir);
+  ASSERT_TRUE(p.master.connected());
+  ASSERT_TRUE(p.follower.connected());
+  ASSERT_TRUE(p.master.send("state-1", 7));
+  ASSERT_TRUE(p.master.send("state-22", 8));
+  char buf[LoopLink::kMaxMessage];
+  ASSERT_EQ(p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 7);
+  EXPECT_EQ(std::string(buf, 7), "state-1");
+  ASSERT_EQ(p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 8);
+  EXPECT_EQ(std::string(buf, 8), "state-22");
+  ASSERT_TRUE(p.follower.send("force", 5));
+  ASSERT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 5);
+  EXPECT_EQ(std::string(buf, 5), "force");
+  EXPECT_EQ(p.master.counters().sent, 2u);
+  EXPECT_EQ(p.master.counters().received, 1u);
+  EXPECT_EQ(p.follower.counters().received, 2u);
+}
+
+TEST(LoopLink, ReceiveWaitsUntilItsDeadlineAndNoLonger) {
+  TempDir dir;
+  Pair p(dir);
+  char buf[64];
+  const std::int64_t deadline = rt::now_ns() + 20'000'000;
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, deadline), 0);
+  const std::int64_t returned = rt::now_ns();
+  EXPECT_GE(returned, deadline);
+  EXPECT_LT(returned, deadline + kSecond_ns);  // not a blocking read
+  EXPECT_TRUE(p.master.connected());
+  // a message that comes while it waits ends the wait at once
+  std::thread later([&] {
+    rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+    p.follower.send("x", 1);
+  });
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + 10 * kSecond_ns), 1);
+  later.join();
+}
+
+TEST(LoopLink, AFollowerThatLeavesIsSeenAndANewOneTakesItsPlace) {
+  TempDir dir;
+  Pair p(dir);
+  p.follower = LoopLink();  // the simulator dies
+  char buf[64];
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), -1);
+  EXPECT_FALSE(p.master.connected());
+  EXPECT_FALSE(p.master.send("lost", 4));
+  EXPECT_EQ(p.master.counters().dropped, 1u);
+  // it is respawned and connects again
+  LoopLink again = LoopLink::connect(p.master.path(), rt::now_ns() + kSecond_ns);
+  ASSERT_TRUE(again.connected());
+  EXPECT_TRUE(p.master.wait_for_peer(rt::now_ns() + kSecond_ns));
+  ASSERT_TRUE(p.master.send("hello", 5));
+  EXPECT_EQ(again.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 5);
+  EXPECT_EQ(p.master.counters().peers, 2u);
+}
+
+TEST(LoopLink, AStoppedFollowerNeverBlocksTheMasterItsMessagesAreDropped) {
+  TempDir dir;
+  Pair p(dir);
+  // the follower reads nothing: its queue fills, then sends are refused at once
+  const char state[100] = {};
+  int refused = 0;
+  for (int i = 0; i < 100'000; ++i) refused += !p.master.send(state, sizeof state);
+  EXPECT_GT(refused, 0);
+  EXPECT_EQ(p.master.counters().dropped, static_cast<std::uint64_t>(refused));
+  EXPECT_EQ(p.master.counters().sent + p.master.counters().dropped, 100'000u);
+  EXPECT_TRUE(p.master.connected()) << "a full queue is not a lost peer";
+  // what was queued is still there, in order
+  char buf[128];
+  EXPECT_EQ(p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 100);
+}
+
+TEST(LoopLink, SendAndReceiveAllocateNothing) {
+  TempDir dir;
+  Pair p(dir);
+  char buf[128];
+  const char state[100] = {};
+  test::AllocGuard guard;
+  for (int i = 0; i < 1000; ++i) {
+    p.master.send(state, sizeof state);
+    p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns);
+    p.follower.send(state, 20);
+    p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns);
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
+}
+
+TEST(LoopLink, NobodyListeningLeavesTheFollowerUnconnectedAtItsDeadline) {
+  TempDir dir;
+  const std::int64_t deadline = rt::now_ns() + 30'000'000;
+  const LoopLink link = LoopLink::connect(dir.file("loop.nobody.sock"), deadline);
+  EXPECT_FALSE(link.connected());
+  EXPECT_GE(rt::now_ns(), deadline);
+}
+
+TEST(LoopLink, APathTooLongForAUnixSocketIsRefusedWithTheFix) {
+  const std::string dir(120, 'd');
+  try {
+    loop_link_path("/tmp/" + dir, "ffd");
+    FAIL() << "a 130-byte path was accepted";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("too long"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fix:"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LoopLink, AStaleSocketFileOfADeadGraphIsReplaced) {
+  TempDir dir;
+  const std::string path = loop_link_path(dir.path(), "ffd");
+  test::write_file(path, "left by a graph killed with -9");
+  LoopLink master = LoopLink::listen(path);
+  LoopLink follower = LoopLink::connect(path, rt::now_ns() + kSecond_ns);
+  EXPECT_TRUE(follower.connected());
+}
+
+}  // namespace
+}  // namespace enact::bus
