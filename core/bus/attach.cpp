@@ -129,6 +129,7 @@ void AttachPoint::set_launch_info(const msgs::GraphInfo& launch) {
   launch_.set_launch_text(launch.launch_text());
   *launch_.mutable_params() = launch.params();
   *launch_.mutable_files() = launch.files();
+  launch_.set_loop_hop(launch.loop_hop());
 }
 
 void AttachPoint::stop() {
@@ -350,6 +351,7 @@ void AttachPoint::publish_graph() {
     info.set_launch_text(launch_.launch_text());
     *info.mutable_params() = launch_.params();
     *info.mutable_files() = launch_.files();
+    info.set_loop_hop(launch_.loop_hop());
   }
   // skipped when nobody subscribed or the queue is full: the next one follows in a period
   publish_own(kGraphTopic, msgs::GraphInfo::descriptor()->full_name(), info.SerializeAsString());

@@ -90,8 +90,9 @@ LoopLink LoopLink::connect(const std::string& path, std::int64_t deadline_ns) {
       return link;
     }
     close_fd(fd);
+    if (rt::now_ns() + 2'000'000 > deadline_ns) break;
     rt::sleep_until_ns(rt::now_ns() + 2'000'000);
-  } while (rt::now_ns() < deadline_ns);
+  } while (true);
   return link;
 }
 

@@ -37,8 +37,9 @@ class LoopLink {
   // the clock master's end: listens at `path` (a stale file from a dead graph is replaced);
   // throws config::Error naming the path and the fix when it cannot
   static LoopLink listen(const std::string& path);
-  // the follower's end: connects to `path`, retrying until deadline_ns (the master may not be
-  // listening yet); an unconnected link when it could not (connected() false)
+  // the follower's end: connects to `path`, retrying every 2 ms until deadline_ns (the master
+  // may not be listening yet; a deadline already past: one try); an unconnected link when it
+  // could not (connected() false)
   static LoopLink connect(const std::string& path, std::int64_t deadline_ns);
 
   // whether a peer is connected
@@ -57,6 +58,8 @@ class LoopLink {
   // there is no peer or the peer left (the link is then unconnected).
   long receive(void* buffer, std::size_t capacity, std::int64_t deadline_ns) noexcept;
 
+  // the connected socket, to wait on it with poll() beside other sockets (-1: no peer)
+  int fd() const { return peer_; }
   // the path listened at or connected to
   const std::string& path() const { return path_; }
   const LinkCounters& counters() const { return counters_; }

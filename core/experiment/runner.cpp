@@ -20,11 +20,13 @@
 #include "core/config/yaml.h"
 #include "core/experiment/results.h"
 #include "core/graph/logger.h"
+#include "core/graph/registry.h"
 #include "core/graph/session.h"
 #include "core/graph/topics.h"
 #include "core/graph/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
+#include "core/rt/profile.h"
 #include "core/launch/supervisor.h"
 #include "core/record/mcap.h"
 #include "msgs/task_event.pb.h"
@@ -145,11 +147,13 @@ class TrialRun {
     // the real-time profile, before the trial's threads start (they inherit it); said in the
     // trial's log
     std::ostringstream realtime_said;
+    graph.realtime.other_loops = graph::running_loops();
     const auto realtime = launch::apply_realtime(graph, realtime_said);
     // the trial's graph: watched and adjusted live like any other, by its name
     // (numbered when the same experiment runs twice on this machine)
     graph::SessionOptions session_options;
     session_options.numbered = true;
+    session_options.loop_cpus = rt::cpu_list(realtime->loop_cpus());
     graph::GraphSession session(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch, session_options);
     session_ = &session;
     // the runner's publisher, bound before the attach point connects to it

@@ -330,12 +330,19 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
     file.set_media_type(media_type(value));
     file.set_data(data.str());
   };
+  bool ffd = false, sim = false, zeromq = false, colocated = false;
   for (const auto& n : graph.nodes) {
     for (const auto& p : n.params) add(n.name + "." + p.name, p.value);
     for (const auto& c : n.components) {
       for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
     }
+    const std::string exe = std::filesystem::path(n.exec).filename().string();
+    colocated = colocated || exe == "enact-rt";
+    ffd = ffd || exe == "enact-ffd";
+    sim = sim || exe == "enact-sim";
+    for (const auto& p : n.params) zeromq = zeromq || (p.name == "loop_transport" && p.value == "zeromq");
   }
+  info.set_loop_hop(colocated ? "co-located" : ffd && sim ? (zeromq ? "zeromq" : "local") : "");
   return info;
 }
 

@@ -52,7 +52,8 @@ std::string now_utc() {
 std::string text_of(const GraphEntry& e) {
   std::ostringstream out;
   out << "name: \"" << e.name << "\"\nendpoint: \"" << e.endpoint << "\"\npid: " << e.pid << "\npid_start: " << e.pid_start
-      << "\nstarted: \"" << e.started << "\"\nlaunch_file: \"" << e.launch_file << "\"\nfolder: \"" << e.folder << "\"\n";
+      << "\nstarted: \"" << e.started << "\"\nlaunch_file: \"" << e.launch_file << "\"\nfolder: \"" << e.folder << "\"\nloop_cpus: \""
+      << e.loop_cpus << "\"\n";
   return out.str();
 }
 
@@ -75,6 +76,7 @@ std::optional<GraphEntry> read_entry(const fs::path& file) {
     else if (key == "started") e.started = value;
     else if (key == "launch_file") e.launch_file = value;
     else if (key == "folder") e.folder = value;
+    else if (key == "loop_cpus") e.loop_cpus = value;
   }
   if (e.name.empty() || e.endpoint.empty() || e.pid <= 0) return std::nullopt;
   return e;
@@ -132,6 +134,17 @@ std::vector<GraphEntry> list_graphs() {
   return out;
 }
 
+std::map<int, std::string> running_loops() {
+  std::map<int, std::string> loops;
+  for (const GraphEntry& g : list_graphs()) {
+    std::stringstream cpus(g.loop_cpus);
+    for (std::string cpu; std::getline(cpus, cpu, ',');) {
+      if (!cpu.empty() && std::isdigit(static_cast<unsigned char>(cpu[0]))) loops[std::atoi(cpu.c_str())] = g.name;
+    }
+  }
+  return loops;
+}
+
 void clean_stale_folders() {
   list_graphs();
   std::error_code ec;
@@ -147,8 +160,8 @@ void clean_stale_folders() {
 }
 
 Registration::Registration(const std::string& name, const std::string& endpoint, const std::string& launch_file, const std::string& folder,
-                           bool numbered) {
-  entry_ = {name, endpoint, getpid(), process_start(getpid()), now_utc(), launch_file, folder, ""};
+                           bool numbered, const std::string& loop_cpus) {
+  entry_ = {name, endpoint, getpid(), process_start(getpid()), now_utc(), launch_file, folder, "", loop_cpus};
   const fs::path dir = registry_dir();
   std::error_code ec;
   fs::create_directories(dir, ec);

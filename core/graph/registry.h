@@ -13,9 +13,11 @@
 //   started: 2026-11-24T07:10:00Z
 //   launch_file: launch/bridge_rt.yaml
 //   folder: /tmp/enact-graph-AbC123
+//   loop_cpus: "1"           (the CPUs its real-time loop is pinned to; "": none)
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -32,7 +34,11 @@ struct GraphEntry {
   std::string launch_file;
   std::string folder;         // the graph's temporary folder (removed with a stale entry)
   std::string file;           // the entry's own file
+  std::string loop_cpus;      // the CPUs its loop is pinned to ("1", "": none)
 };
+
+// the loops of the graphs running now, for placing another: CPU -> graph name
+std::map<int, std::string> running_loops();
 
 // the registry's folder: /tmp/enact-<uid>/graphs ($ENACT_REGISTRY overrides it)
 std::string registry_dir();
@@ -56,7 +62,7 @@ class Registration {
   // the first free of NAME-2, NAME-3, ... is taken instead; else config::Error (the fix:
   // another --name).
   Registration(const std::string& name, const std::string& endpoint, const std::string& launch_file, const std::string& folder,
-               bool numbered = false);
+               bool numbered = false, const std::string& loop_cpus = "");
   ~Registration();
   Registration(const Registration&) = delete;
   Registration& operator=(const Registration&) = delete;

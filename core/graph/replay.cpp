@@ -36,6 +36,7 @@ struct State {
 struct Force {
   math::Vec3 force_n;
   bool zero;
+  std::uint64_t seq;  // the answer's own header.seq in the simulator's stream
 };
 
 // a live change as acknowledged: applied before the step on the state `state_seq`
@@ -103,7 +104,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()),
                         force_path_cut(state.faults())});
     } else if (m.topic == kForceCommand && command.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      forces[command.answered_seq()] = {get(command.force()), command.zero()};
+      forces[command.answered_seq()] = {get(command.force()), command.zero(), command.header().seq()};
       if (pub != m.channel->metadata.end()) sim_publisher = pub->second;
     } else if (m.topic == kTactileFrame && frame.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       frames.emplace_back(frame.level().begin(), frame.level().end());
@@ -171,10 +172,20 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
       if (plan.accepted) sim.apply(plan.change, 0);
       else diverge(out.steps, s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
     }
+    const auto f = forces.find(s.seq);
+    if (f == forces.end()) {
+      // the answers either side of this state: consecutive in the simulator's stream, so it
+      // answered nothing in between: it never received this state
+      const auto next = forces.upper_bound(s.seq);
+      if (next != forces.end() && next != forces.begin() && std::prev(next)->second.seq + 1 == next->second.seq) {
+        ++out.forces_missing;
+        ++out.states_never_received;
+        continue;
+      }
+    }
     if (s.cut) reengage.interrupt();
     const std::int64_t t_ns = s.stamp_ns - t0;
     const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
-    const auto f = forces.find(s.seq);
     if (f == forces.end()) {
       ++out.forces_missing;
     } else {

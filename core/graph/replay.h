@@ -36,6 +36,10 @@ struct ResimResult {
   std::uint64_t first_state_seq = 0;   // 1 when the recording holds the graph's first tick
   std::uint64_t forces_compared = 0, frames_compared = 0;
   std::uint64_t forces_missing = 0;    // states the recording holds no answer to
+  // of those, states the simulator never received (a stall filled the loop hop's queue, which
+  // dropped them): the answers either side follow each other in the simulator's stream with
+  // no gap, so it published nothing for them. Not stepped, as the simulator did not step them.
+  std::uint64_t states_never_received = 0;
   std::uint64_t changes = 0;           // live parameter changes re-applied (param/ack)
   std::optional<Divergence> divergence;
   task::Metrics metrics;               // the bridge task's metrics of the replay

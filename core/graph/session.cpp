@@ -45,7 +45,7 @@ bus::AttachOptions attach_options(const SessionOptions& o, const std::string& fo
 GraphSession::GraphSession(const std::string& name, const std::string& launch_file, const SessionOptions& options)
     : folder_(folder_prefix(options.supervised)),
       attach_(name, attach_options(options, folder_.path(), own_)),
-      registration_(name, attach_.endpoint(), launch_file, folder_.path(), options.numbered) {
+      registration_(name, attach_.endpoint(), launch_file, folder_.path(), options.numbered, options.loop_cpus) {
   // a later session removes the folder if this process is killed
   std::ofstream(folder_.path() + "/launcher") << getpid() << " " << process_start(getpid()) << "\n";
   // observers see the name the registry gave (NAME-2 when NAME runs already)

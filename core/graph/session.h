@@ -42,6 +42,9 @@ struct SessionOptions {
   // the session will run a supervisor (block its signals first: enact launch, trials); a
   // player keeps its own stop handlers
   bool supervised = true;
+  // the CPUs the graph's real-time loop is pinned to, for the registry ("": none): the next
+  // graph places its loop elsewhere (rt::GraphProfile::other_loops)
+  std::string loop_cpus;
 };
 
 class GraphSession {

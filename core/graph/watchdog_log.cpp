@@ -44,6 +44,25 @@ std::string WatchdogLog::summary() const {
          ")";
 }
 
+std::string rate_verdict(double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts) {
+  const double fraction = static_cast<double>(missed) / static_cast<double>(std::max<std::uint64_t>(deadlines, 1));
+  const bool held = fraction <= 0.001 && cuts.episodes() == 0;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s %.0f Hz: %llu of %llu deadlines missed (%.3f %%), %s", held ? "this machine held" : "this machine did NOT hold",
+                rate_hz, static_cast<unsigned long long>(missed), static_cast<unsigned long long>(deadlines), 100.0 * fraction,
+                cuts.episodes() == 0 ? "the force never cut" : ("the force cut " + std::to_string(cuts.episodes()) + " times, the longest " +
+                                                                 seconds(cuts.longest_s())).c_str());
+  std::string out = line;
+  if (!held) out += " (enact doctor says what this machine holds and what to change)";
+  return out;
+}
+
+void fill_verdict(msgs::NodeStatus& status, double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts) {
+  status.set_deadlines(deadlines);
+  status.set_deadlines_missed(missed);
+  status.set_verdict(rate_verdict(rate_hz, deadlines, missed, cuts));
+}
+
 void WatchdogLog::fill(msgs::NodeStatus& status) const {
   status.set_watchdog_episodes(episodes_);
   status.set_watchdog_longest_s(longest_s());

@@ -34,4 +34,10 @@ class WatchdogLog {
   std::uint64_t episodes_ = 0;
 };
 
+// the verdict on a loop's run, one line for people: the deadlines missed, the longest force
+// cut (watchdog episode), and whether this machine held the rate: at most 0.1 % of the
+// deadlines missed and the force never cut. Into `status` too (deadlines, verdict).
+std::string rate_verdict(double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts);
+void fill_verdict(msgs::NodeStatus& status, double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts);
+
 }  // namespace enact::graph

@@ -5,6 +5,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -133,11 +134,31 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     notes_.push_back("off");
     return;
   }
-  // the loop on the last CPU, the rest elsewhere
+  // the loop on the last CPU no other graph's loop holds, the rest on the CPUs no loop holds
   const std::vector<int> allowed = system_.allowed_cpus();
   if (allowed.size() >= 2 && !profile_.loop.empty()) {
-    loop_cpus_ = {allowed.back()};
-    other_cpus_.assign(allowed.begin(), allowed.end() - 1);
+    const auto held = [&](int cpu) { return profile_.other_loops.count(cpu) > 0; };
+    const auto free_cpu = std::find_if(allowed.rbegin(), allowed.rend(), [&](int cpu) { return !held(cpu); });
+    loop_cpus_ = {free_cpu != allowed.rend() ? *free_cpu : allowed.back()};
+    for (const int cpu : allowed) {
+      if (cpu != loop_cpus_[0] && !held(cpu)) other_cpus_.push_back(cpu);
+    }
+    if (other_cpus_.empty()) {
+      for (const int cpu : allowed) {
+        if (cpu != loop_cpus_[0]) other_cpus_.push_back(cpu);
+      }
+    }
+    if (held(loop_cpus_[0])) {
+      notes_.push_back("every CPU holds a loop already: this loop shares CPU " + std::to_string(loop_cpus_[0]) + " with graph '" +
+                       profile_.other_loops.at(loop_cpus_[0]) + "'s loop, and both will miss deadlines (their watchdogs cut the force); "
+                       "fix: stop the other graph (enact graph list), or give this machine another CPU");
+    } else {
+      for (const auto& [cpu, name] : profile_.other_loops) {
+        if (std::find(allowed.begin(), allowed.end(), cpu) == allowed.end()) continue;
+        notes_.push_back("graph '" + name + "'s loop holds CPU " + std::to_string(cpu) + (cpu == other_cpus_[0] && other_cpus_.size() == 1 ? ", where this graph's other processes run beside it" : "") +
+                         ": this loop goes on CPU " + std::to_string(loop_cpus_[0]));
+      }
+    }
     const int err = system_.pin_thread(other_cpus_);
     pinned_ = err == 0;
     if (pinned_) {

@@ -12,6 +12,7 @@
 // (apply_node_profile), before its first socket. A refusal by the system is never an error:
 // it is reported once, by the launcher, and the graph runs without that part.
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,10 @@ struct GraphProfile {
   // loop, so they share the loop's CPU and priority. Otherwise (the same-host link) they carry
   // only the observers' copies and run on the other CPUs, at normal priority.
   bool io_with_loop = false;
+  // the loops of the graphs already running on this machine (the registry): CPU -> graph name.
+  // This loop goes on a CPU none of them holds; where every CPU is held, it shares one and says
+  // what that costs.
+  std::map<int, std::string> other_loops;
 
   // throws config::Error for a priority outside 0..99, or too low to order the loop
   // (P - loop.size() must be >= 1)

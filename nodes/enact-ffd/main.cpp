@@ -188,6 +188,8 @@ int run(int argc, char** argv) {
                   answers.unanswered() ? "samples without a force answer in time" : "");
       graph::add_counters(status, out, &in);
       watchdog.fill(status);
+      // every deadline: a sample taken and answered in time, or not (a skipped tick is missed)
+      graph::fill_verdict(status, sched.rate_hz, answers.requests() + scheduler.skipped(), answers.unanswered() + scheduler.skipped(), watchdog);
       status.mutable_header()->set_stamp_ns(0);
       status_pub.publish(status);
     }
@@ -198,6 +200,8 @@ int run(int argc, char** argv) {
                             " of " + std::to_string(answers.requests()) + ", late answers: " + std::to_string(answers.stale()) +
                             ", lost answers (seq gaps): " + std::to_string(commands.counters().lost) + ".");
   graph::say(args.name, watchdog.summary() + "; " + safety_summary(*device));
+  graph::say(args.name, "verdict: " + graph::rate_verdict(sched.rate_hz, answers.requests() + scheduler.skipped(),
+                                                          answers.unanswered() + scheduler.skipped(), watchdog));
   if (feels_pins) graph::say(args.name, "the virtual subject felt " + std::to_string(pins_felt) + " pin states from " + tactile_node + " (tactile/shown).");
   return 0;
 }

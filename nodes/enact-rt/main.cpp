@@ -299,6 +299,7 @@ int run(int argc, char** argv) {
     while (summaries.try_pop(summary)) {
       graph::fill(status_msg, args.name, summary, felt.device_faults + felt.sim_faults, "");
       cuts.fill(status_msg);
+      graph::fill_verdict(status_msg, sched.rate_hz, summary.ticks, summary.overruns, cuts);
       graph::add_counters(status_msg, out, &params.subscriber());
       status_pub.publish(status_msg);
     }
@@ -321,6 +322,8 @@ int run(int argc, char** argv) {
               static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(dropped.load()), cuts.summary().c_str());
+  const rt::LoopSummary whole = rt::summarize(stats, sched.rate_hz);
+  std::printf("%s: verdict: %s\n", args.name.c_str(), graph::rate_verdict(sched.rate_hz, whole.ticks, whole.overruns, cuts).c_str());
   std::fflush(stdout);
   return 0;
 }

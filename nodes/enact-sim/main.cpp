@@ -72,22 +72,31 @@ int run(int argc, char** argv) {
   bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states(in, graph::kDeviceState);
-  // the hop from the FFD driver: its same-host link (connected once it listens, again after
-  // it restarts), or the bus itself
+  // the hop from the FFD driver: its same-host link once it listens (tried each time no
+  // state came for a while, so again after it restarts), the bus until then and whenever the
+  // node feeding the simulator has no link (`enact play` of a recording, a remote driver)
+  const std::string ffd_endpoint = graph::node_endpoint(ffd_node);
   const std::string link_path = local_hop ? bus::loop_link_path(graph::graph_dir(), ffd_node) : "";
   bus::LoopLink link;
-  if (local_hop) force_pub.also_over(&link);
-  else in.connect(graph::node_endpoint(ffd_node));
+  force_pub.also_over(&link);
+  in.connect(ffd_endpoint);
   char sample[bus::LoopLink::kMaxMessage];
   msgs::DeviceState state;
+  std::int64_t next_link_try_ns = 0;  // the link is tried every 100 ms while there is none
   // the next state within timeout_ns: false when none came
   auto next_state = [&](std::int64_t timeout_ns) {
-    if (!local_hop) return states.receive(state, static_cast<int>(timeout_ns / 1'000'000));
     const std::int64_t deadline = rt::now_ns() + timeout_ns;
-    if (!link.connected()) link = bus::LoopLink::connect(link_path, deadline);
+    if (local_hop && !link.connected() && rt::now_ns() >= next_link_try_ns) {
+      next_link_try_ns = rt::now_ns() + 100'000'000;
+      link = bus::LoopLink::connect(link_path, 0);
+      // the states come over the link alone now (the bus would deliver each twice)
+      if (link.connected()) in.disconnect(ffd_endpoint);
+    }
+    if (!link.connected()) return states.receive(state, static_cast<int>(timeout_ns / 1'000'000));
     for (long n; (n = link.receive(sample, sizeof sample, deadline)) > 0;) {
       if (states.accept_payload(sample, static_cast<std::size_t>(n), state)) return true;
     }
+    if (!link.connected()) in.connect(ffd_endpoint);  // the driver left: back to the bus
     return false;
   };
   graph::ParamBoard board(args.name);

@@ -12,6 +12,7 @@
 
 #include "core/bus/context.h"
 #include "core/graph/temp_folder.h"
+#include "core/rt/probe.h"
 #include "core/rt/profile.h"
 #include "nodes/enact/bench_loop.h"
 #include "nodes/enact/commands.h"
@@ -51,13 +52,17 @@ process, started by the bench itself.)
 }  // namespace
 
 int bench_loop(int argc, char** argv) {
-  const Args a = parse(argc, argv, 3, {"json", "seconds", "jitter-ticks", "scene", "fifo", "peer", "peer-of"}, {"no-profile"});
+  const Args a = parse(argc, argv, 3, {"json", "seconds", "jitter-ticks", "scene", "fifo", "peer", "peer-of", "peer-link", "peer-pipes"}, {"no-profile"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   const std::string scene = find_file(a.get("scene", "launch/scenes/bridge.yaml"));
-  if (a.has("peer")) return loop::run_peer(a.get("peer"), scene, a.get("peer-of"));
+  if (a.has("peer")) {
+    loop::PeerSetup setup{a.get("peer-of"), a.get("peer-link"), -1, -1};
+    if (std::sscanf(a.get("peer-pipes").c_str(), "%d,%d", &setup.pipe_in, &setup.pipe_out) != 2) throw UsageError("--peer-pipes needs IN,OUT");
+    return loop::run_peer(a.get("peer"), scene, setup);
+  }
   const double seconds = a.number("seconds", 5.0);
   const auto jitter_ticks = static_cast<std::int64_t>(a.number("jitter-ticks", 100000.0));
   const int fifo = static_cast<int>(a.number("fifo", 80.0));
@@ -77,11 +82,12 @@ int bench_loop(int argc, char** argv) {
   machine.latency_held = profile.cpu_latency_held();
   machine.loop_cpus = profile.loop_cpus();
   machine.fifo = self.fifo;
+  machine.probe = rt::cached_probe();
   std::fprintf(stderr, "enact bench loop: %s\nabout %.0f s: timer %lld ticks at 5 kHz, 44 kHz %.1f s, round trips ipc, tcp and ddsperf %.1f s each\n", machine.profile.c_str(),
                static_cast<double>(jitter_ticks) / loop::kRate_hz + 4.0 * seconds, static_cast<long long>(jitter_ticks), seconds, seconds);
 
   r.timer = loop::timer_5khz(scene, jitter_ticks, machine.fifo);
-  r.r44 = loop::colocated_44khz(scene, seconds, machine.fifo);
+  r.r44 = loop::colocated_44khz(scene, seconds, machine.fifo, !machine.loop_cpus.empty());
   const graph::TempFolder dir("/tmp/enact-bench-");
   r.rtt = loop::round_trips(dir.path(), scene, profile.in_loop("peer") ? profile.node("peer").to_env() : "", seconds, machine.fifo);
   r.dds = loop::ddsperf(seconds);

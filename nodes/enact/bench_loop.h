@@ -14,6 +14,7 @@
 
 #include "core/rt/histogram.h"
 #include "core/rt/loop_stats.h"
+#include "core/rt/probe.h"
 #include "core/rt/round_trip.h"
 #include "core/rt/rt_setup.h"
 
@@ -77,16 +78,23 @@ TimerResult timer_5khz(const std::string& scene, std::int64_t ticks, bool fifo);
 struct Rate44 {
   rt::LoopSummary loop;
   std::uint64_t deadlines = 0, missed = 0;
+  std::string how;  // how the loop waited, and why (rt::WaitPlan)
 };
 
-// the co-located tick on `scene` at 44 kHz for `seconds`, every missed deadline counted
-Rate44 colocated_44khz(const std::string& scene, double seconds, bool fifo);
+// the co-located tick on `scene` at 44 kHz for `seconds`, waiting as enact-rt does on this
+// machine (`own_cpu`: the loop has a CPU of its own), every missed deadline counted
+Rate44 colocated_44khz(const std::string& scene, double seconds, bool fifo, bool own_cpu);
 
 // ---- round trips (bench_loop_rtt.cpp, bench_loop_peer.cpp) ----
 
+// the arms of a round-trip case, alternating tick by tick; the same-host arms (the local
+// link and the pipe) run in the ipc case alone
+enum Arm { kBus = 0, kRaw = 1, kLink = 2, kPipe = 3, kArms = 4 };
+
 struct RttResult {
-  rt::RoundTrip arm[2];  // 0: bus, 1: raw
-  Ratios p50;
+  rt::RoundTrip arm[kArms];  // bus over ZeroMQ, raw ZeroMQ, the loop's local link, a pipe
+  Ratios p50;                // bus / raw ZeroMQ
+  Ratios floor;              // local link / pipe (ipc case)
   std::uint64_t lost = 0;
 };
 
@@ -103,11 +111,19 @@ struct PeerEndpoints {
   std::string bus[2], raw[2];
 };
 
-// the second process: `enact bench loop --peer DIR --peer-of ENDPOINTS`, stopped by SIGTERM
+// what the peer is given: this side's 4 endpoints, comma-separated; the local link's path;
+// the pipes' ends it reads requests from and writes replies to
+struct PeerSetup {
+  std::string parent_list, link_path;
+  int pipe_in = -1, pipe_out = -1;
+};
+
+// the second process: `enact bench loop --peer DIR --peer-of ENDPOINTS --peer-link PATH
+// --peer-pipes IN,OUT`, stopped by SIGTERM
 class Peer {
  public:
-  // starts it and reads its endpoints; `parent_list`: this side's 4 endpoints, comma-separated
-  Peer(const std::string& dir, const std::string& scene, const std::string& parent_list, const std::string& profile_env);
+  // starts it and reads its endpoints
+  Peer(const std::string& dir, const std::string& scene, const PeerSetup& setup, const std::string& profile_env);
   ~Peer();
   Peer(const Peer&) = delete;
   Peer& operator=(const Peer&) = delete;
@@ -118,9 +134,10 @@ class Peer {
   PeerEndpoints ends_;
 };
 
-// the peer's body: a simulator answering DeviceStates on the bus and a raw echo, on ipc (in
-// `dir`) and tcp, connected to `parent_list`; until SIGTERM or its parent is gone
-int run_peer(const std::string& dir, const std::string& scene, const std::string& parent_list);
+// the peer's body: a simulator answering DeviceStates on the bus (ipc in `dir`, and tcp) and
+// over the local link, and a raw echo on ZeroMQ (ipc, tcp) and the pipes; until SIGTERM or
+// its parent is gone
+int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& setup);
 
 // ---- ddsperf (bench_loop_ddsperf.cpp) ----
 
@@ -153,6 +170,7 @@ struct Machine {
   bool latency_held = false;
   std::vector<int> loop_cpus;
   bool fifo = false;
+  rt::MachineProbe probe;  // this boot's probe (rt::cached_probe), printed beside the figures
   // the stolen share of CPU time since construction, percent
   double steal_pct() const;
 };

@@ -13,9 +13,11 @@
 #include <stdexcept>
 
 #include "core/bus/context.h"
+#include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
+#include "core/rt/clock.h"
 #include "core/rt/profile.h"
 #include "core/sim/simulator.h"
 #include "nodes/enact/args.h"
@@ -23,11 +25,11 @@
 
 namespace enact::cli::loop {
 
-int run_peer(const std::string& dir, const std::string& scene, const std::string& parent_list) {
+int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& setup) {
   graph::install_stop_handlers();
   graph::apply_rt_profile("peer");
   std::vector<std::string> parent;
-  std::stringstream in(parent_list);
+  std::stringstream in(setup.parent_list);
   for (std::string e; std::getline(in, e, ',');) parent.push_back(e);
   if (parent.size() != 4) throw UsageError("--peer-of needs 4 endpoints");
   sim::SimParams p;
@@ -54,20 +56,43 @@ int run_peer(const std::string& dir, const std::string& scene, const std::string
     s.raw_sub.set(zmq::sockopt::subscribe, "");
     s.raw_sub.connect(parent[2 * i + 1]);
   }
+  // the local arms: the link (answered like the graph's simulator: the link first, then a bus
+  // without subscribers) and the pipes (echoed)
+  bus::BytePublisher link_out("ipc://" + dir + "/peer-link-bus", {.node = "sim", .send_hwm = 10000});
+  bus::Publisher<msgs::ForceCommand> link_forces(link_out, "ffd/force");
+  bus::ByteSubscriber link_in;
+  bus::Subscriber<msgs::DeviceState> link_states(link_in, "ffd/state");
+  bus::LoopLink link = bus::LoopLink::connect(setup.link_path, rt::now_ns() + 10'000'000'000);
+  if (!link.connected()) throw std::runtime_error("bench loop peer: cannot connect to the local link " + setup.link_path);
+  link_forces.also_over(&link);
+  char link_buffer[bus::LoopLink::kMaxMessage];
+  char pipe_buffer[4096];
   std::printf("%s %s %s %s\n", sides[0].out->endpoint().c_str(), sides[0].raw_pub.get(zmq::sockopt::last_endpoint).c_str(),
               sides[1].out->endpoint().c_str(), sides[1].raw_pub.get(zmq::sockopt::last_endpoint).c_str());
   std::fflush(stdout);
   msgs::DeviceState state;
   msgs::ForceCommand command;
   zmq::message_t m;
-  zmq::pollitem_t items[4] = {{sides[0].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[0].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
-                              {sides[1].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[1].raw_sub.handle(), 0, ZMQ_POLLIN, 0}};
+  zmq::pollitem_t items[6] = {{sides[0].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[0].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
+                              {sides[1].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[1].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
+                              {nullptr, link.fd(), ZMQ_POLLIN, 0},                  {nullptr, setup.pipe_in, ZMQ_POLLIN, 0}};
   // answer until told to stop (SIGTERM) or the parent is gone (its stdin pipe closed)
   while (!graph::stop_requested() && getppid() != 1) {
     try {
-      if (zmq::poll(items, 4, std::chrono::milliseconds(100)) == 0) continue;
+      if (zmq::poll(items, 6, std::chrono::milliseconds(100)) == 0) continue;
     } catch (const zmq::error_t&) {
       continue;
+    }
+    if (items[5].revents & ZMQ_POLLIN) {
+      const ssize_t n = read(setup.pipe_in, pipe_buffer, sizeof pipe_buffer);
+      if (n <= 0) break;  // the parent is gone
+      if (write(setup.pipe_out, pipe_buffer, static_cast<std::size_t>(n)) != n) break;
+    }
+    for (long n; link.connected() && (n = link.receive(link_buffer, sizeof link_buffer, 0)) > 0;) {
+      if (!link_states.accept_payload(link_buffer, static_cast<std::size_t>(n), state)) continue;
+      const sim::StepOutput& o = simulator.step(state.header().stamp_ns(), graph::get(state.position()));
+      graph::fill(command, state.header().seq(), o.force_n, o.fault);
+      link_forces.publish(command);
     }
     for (int i = 0; i < 2; ++i) {
       Side& s = sides[i];
@@ -82,10 +107,12 @@ int run_peer(const std::string& dir, const std::string& scene, const std::string
   return 0;
 }
 
-Peer::Peer(const std::string& dir, const std::string& scene, const std::string& parent_list, const std::string& profile_env) {
+Peer::Peer(const std::string& dir, const std::string& scene, const PeerSetup& setup, const std::string& profile_env) {
   // its command line and environment, made before fork (the child only execs)
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-  std::vector<std::string> args = {self, "bench", "loop", "--peer", dir, "--scene", scene, "--peer-of", parent_list};
+  std::vector<std::string> args = {self,     "bench", "loop",          "--peer",       dir,
+                                   "--scene", scene,   "--peer-of",     setup.parent_list, "--peer-link",
+                                   setup.link_path,    "--peer-pipes",  std::to_string(setup.pipe_in) + "," + std::to_string(setup.pipe_out)};
   std::vector<std::string> env;
   const std::string profile_key = std::string(rt::kProfileEnv) + "=";
   for (char** e = environ; *e; ++e) {

@@ -98,44 +98,60 @@ void report(const LoopResults& r, const std::string& json_path) {
   print_ratios("co-located / bare sleep lateness", timer.p50);
   std::printf("  jitter p99 ratio %.2f; co-located sample-to-force p50 %.2f, p99 %.2f us\n", jitter_p99_ratio, us(timer.arm[1].latency.percentile(50.0)),
               us(timer.arm[1].latency.percentile(99.0)));
-  std::printf("co-located at 44 kHz: %llu of %llu deadlines missed (%.3f %%), sample-to-force p99 %.2f us\n", static_cast<unsigned long long>(r.r44.missed),
-              static_cast<unsigned long long>(r.r44.deadlines), 100.0 * missed44, us(r.r44.loop.latency_p99_ns));
-  std::printf("round trip ffd -> sim (second process) -> ffd at 5 kHz, bus and raw ZeroMQ tick by tick (us)\n");
-  print_trip("bus ipc", ipc_r.arm[0]);
-  print_trip("raw ipc", ipc_r.arm[1]);
+  std::printf("co-located at 44 kHz: %llu of %llu deadlines missed (%.3f %%), sample-to-force p99 %.2f us; the loop %s\n",
+              static_cast<unsigned long long>(r.r44.missed), static_cast<unsigned long long>(r.r44.deadlines), 100.0 * missed44,
+              us(r.r44.loop.latency_p99_ns), r.r44.how.c_str());
+  const double link_p50_us = us(ipc_r.arm[kLink].rtt().percentile(50.0));
+  const double dds_ratio = r.dds.ran && r.dds.p50_us > 0.0 ? link_p50_us / r.dds.p50_us : 0.0;
+  std::printf("round trip ffd -> sim (second process) -> ffd at 5 kHz, the arms tick by tick (us)\n");
+  print_trip("link", ipc_r.arm[kLink]);
+  print_trip("pipe floor", ipc_r.arm[kPipe]);
+  print_ratios("local link / pipe floor", ipc_r.floor);
+  print_trip("bus ipc", ipc_r.arm[kBus]);
+  print_trip("raw ipc", ipc_r.arm[kRaw]);
   print_ratios("bus / raw ipc", ipc_r.p50);
-  print_trip("bus tcp", tcp_r.arm[0]);
-  print_trip("raw tcp", tcp_r.arm[1]);
+  print_trip("bus tcp", tcp_r.arm[kBus]);
+  print_trip("raw tcp", tcp_r.arm[kRaw]);
   print_ratios("bus / raw tcp", tcp_r.p50);
   std::printf("lost bus messages (seq gaps): %llu\n", static_cast<unsigned long long>(ipc_r.lost + tcp_r.lost));
   if (r.dds.ran) {
     std::printf("peer: Cyclone DDS ddsperf ping/pong, 5 kHz, 100 B: round trip p50 %.2f us, p99 %.2f us (medians of its per-second reports); %llu of %llu pings answered\n",
                 r.dds.p50_us, r.dds.p99_us, static_cast<unsigned long long>(r.dds.round_trips), static_cast<unsigned long long>(r.dds.expected));
+    std::printf("  local link / ddsperf p50 ratio %.2f\n", dds_ratio);
   } else {
     std::printf("peer: ddsperf not installed (Debian cyclonedds-tools): no DDS arm\n");
   }
   std::printf("machine: %u cores, steal %.2f %% during the run, load %s at the start; %s\n", machine.cores, r.steal_pct, machine.load_start.c_str(), machine.profile.c_str());
+  std::printf("%s", rt::describe(machine.probe).c_str());
   if (!json_path.empty()) {
     Json j;
     j.begin_object().field("seconds_per_case", r.seconds).field("jitter_ticks", static_cast<long long>(r.jitter_ticks)).field("fifo_priority", r.fifo_priority);
     j.field("distributed_rtt_p50_ratio", ipc_r.p50.overall).field("distributed_rtt_p50_ratio_tcp", tcp_r.p50.overall);
+    j.field("floor_rtt_p50_ratio", ipc_r.floor.overall).field("ddsperf_rtt_p50_ratio", dds_ratio);
     j.field("colocated_jitter_p99_ratio", jitter_p99_ratio).field("colocated_jitter_p50_ratio", timer.p50.overall);
     j.field("colocated_latency_p99_us", us(timer.arm[1].latency.percentile(99.0))).field("colocated_44khz_missed_fraction", missed44);
     j.field("colocated_44khz_latency_p99_us", us(r.r44.loop.latency_p99_ns)).field("lost_messages", static_cast<long long>(ipc_r.lost + tcp_r.lost));
     json_ratios(j, "rtt_ratio_ipc", ipc_r.p50);
+    json_ratios(j, "rtt_ratio_floor", ipc_r.floor);
     json_ratios(j, "rtt_ratio_tcp", tcp_r.p50);
     json_ratios(j, "jitter_ratio", timer.p50);
     json_timer_arm(j, "timer_bare_5khz", timer.arm[0]);
     json_timer_arm(j, "timer_colocated_5khz", timer.arm[1]);
-    json_trip(j, "rtt_bus_ipc", ipc_r.arm[0]);
-    json_trip(j, "rtt_raw_ipc", ipc_r.arm[1]);
-    json_trip(j, "rtt_bus_tcp", tcp_r.arm[0]);
-    json_trip(j, "rtt_raw_tcp", tcp_r.arm[1]);
+    json_trip(j, "rtt_link", ipc_r.arm[kLink]);
+    json_trip(j, "rtt_pipe", ipc_r.arm[kPipe]);
+    json_trip(j, "rtt_bus_ipc", ipc_r.arm[kBus]);
+    json_trip(j, "rtt_raw_ipc", ipc_r.arm[kRaw]);
+    json_trip(j, "rtt_bus_tcp", tcp_r.arm[kBus]);
+    json_trip(j, "rtt_raw_tcp", tcp_r.arm[kRaw]);
     j.key("ddsperf").begin_object().field("ran", r.dds.ran).field("p50_us", r.dds.p50_us).field("p99_us", r.dds.p99_us);
     j.field("round_trips", static_cast<long long>(r.dds.round_trips)).field("expected", static_cast<long long>(r.dds.expected)).end_object();
     j.key("machine").begin_object().field("cores", static_cast<long long>(machine.cores)).field("steal_pct", r.steal_pct).field("load_start", machine.load_start);
     j.field("cpu_latency_held", machine.latency_held).field("loop_cpus", rt::cpu_list(machine.loop_cpus)).field("fifo", machine.fifo);
-    j.field("profile", machine.profile).end_object();
+    j.field("profile", machine.profile);
+    j.field("probe_sleep_late_p50_us", us(machine.probe.sleep_late.p50_ns)).field("probe_sleep_late_p99_us", us(machine.probe.sleep_late.p99_ns));
+    j.field("probe_sleep_late_fifo_p99_us", us(machine.probe.sleep_late_fifo.p99_ns));
+    j.field("probe_pipe_same_cpu_p50_us", us(machine.probe.pipe_same_cpu.p50_ns)).field("probe_pipe_cross_cpu_p50_us", us(machine.probe.pipe_cross_cpu.p50_ns));
+    j.end_object();
     j.end_object();
     std::ofstream(json_path) << j.str() << "\n";
   }

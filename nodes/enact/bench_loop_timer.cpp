@@ -8,6 +8,8 @@
 #include "core/graph/colocated.h"
 #include "core/rt/clock.h"
 #include "core/rt/scheduler.h"
+#include "core/rt/probe.h"
+#include "core/rt/profile.h"
 #include "nodes/enact/bench_loop.h"
 
 namespace enact::cli::loop {
@@ -68,11 +70,16 @@ TimerResult timer_5khz(const std::string& scene, std::int64_t ticks, bool fifo) 
   return r;
 }
 
-Rate44 colocated_44khz(const std::string& scene, double seconds, bool fifo) {
+Rate44 colocated_44khz(const std::string& scene, double seconds, bool fifo, bool own_cpu) {
   Rate44 r;
   Colocated col(scene, 44000.0);
+  // waiting as enact-rt does on this machine (the probe's plan: a period under twice the
+  // wake-up lateness is spun whole, under normal scheduling)
+  const rt::WaitPlan wait = rt::loop_wait(-1.0, static_cast<std::int64_t>(1e9 / 44000.0), fifo, false, own_cpu);
+  r.how = wait.why;
   loop_thread([&] {
-    rt::PeriodicScheduler s({.rate_hz = 44000.0, .spin_ns = 50'000, .sleep_every_tick = fifo});
+    if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
+    rt::PeriodicScheduler s({.rate_hz = 44000.0, .spin_ns = wait.spin_ns, .sleep_every_tick = !wait.spin_whole_period});
     rt::LoopStats stats;
     const std::int64_t start = rt::now_ns() + 1'000'000;
     const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);

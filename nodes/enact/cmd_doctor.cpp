@@ -1,5 +1,6 @@
 // enact doctor: is this machine ready for real-time haptics? One line per check, ok or the
-// fix; exit 1 when something blocks the 5 kHz loop (memory locking, SCHED_FIFO).
+// fix; then the machine probe's figures and, for each mode, the rates this machine holds and
+// what to change for more; exit 1 when something blocks the 5 kHz loop (memory locking).
 #include <dirent.h>
 #include <fcntl.h>
 #include <pthread.h>
@@ -8,6 +9,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,20 +18,33 @@
 #include <thread>
 #include <vector>
 
+#include "core/rt/clock.h"
+#include "core/rt/histogram.h"
+#include "core/rt/probe.h"
+#include "core/sim/simulator.h"
+#include "nodes/enact/args.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact doctor
+constexpr const char* kHelp = R"(usage: enact doctor [--fresh]
 
-Is this machine ready for real-time haptics (the 5 kHz loop of enact-rt, real devices, the
-viewer, the tests)? One line per check: ok, warn (works, with more jitter or a missing extra)
-or FAIL (blocks the real-time loop), each with what was found and the fix. Exit 1 when
-something FAILs. Checks: memory locking, SCHED_FIFO, CPU frequency governor, CPU idle states,
-the CPU latency request (/dev/cpu_dma_latency), isolated CPUs, timer slack, real-time
-throttling, udev rules for the supported USB devices, BRLTTY (it grabs Metec displays), a
-display or offscreen OpenGL for the viewer, Node.js for the interop tests.
+Is this machine ready for real-time haptics (the loop of enact-rt and of the distributed
+graph, real devices, the viewer, the tests)? One line per check: ok, warn (works, with more
+jitter or a missing extra) or FAIL (blocks the real-time loop), each with what was found and
+the fix. Checks: memory locking, SCHED_FIFO, CPU frequency governor, CPU idle states, the CPU
+latency request (/dev/cpu_dma_latency), isolated CPUs, timer slack, real-time throttling, udev
+rules for the supported USB devices, BRLTTY (it grabs Metec displays), a display or offscreen
+OpenGL for the viewer, Node.js for the interop tests.
+
+Then the machine probe (the figures every loop chooses its wait from: how late a sleeping
+thread wakes, the pipe round trip on one CPU and across two, measured about a second and
+cached per boot), the co-located tick's cost on the bridge scene, and for each mode the rate
+this machine holds and what to change for more. Exit 1 when something FAILs.
+
+options:
+  --fresh   measure the machine again (after changing a kernel option, a CPU's governor...)
 )";
 
 enum class Level { ok, warn, fail };
@@ -178,10 +193,87 @@ Check node_js() {
   return {"nodejs", Level::warn, "no Node.js: the interop tests are skipped; fix: sudo apt install nodejs npm, then scripts/setup.sh"};
 }
 
+// the co-located tick's cost: p99 of 4000 simulator steps on the bridge scene, ns (0: the
+// scene is not found)
+std::int64_t tick_cost_ns() {
+  std::string scene;
+  try {
+    scene = find_file("launch/scenes/bridge.yaml");
+  } catch (const std::exception&) {
+    return 0;
+  }
+  sim::SimParams params;
+  params.scene = scene;
+  sim::Simulator simulator;
+  simulator.configure(params);
+  simulator.activate(0);
+  rt::LatencyHistogram cost;
+  const math::Vec3 start{-0.0074246, -0.0222739, 0.0119};
+  for (int i = 0; i < 4000; ++i) {
+    const math::Vec3 at{start.x + 1e-6 * (i % 200), start.y, start.z - 1e-6 * (i % 100)};
+    const std::int64_t t0 = rt::now_ns();
+    simulator.step(static_cast<std::int64_t>(i) * 200'000, at);
+    cost.record(rt::now_ns() - t0);
+  }
+  return cost.percentile(99.0);
+}
+
+double khz(double hz) { return hz * 1e-3; }
+double us(std::int64_t ns) { return static_cast<double>(ns) * 1e-3; }
+
+// the probe's figures, the rate each mode holds here, and what to change for more
+void machine_section(bool fresh) {
+  const rt::MachineProbe p = rt::cached_probe(fresh);
+  std::printf("\n%s", rt::describe(p).c_str());
+  const std::int64_t work_ns = tick_cost_ns();
+  std::printf("  the co-located tick (bridge scene, CM1): %.2f us p99\n", us(work_ns));
+  const std::int64_t late_p99 = p.sleep_late.p99_ns;
+  // a loop that sleeps every tick: its spin window covers the lateness, twice over
+  const double sleeping_hz = rt::sleeping_rate_limit_hz(p, false, work_ns);
+  // spinning on a CPU of its own: the tick's cost and a margin
+  const double spinning_hz = p.cpus >= 2 ? std::min(44'000.0, 1e9 / (1.5 * static_cast<double>(work_ns) + 2'000.0)) : 0.0;
+  // distributed on one host: the window, then the hop (one pipe round trip) and the step
+  const double window_ns = static_cast<double>(late_p99 + late_p99 / 4 + 5'000);
+  const double distributed_hz = std::min(44'000.0, 1e9 / (window_ns + static_cast<double>(p.pipe_same_cpu.p99_ns + work_ns)));
+  std::printf("\nrates this machine holds (from the figures above):\n");
+  std::printf("  co-located (enact-rt), sleeping each tick: up to %.1f kHz\n", khz(sleeping_hz));
+  if (spinning_hz > 0.0) {
+    std::printf("  co-located, spinning on a CPU of its own (what enact-rt does when the period is under twice the lateness): %.1f kHz\n", khz(spinning_hz));
+  } else {
+    std::printf("  co-located, spinning: not here (one CPU: the loop would starve everything else)\n");
+  }
+  std::printf("  distributed on one host (the local link): up to %.1f kHz; over ZeroMQ (loop_transport=zeromq) less: enact bench loop measures both\n",
+              khz(distributed_hz));
+  std::printf("\nto hold more:\n");
+  int tips = 0;
+  if (late_p99 > 50'000) {
+    ++tips;
+    std::printf("  - a sleeping thread wakes %.0f us late (p99): deep CPU idle states or a virtual CPU that sleeps; fix: let enact hold the CPU latency "
+                "request (/dev/cpu_dma_latency, see cpu_latency above), the kernel option idle=poll or processor.max_cstate=1, or a VM with "
+                "dedicated vCPUs\n",
+                us(late_p99));
+  }
+  if (p.fifo_permitted && p.sleep_late_fifo.p99_ns * 10 >= late_p99 * 9) {
+    ++tips;
+    std::printf("  - SCHED_FIFO wakes no sooner here (%.1f against %.1f us p99): the shipped launch files keep fifo_priority 0; FIFO helps only "
+                "against other load on the loop's CPU (--arg fifo_priority=80)\n",
+                us(p.sleep_late_fifo.p99_ns), us(late_p99));
+  }
+  if (p.cpus < 2) {
+    ++tips;
+    std::printf("  - one CPU: give the machine a second one, so that the loop has a CPU of its own\n");
+  }
+  if (sleeping_hz < 5'000.0) {
+    ++tips;
+    std::printf("  - a sleeping loop cannot hold 5 kHz here: the co-located loop spins (realtime profile, a CPU of its own)\n");
+  }
+  if (tips == 0) std::printf("  nothing to change for the shipped rates (5 kHz distributed, 44 kHz co-located)\n");
+}
+
 }  // namespace
 
 int doctor(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {}, {});
+  const Args a = parse(argc, argv, 2, {}, {"fresh"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -195,7 +287,8 @@ int doctor(int argc, char** argv) {
     std::printf("%s  %-14s %s\n", tag, c.name, c.found.c_str());
     blocked = blocked || c.level == Level::fail;
   }
-  std::printf(blocked ? "\nthe real-time loop cannot run as it should here: fix the FAIL lines\n" : "\nready for the real-time loop\n");
+  machine_section(a.flag("fresh"));
+  if (blocked) std::printf("\nthe real-time loop cannot run as it should here: fix the FAIL lines\n");
   return blocked ? 1 : 0;
 }
 

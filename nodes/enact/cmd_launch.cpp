@@ -5,11 +5,13 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/graph/registry.h"
 #include "core/graph/session.h"
 #include "core/graph/status_watch.h"
 #include "core/graph/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
+#include "core/rt/profile.h"
 #include "core/launch/supervisor.h"
 #include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
@@ -115,7 +117,9 @@ int launch(int argc, char** argv) {
     return 0;
   }
 
-  // the real-time profile, before the launcher starts any thread or process (they inherit it)
+  // the real-time profile, before the launcher starts any thread or process (they inherit it);
+  // its loop on a CPU no running graph's loop holds
+  graph.realtime.other_loops = graph::running_loops();
   const auto realtime = launch::apply_realtime(graph, std::cerr);
 
   // the graph's session: its folder, attach point and registry entry; observers can find
@@ -125,6 +129,7 @@ int launch(int argc, char** argv) {
   session_options.allow_remote = a.flag("allow-remote");
   session_options.numbered = !a.has("name");
   session_options.access = std::move(access);
+  session_options.loop_cpus = rt::cpu_list(realtime->loop_cpus());
   if (session_options.access) {
     const bus::Access& acc = *session_options.access;
     std::cerr << "enact launch: access from " << acc.file << ": " << acc.clients.size() << " client keys; graph key " << acc.server_public_z85 << "\n";

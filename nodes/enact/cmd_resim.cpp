@@ -68,7 +68,14 @@ int resim(int argc, char** argv) {
                 static_cast<unsigned long long>(res.first_state_seq));
   }
   if (res.changes) std::printf("  %llu live parameter changes re-applied where they took effect (param/ack)\n", static_cast<unsigned long long>(res.changes));
-  if (res.forces_missing) std::printf("  %llu states have no recorded answer\n", static_cast<unsigned long long>(res.forces_missing));
+  if (res.forces_missing) {
+    std::printf("  %llu states have no recorded answer", static_cast<unsigned long long>(res.forces_missing));
+    if (res.states_never_received) {
+      std::printf(" (%llu never reached the simulator: a stall filled the loop hop's queue; not stepped, as it did not)",
+                  static_cast<unsigned long long>(res.states_never_received));
+    }
+    std::printf("\n");
+  }
   std::printf("  task: falls %d, time %.3f s, time out %.3f s, ratio %.4f, %s\n", m.falls, m.time_total_s, m.time_out_s, m.ratio,
               m.completed ? "completed" : "not completed");
   if (!res.divergence) {

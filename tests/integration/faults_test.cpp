@@ -86,14 +86,15 @@ TEST(Faults, StoppedLauncherNeverStopsTheLoop) {
   obs.states.emplace(obs.bytes(), "ffd/state");
   obs.statuses.emplace(obs.bytes(), "node/status");
   Observed seen;
-  // `enact topic echo` attached too: it reports its losses when it exits
-  const pid_t echo = spawn({ENACT_CLI, "topic", "echo", "ffd/state", "--count", "20000", "--attach", launcher.endpoint()}, dir.file("echo.out"),
-                           dir.file("echo.err"));
   // the loop without the fault: kStop_s of the same graph
   const auto start = obs.status_after(seen, "ffd", 0, 5.0);
   ASSERT_TRUE(start) << "no node/status from ffd";
   const auto before = obs.status_after(seen, "ffd", start->header().stamp_ns() + static_cast<std::int64_t>(kStop_s * 1e9), kStop_s + 5.0);
   ASSERT_TRUE(before) << "no node/status from ffd";
+  // `enact topic echo` attached too, for the stop: it reports its losses when it exits
+  const pid_t echo = spawn({ENACT_CLI, "topic", "echo", "ffd/state", "--count", "20000", "--attach", launcher.endpoint()}, dir.file("echo.out"),
+                           dir.file("echo.err"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
 
   // stop the launcher (its attach point thread and its ZeroMQ I/O thread with it)
   {

@@ -158,6 +158,7 @@ TEST(IntegrationColocated, LateObserverSeesEveryTopicAndForcesAndPinsFollowConta
   EXPECT_TRUE(rt_status) << "no node/status from the container 'rt'";
   // co-located: each ffd/force answers the ffd/state of the same tick
   expect_answers_refer_to_states(obs, seen, "rt", "rt");
+  EXPECT_EQ(seen.graphs.back().loop_hop(), "co-located");
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
@@ -177,10 +178,16 @@ TEST(IntegrationColocated, ComputerModelCM3InvertsThePins) {
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
 
-TEST(IntegrationDistributed, ScenesFollowContactAndAnswersReferToSamples) {
+// the distributed graph, its loop's hop on the same-host link (the default) or forced onto
+// ZeroMQ (the launch file's switch): observers see every topic either way, every answer refers
+// to its sample, and the hop taken is said at start and in graph/topics
+class IntegrationDistributed : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(IntegrationDistributed, ScenesFollowContactAndAnswersReferToSamples) {
   const auto t0 = Clock::now();
+  const std::string transport = GetParam();
   TempDir dir;
-  Launcher launcher(dir, source_path("launch/bridge.yaml"), kGraphDuration_s);
+  Launcher launcher(dir, source_path("launch/bridge.yaml"), kGraphDuration_s, {"loop_transport=" + transport});
   ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
   for (const char* node : {"sim", "tactile", "ffd"}) EXPECT_NE(launcher.log().find(std::string(node) + " ready"), std::string::npos) << node;
   Observer obs(launcher.endpoint());
@@ -192,13 +199,21 @@ TEST(IntegrationDistributed, ScenesFollowContactAndAnswersReferToSamples) {
   expect_scene_follows_contact(seen.scenes, "CM1", false);
 
   expect_answers_refer_to_states(obs, seen, "ffd", "sim");
+  const bool local = transport == "auto";
+  EXPECT_EQ(seen.graphs.back().loop_hop(), local ? "local" : "zeromq");
+  EXPECT_NE(launcher.log().find(local ? "ffd: loop hop to sim: local (Unix link" : "ffd: loop hop to sim: ZeroMQ (loop_transport=zeromq)"),
+            std::string::npos)
+      << launcher.log();
 
-  // the driver measures its loop latency
+  // the driver measures its loop latency, counts its deadlines and gives its verdict
   bool ffd_status = false;
   for (const auto& s : seen.statuses) {
     if (s.node() != "ffd") continue;
     ffd_status = true;
     EXPECT_GT(s.latency_p50_ns(), 0) << s.ShortDebugString();
+    EXPECT_GT(s.deadlines(), 0u) << s.ShortDebugString();
+    EXPECT_LE(s.deadlines_missed(), s.deadlines()) << s.ShortDebugString();
+    EXPECT_NE(s.verdict().find("this machine"), std::string::npos) << s.ShortDebugString();
   }
   EXPECT_TRUE(ffd_status) << "no node/status from ffd";
   for (const char* node : {"sim", "tactile"}) {
@@ -207,10 +222,13 @@ TEST(IntegrationDistributed, ScenesFollowContactAndAnswersReferToSamples) {
     EXPECT_TRUE(found) << "no node/status from " << node;
   }
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+  EXPECT_NE(launcher.log().find("ffd: verdict: this machine"), std::string::npos) << launcher.log();
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
 
-TEST(IntegrationDistributed, KillingARequiredNodeStopsTheWholeGraph) {
+INSTANTIATE_TEST_SUITE_P(Hop, IntegrationDistributed, ::testing::Values("auto", "zeromq"));
+
+TEST(IntegrationDistributedFaults, KillingARequiredNodeStopsTheWholeGraph) {
   const auto t0 = Clock::now();
   // orphans of the graph would be re-parented to this process (and reaped below), not
   // linger as zombies of init that kill(pid, 0) still finds
@@ -244,7 +262,7 @@ TEST(IntegrationDistributed, KillingARequiredNodeStopsTheWholeGraph) {
   std::printf("[ timing ] %.1f s\n", seconds_since(t0));
 }
 
-TEST(IntegrationDistributed, StalledSimulatorTripsTheDriverWatchdog) {
+TEST(IntegrationDistributedFaults, StalledSimulatorTripsTheDriverWatchdog) {
   const auto t0 = Clock::now();
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge.yaml"), kGraphDuration_s);

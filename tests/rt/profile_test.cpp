@@ -63,6 +63,37 @@ TEST(RtProfile, TwoCpusPutTheLoopOnTheLastAndTheLauncherOnTheOther) {
   EXPECT_EQ(sys.released, 1);  // the latency request ends with the profile
 }
 
+// a second graph on the machine (the registry's running loops): its loop goes on a CPU the
+// first graph's loop does not hold; with every CPU held, it shares one and says what it costs
+TEST(RtProfile, ASecondGraphPlacesItsLoopOnACpuNoOtherLoopHolds) {
+  FakeSystem sys;
+  sys.cpus = {0, 1, 2, 3};
+  GraphProfile second = bridge();
+  second.other_loops = {{3, "bridge_rt"}};
+  const LauncherProfile p(second, sys.calls());
+  EXPECT_EQ(p.loop_cpus(), std::vector<int>{2});
+  EXPECT_EQ(p.other_cpus(), (std::vector<int>{0, 1}));  // not beside the other loop either
+  EXPECT_TRUE(mentions(p.summary(), "graph 'bridge_rt's loop holds CPU 3: this loop goes on CPU 2")) << p.summary();
+
+  // two CPUs, the last held: the loop takes the first, the rest runs beside the other loop
+  FakeSystem two;
+  GraphProfile other = bridge();
+  other.other_loops = {{1, "bridge_rt"}};
+  const LauncherProfile q(other, two.calls());
+  EXPECT_EQ(q.loop_cpus(), std::vector<int>{0});
+  EXPECT_EQ(q.other_cpus(), std::vector<int>{1});
+  EXPECT_TRUE(mentions(q.summary(), "where this graph's other processes run beside it")) << q.summary();
+
+  // every CPU held: shared, said plainly with the fix
+  FakeSystem full;
+  GraphProfile third = bridge();
+  third.other_loops = {{0, "a"}, {1, "b"}};
+  const LauncherProfile r(third, full.calls());
+  ASSERT_EQ(r.loop_cpus().size(), 1u);
+  EXPECT_TRUE(mentions(r.summary(), "every CPU holds a loop already: this loop shares CPU 1 with graph 'b'")) << r.summary();
+  EXPECT_TRUE(mentions(r.summary(), "fix: stop the other graph")) << r.summary();
+}
+
 TEST(RtProfile, FifoIsOrderedIoThreadsFirstThenTheLoopInItsOrder) {
   FakeSystem sys;
   const LauncherProfile p(bridge(80), sys.calls());

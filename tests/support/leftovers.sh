@@ -15,7 +15,7 @@ leftovers() {
     pid="${env#/proc/}"
     pid="${pid%/environ}"
     [[ "$pid" == "$$" ]] && continue
-    if tr '\0' '\n' < "$env" 2>/dev/null | grep -qxF "$marker"; then echo "$pid"; fi
+    if { tr '\0' '\n' < "$env"; } 2>/dev/null | grep -qxF "$marker"; then echo "$pid"; fi
   done
 }
 
@@ -25,8 +25,8 @@ for ((i = 0; i < wait_s * 10; ++i)); do
 done
 status=0
 for pid in $(leftovers); do
-  test_name="$(tr '\0' '\n' < "/proc/$pid/environ" 2>/dev/null | sed -n 's/^ENACT_TEST_NAME=//p')"
-  cmd="$(tr '\0' ' ' < "/proc/$pid/cmdline" 2>/dev/null)"
+  test_name="$({ tr '\0' '\n' < "/proc/$pid/environ"; } 2>/dev/null | sed -n 's/^ENACT_TEST_NAME=//p')"
+  cmd="$({ tr '\0' ' ' < "/proc/$pid/cmdline"; } 2>/dev/null)"
   [[ -z "$cmd" ]] && continue  # gone meanwhile
   echo "leftovers.sh: pid $pid still runs ${wait_s} s after the graph tests ended: $cmd (started by ${test_name:-an unnamed test})"
   kill -KILL "$pid" 2>/dev/null
