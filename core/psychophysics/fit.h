@@ -8,6 +8,8 @@
 // threshold (its log for a Weibull), the log spread and the lapse. scripts/psychophysics.py
 // fits the same data with scipy (tests/psychophysics: equal to 1e-4).
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include "core/psychophysics/procedure.h"
@@ -31,6 +33,8 @@ struct FitSettings {
   bool free_lapse = true;
   double lapse = 0.0;       // when fixed
   double max_lapse = 0.06;  // when fitted
+  double spread = 0.0;      // > 0: the spread held at this value (e.g. a Weibull exponent
+                            // known from the literature); 0: fitted
 };
 
 struct Fit {
@@ -51,10 +55,26 @@ struct Interval {
   bool covers(double value) const { return low <= value && value <= high; }
 };
 
+// a bootstrap sample: the answers an observer with function f gives, drawn from `seed`
+using Resample = std::function<std::vector<LevelCount>(const PsychometricFunction& f, std::uint64_t seed)>;
+
 // the percentile interval (`confidence`, e.g. 0.95) of the threshold over `replicates`
-// parametric bootstrap samples: at each level, as many answers as the data had, drawn from
-// the fitted function, then fitted again; seeded
-Interval bootstrap_threshold(const std::vector<LevelCount>& data, const FitSettings& settings, const Fit& fit, int replicates, std::uint64_t seed,
+// parametric bootstrap samples drawn from the fitted function, each fitted again; seeded.
+// With an adaptive procedure the levels depend on the answers, so a sample must run the
+// procedure again with the fitted function as the observer (resample_procedure); with fixed
+// levels (constant stimuli) resample_levels draws the same number of answers at each level.
+Interval bootstrap_threshold(const Resample& resample, const FitSettings& settings, const Fit& fit, int replicates, std::uint64_t seed,
                              double confidence = 0.95);
+// the profile-likelihood interval of the threshold: the thresholds t whose best fit with t
+// held (spread and lapse refitted) has a log-likelihood within chi2(1, confidence) / 2 of
+// the maximum (Wilks; Venzon & Moolgavkar 1988). It allows for a slope the data barely
+// constrain, which adaptive procedures' data often do not (Kaernbach 2001, "Slope bias of
+// psychometric functions derived from adaptive data", P&P 63(8)): the parametric bootstrap
+// is then too narrow. An end the data do not bound is at infinity (or 0 for a Weibull).
+Interval profile_threshold(const std::vector<LevelCount>& data, const FitSettings& settings, const Fit& fit, double confidence = 0.95);
+
+Resample resample_levels(const std::vector<LevelCount>& data);
+// `make` gives the procedure in its first state
+Resample resample_procedure(std::function<std::unique_ptr<Procedure>()> make);
 
 }  // namespace enact::psychophysics

@@ -168,6 +168,7 @@ class Quest final : public Procedure {
     return s_.stop_interval_log10 > 0.0 && quantile(0.95) - quantile(0.05) < s_.stop_interval_log10;
   }
   double estimate() const override { return std::pow(10.0, mean()); }
+  double quantile_level(double q) const { return std::pow(10.0, quantile(q)); }
 
  protected:
   void reset() override {
@@ -222,6 +223,11 @@ class Quest final : public Procedure {
 std::unique_ptr<Procedure> make_constant_stimuli(const ConstantStimuliSettings& settings) { return std::make_unique<ConstantStimuli>(settings); }
 std::unique_ptr<Procedure> make_staircase(const StaircaseSettings& settings) { return std::make_unique<Staircase>(settings); }
 std::unique_ptr<Procedure> make_quest(const QuestSettings& settings) { return std::make_unique<Quest>(settings); }
+
+double quest_quantile(const Procedure& quest, double q) {
+  const auto* p = dynamic_cast<const Quest*>(&quest);
+  return p ? p->quantile_level(q) : std::numeric_limits<double>::quiet_NaN();
+}
 
 std::size_t Interleaved::next() const {
   std::vector<std::size_t> open;

@@ -111,6 +111,10 @@ std::unique_ptr<Procedure> make_constant_stimuli(const ConstantStimuliSettings& 
 std::unique_ptr<Procedure> make_staircase(const StaircaseSettings& settings);
 std::unique_ptr<Procedure> make_quest(const QuestSettings& settings);
 
+// QUEST's posterior: the quantile q of the threshold as a level (p_threshold's), for a
+// procedure made by make_quest (NaN for any other)
+double quest_quantile(const Procedure& quest, double q);
+
 // several procedures of one subject interleaved: each trial goes to one not yet finished,
 // drawn from a stream derived from `seed` and the trial's index; finished when all are
 struct Interleaved {
