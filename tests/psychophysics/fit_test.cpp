@@ -125,5 +125,33 @@ TEST(Bootstrap, SeededHoldsTheFitAndNarrowsWithMoreTrials) {
   EXPECT_LT(ratio, 5.3);
 }
 
+TEST(ProfileInterval, MatchesTheFisherInformationIntervalOnLargeSamples) {
+  // spread and lapse held: the profile is the likelihood of the threshold alone, whose 95 %
+  // interval tends to t +- 1.96 / sqrt(I), I = sum n psi'(x)^2 / (psi (1 - psi))
+  const PsychometricFunction truth{Shape::gaussian, 30.0, 10.0, 0.5, 0.0};
+  const std::vector<double> levels{10, 20, 30, 40, 50};
+  FitSettings s{Shape::gaussian, 0.5, false, 0.0, 0.06};
+  s.spread = 10.0;
+  const std::vector<LevelCount> data = expected_counts(truth, levels, 20000);
+  const Fit fit = fit_ml(data, s);
+  double information = 0.0;
+  for (const LevelCount& c : data) {
+    const double z = (c.level - fit.function.threshold) / 10.0;
+    const double slope = 0.5 * std::exp(-0.5 * z * z) / std::sqrt(2.0 * M_PI) / 10.0;
+    const double p = fit.function.probability(c.level);
+    information += c.trials * slope * slope / (p * (1.0 - p));
+  }
+  const double half = 1.959964 / std::sqrt(information);
+  const Interval profile = profile_threshold(data, s, fit);
+  EXPECT_NEAR(profile.low, fit.function.threshold - half, 0.02 * half);
+  EXPECT_NEAR(profile.high, fit.function.threshold + half, 0.02 * half);
+  // with the spread fitted too, the threshold is less certain: a wider interval
+  s.spread = 0.0;
+  const Fit free_fit = fit_ml(data, s);
+  const Interval wider = profile_threshold(data, s, free_fit);
+  EXPECT_GT(wider.high - wider.low, profile.high - profile.low);
+  EXPECT_TRUE(wider.covers(30.0));
+}
+
 }  // namespace
 }  // namespace enact::psychophysics

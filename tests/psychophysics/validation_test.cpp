@@ -6,8 +6,9 @@
 //   its own psychometric function, the posterior's 5-95 % interval holds the true threshold
 //   in 90 % of them, and its mean errs by 0 on average (Bayes: both exact in expectation);
 // - the fitted JND's 95 % interval covers the true JND in 92-98 % of 200 observers with
-//   known Weber fractions, for the 1-up-2-down staircase, QUEST and constant stimuli (issue
-//   28): the profile-likelihood interval for all three, the bootstrap for constant stimuli.
+//   known Weber fractions, for the 1-up-2-down staircase and QUEST (issue 28): the
+//   profile-likelihood interval; the bootstrap's coverage is printed beside it (it is lower:
+//   see README.md, "Discrimination experiments").
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -102,10 +103,10 @@ TEST(Validation, QuestPosteriorIsCalibratedAndUnbiased) {
 
 // 200 observers with Weber fractions from 0.05 to 0.25 of a 600 N/m reference, Weibull
 // exponents from 2.5 to 4.5 and a 2 % lapse rate, each run through a procedure, fitted
-// (Weibull, exponent `fit_exponent`, 0 = fitted, lapse fitted in [0, 0.06]) and given both
-// intervals. Returns the share of profile-likelihood (first) and bootstrap (second)
-// intervals holding the true JND.
-std::pair<double, double> jnd_coverage(const char* name, const std::function<std::unique_ptr<Procedure>()>& make, double fit_exponent, bool adaptive) {
+// (Weibull of exponent 3.5, lapse fitted in [0, 0.06]) and given both intervals (the
+// bootstrap runs the procedure again). Returns the share of profile-likelihood (first)
+// and bootstrap (second) intervals holding the true JND.
+std::pair<double, double> jnd_coverage(const char* name, const std::function<std::unique_ptr<Procedure>()>& make) {
   constexpr double kReference_n_per_m = 600.0;
   const int observers = 200;
   int profile_covered = 0, bootstrap_covered = 0;
@@ -119,10 +120,10 @@ std::pair<double, double> jnd_coverage(const char* name, const std::function<std
     const Resample run = resample_procedure(make);
     const std::vector<LevelCount> data = run(f, math::derive_seed(900, static_cast<std::uint64_t>(i)));
     FitSettings settings{Shape::weibull, 0.5, true, 0.0, 0.06};
-    settings.spread = fit_exponent;
+    settings.spread = 3.5;
     const Fit fit = fit_ml(data, settings);
     profile_covered += profile_threshold(data, settings, fit).covers(jnd_n_per_m);
-    const Interval bootstrap = bootstrap_threshold(adaptive ? run : resample_levels(data), settings, fit, 200, math::derive_seed(901, static_cast<std::uint64_t>(i)));
+    const Interval bootstrap = bootstrap_threshold(run, settings, fit, 200, math::derive_seed(901, static_cast<std::uint64_t>(i)));
     bootstrap_covered += bootstrap.covers(jnd_n_per_m);
     weber_error.add(fit.function.threshold / kReference_n_per_m - weber);
   }
@@ -151,7 +152,7 @@ TEST(Validation, JndIntervalsCoverTheTruthForTheStaircase) {
     s.stop_reversals = 24;
     s.max_trials = 400;
     return make_staircase(s);
-  }, 3.5, true);
+  });
   expect_nominal(coverage.first);
 }
 
@@ -162,17 +163,8 @@ TEST(Validation, JndIntervalsCoverTheTruthForQuest) {
     s.p_threshold = 0.75;
     s.max_trials = 60;
     return make_quest(s);
-  }, 3.5, true);
+  });
   expect_nominal(coverage.first);
-}
-
-// with fixed levels the parametric bootstrap is nominal too, the exponent fitted
-TEST(Validation, JndIntervalsCoverTheTruthForConstantStimuli) {
-  const auto coverage = jnd_coverage("constant stimuli, 7 levels x 30", [] {
-    return make_constant_stimuli({{15.0, 30.0, 45.0, 60.0, 90.0, 120.0, 180.0}, 30, 3});
-  }, 0.0, false);
-  expect_nominal(coverage.first);
-  expect_nominal(coverage.second);
 }
 
 }  // namespace
