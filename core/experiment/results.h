@@ -48,6 +48,12 @@ void append_ranking(const std::string& path, const std::string& subject, const s
 // the subjects already ranked
 std::set<std::string> ranked_subjects(const std::string& path);
 
+// the cells of one CSV line (no quoting: enact writes none)
+std::vector<std::string> cells(const std::string& line);
+// appends one line to a CSV file, writing the header first into a new (or empty) file,
+// flushed; throws config::Error when it cannot
+void append_line(const std::string& path, const char* header, const std::string& line);
+
 // plan.csv: the whole plan, written when a run starts; a resumed run must make the same one
 std::string plan_text(const std::vector<Trial>& plan);
 

@@ -48,16 +48,6 @@ constexpr int kMaxFailures = 3;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// a pending SIGINT or SIGTERM (they are blocked, so they wait), taken; true if there was one
-bool take_stop_signal() {
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGTERM);
-  const timespec zero{0, 0};
-  return sigtimedwait(&set, nullptr, &zero) > 0;
-}
-
 // stdout and stderr (fds 1 and 2) go to a file while this lives: the graph's processes
 // inherit them
 struct OutputTo {
@@ -295,6 +285,15 @@ void check_plan(const std::string& out, const std::vector<Trial>& plan) {
 }  // namespace
 
 RunnerUi::~RunnerUi() = default;
+
+bool take_stop_signal() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  const timespec zero{0, 0};
+  return sigtimedwait(&set, nullptr, &zero) > 0;
+}
 
 std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const std::vector<Trial>& plan, const std::string& out) {
   std::vector<std::string> problems;
