@@ -2,14 +2,14 @@
 """Psychometric fits and figures of a discrimination experiment, with scipy.
 
 usage:
-  psychophysics.py fit DATA.csv --shape gaussian|weibull [--guess 0.5] [--lapse L | --max-lapse M]
-  psychophysics.py plot TRIALS.csv --out DIR [--shape gaussian|weibull] [--max-lapse M]
+  psychophysics.py fit DATA.csv --shape gaussian|weibull [--guess 0.5] [--lapse L | --max-lapse M] [--exponent E]
+  psychophysics.py plot TRIALS.csv --out DIR [--shape gaussian|weibull] [--max-lapse M] [--exponent E]
 
 fit: DATA.csv has columns level,trials,correct. The maximum-likelihood fit of
   psi(x) = guess + (1 - guess - lapse) F(x), F a cumulative Gaussian (mean = threshold, sd =
   spread) or a Weibull 1 - exp(-ln2 (x / threshold)^spread), so that F(threshold) = 0.5 for
   both: the threshold is the JND. The guess rate is fixed; the lapse is fixed (--lapse) or
-  fitted in [0, M] (--max-lapse, default 0.06). The likelihood is maximised by scipy's
+  fitted in [0, M] (--max-lapse, default 0.06); --exponent holds a Weibull's exponent. The likelihood is maximised by scipy's
   bounded Nelder-Mead over the natural parameters (threshold, spread, lapse) from the best
   point of a grid, then restarted from its optimum: an implementation independent of
   core/psychophysics/fit.cpp (another parametrisation, another optimiser), which
@@ -49,7 +49,7 @@ def nll(params, shape, guess, data):
     return -float(np.sum(k * np.log(p) + (n - k) * np.log1p(-p)))
 
 
-def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06):
+def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06, exponent=None):
     levels = data[:, 0]
     low, high = float(levels.min()), float(levels.max())
     span = high - low if high > low else max(abs(high), 1.0)
@@ -61,12 +61,13 @@ def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06):
     spreads = [1.0, 2.0, 3.0, 4.0, 5.0] if shape == "weibull" else [span / 16 * 2 ** j for j in range(5)]
     for t in thresholds:
         for s in spreads:
-            start = (t, s, 0.01 if free else fixed_lapse)
+            start = (t, exponent or s, 0.01 if free else fixed_lapse)
             c = nll(start, shape, guess, data)
             if c < best_cost:
                 best, best_cost = start, c
     lapse_bounds = (0.0, max_lapse) if free else (fixed_lapse, fixed_lapse)
-    bounds = [(1e-12 if shape == "weibull" else None, None), (1e-12, None), lapse_bounds]
+    spread_bounds = (exponent, exponent) if exponent else (1e-12, None)
+    bounds = [(1e-12 if shape == "weibull" else None, None), spread_bounds, lapse_bounds]
     x = np.array(best, dtype=float)
     for _ in range(10):
         r = optimize.minimize(nll, x, args=(shape, guess, data), method="Nelder-Mead", bounds=bounds,
@@ -90,7 +91,7 @@ def wilson(k, n, z=1.959964):
     return centre - half, centre + half
 
 
-def plot(trials_path, out, shape, max_lapse):
+def plot(trials_path, out, shape, max_lapse, exponent):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -104,11 +105,12 @@ def plot(trials_path, out, shape, max_lapse):
     os.makedirs(out, exist_ok=True)
     for (subject, condition), by_level in sorted(groups.items()):
         data = np.array([[x, n, k] for x, (n, k) in sorted(by_level.items())])
-        f = fit(data, shape, max_lapse=max_lapse)
+        f = fit(data, shape, max_lapse=max_lapse, exponent=exponent)
         fig, ax = plt.subplots(figsize=(5, 3.5))
         p = data[:, 2] / data[:, 1]
         lo_hi = np.array([wilson(k, n) for _, n, k in data])
-        ax.errorbar(data[:, 0], p, yerr=[p - lo_hi[:, 0], lo_hi[:, 1] - p], fmt="none", ecolor="0.5", capsize=2)
+        yerr = np.maximum(0.0, [p - lo_hi[:, 0], lo_hi[:, 1] - p])
+        ax.errorbar(data[:, 0], p, yerr=yerr, fmt="none", ecolor="0.5", capsize=2)
         ax.scatter(data[:, 0], p, s=8 * data[:, 1], color="C0", zorder=3, label="answers")
         xs = np.linspace(max(1e-9, data[:, 0].min() * 0.8), data[:, 0].max() * 1.1, 200)
         ax.plot(xs, 0.5 + (0.5 - f["lapse"]) * core(shape, xs, f["threshold"], f["spread"]), color="C1",
@@ -134,16 +136,18 @@ def main():
     f.add_argument("--guess", type=float, default=0.5)
     f.add_argument("--lapse", type=float)
     f.add_argument("--max-lapse", type=float, default=0.06)
+    f.add_argument("--exponent", type=float, help="hold the Weibull exponent at this value")
     p = sub.add_parser("plot")
     p.add_argument("trials")
     p.add_argument("--out", required=True)
     p.add_argument("--shape", choices=["gaussian", "weibull"], default="gaussian")
     p.add_argument("--max-lapse", type=float, default=0.06)
+    p.add_argument("--exponent", type=float, help="hold the Weibull exponent at this value")
     a = ap.parse_args()
     if a.command == "fit":
-        print(json.dumps(fit(read_counts(a.data), a.shape, a.guess, a.lapse, a.max_lapse)))
+        print(json.dumps(fit(read_counts(a.data), a.shape, a.guess, a.lapse, a.max_lapse, a.exponent)))
     else:
-        plot(a.trials, a.out, a.shape, a.max_lapse)
+        plot(a.trials, a.out, a.shape, a.max_lapse, a.exponent)
     return 0
 
 

@@ -104,6 +104,10 @@ VirtualObservers read_observers(const config::Map& parent, const std::vector<Con
   VirtualObservers o;
   // one for all conditions, or one per condition in their order
   const YAML::Node w = m.get("weber_fraction");
+  if (!w.IsScalar() && (!w.IsSequence() || w.size() != conditions.size())) {
+    m.fail("weber_fraction", "weber_fraction must be one number, or one per condition (" + std::to_string(conditions.size()) + ")",
+           "write e.g. weber_fraction: 0.15, or [0.16, 0.12] for conditions [CM0, CM1]");
+  }
   const std::vector<double> weber = w.IsScalar() ? std::vector<double>(conditions.size(), m.positive("weber_fraction"))
                                                  : config::numbers(parent.file(), w, conditions.size(), "weber_fraction (one per condition)");
   for (std::size_t i = 0; i < conditions.size(); ++i) {
