@@ -4,6 +4,7 @@
 usage:
   psychophysics.py fit DATA.csv --shape gaussian|weibull [--guess 0.5] [--lapse L | --max-lapse M] [--exponent E]
   psychophysics.py plot TRIALS.csv --out DIR [--shape gaussian|weibull] [--max-lapse M] [--exponent E]
+  psychophysics.py group SUMMARY.csv
 
 fit: DATA.csv has columns level,trials,correct. The maximum-likelihood fit of
   psi(x) = guess + (1 - guess - lapse) F(x), F a cumulative Gaussian (mean = threshold, sd =
@@ -19,6 +20,11 @@ fit: DATA.csv has columns level,trials,correct. The maximum-likelihood fit of
 plot: TRIALS.csv is `enact experiment`'s trials.csv of a discrimination plan. One figure per
   subject and condition in DIR: the proportion correct at each level with binomial (Wilson
   95 %) error bars, marker area by the number of trials, and the fitted function.
+
+group: SUMMARY.csv is `enact experiment`'s summary.csv. Per condition, the mean and SD
+  (n - 1) of the fitted Weber fractions; for every pair of conditions, over the subjects who
+  did both, Wilcoxon's signed-rank test (two-tailed; scipy's exact distribution without ties
+  or zeros, else its normal approximation), p before and after Bonferroni. Prints JSON.
 """
 import argparse
 import csv
@@ -127,6 +133,25 @@ def plot(trials_path, out, shape, max_lapse, exponent):
     print("%d figures in %s" % (len(groups), out))
 
 
+def group(summary_path):
+    weber = {}
+    for r in csv.DictReader(open(summary_path, newline="")):
+        weber.setdefault(r["condition"], {})[r["subject"]] = float(r["weber_fraction"])
+    conditions = list(weber)
+    out = {"conditions": {}, "pairs": {}}
+    for c in conditions:
+        v = list(weber[c].values())
+        out["conditions"][c] = {"subjects": len(v), "mean": float(np.mean(v)), "sd": float(np.std(v, ddof=1)) if len(v) > 1 else None}
+    pairs = [(a, b) for i, a in enumerate(conditions) for b in conditions[i + 1:]]
+    for a, b in pairs:
+        both = sorted(set(weber[a]) & set(weber[b]))
+        d = [weber[a][s] - weber[b][s] for s in both]
+        r = stats.wilcoxon(d)
+        out["pairs"]["%s-%s" % (a, b)] = {"subjects": len(both), "statistic": float(r.statistic), "p": float(r.pvalue),
+                                          "p_bonferroni": min(1.0, float(r.pvalue) * len(pairs))}
+    print(json.dumps(out, indent=1))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -143,11 +168,15 @@ def main():
     p.add_argument("--shape", choices=["gaussian", "weibull"], default="gaussian")
     p.add_argument("--max-lapse", type=float, default=0.06)
     p.add_argument("--exponent", type=float, help="hold the Weibull exponent at this value")
+    g = sub.add_parser("group")
+    g.add_argument("summary")
     a = ap.parse_args()
     if a.command == "fit":
         print(json.dumps(fit(read_counts(a.data), a.shape, a.guess, a.lapse, a.max_lapse, a.exponent)))
-    else:
+    elif a.command == "plot":
         plot(a.trials, a.out, a.shape, a.max_lapse, a.exponent)
+    else:
+        group(a.summary)
     return 0
 
 

@@ -219,6 +219,10 @@ TEST(Discrimination, TheCommandLineRunsTheExampleEndToEnd) {
                                          " --out " + dir.file("figures") + " --shape weibull --exponent 3.5");
   EXPECT_EQ(plot.exit_code, 0) << plot.err;
   EXPECT_NE(test::read_file_or_empty(dir.file("figures/s1_CM0.png")), "");
+  // the group statistics: both subjects in both conditions, one pair
+  const test::RunResult group = test::run("/usr/bin/python3 " + test::source_path("scripts/psychophysics.py") + " group " + dir.file("out/summary.csv"));
+  EXPECT_EQ(group.exit_code, 0) << group.err;
+  EXPECT_NE(group.out.find("\"CM0-CM1\": {\n   \"subjects\": 2"), std::string::npos) << group.out;
   const test::RunResult plan = test::run(std::string(ENACT_CLI) + " experiment " + test::source_path(kExample) + " --plan");
   EXPECT_EQ(plan.exit_code, 0) << plan.err;
   EXPECT_NE(plan.out.find("stiffness_n_per_m around 600"), std::string::npos) << plan.out;
