@@ -263,21 +263,50 @@ std::map<std::string, std::vector<Told>> read_trials(const std::string& path, co
   return out;
 }
 
-// the experiment file as first run, kept in the folder; another is refused
-void check_same_experiment(const DiscriminationSpec& spec, const std::string& out) {
-  const std::string kept = out + "/experiment.yaml";
+// FNV-1a, 64 bits (Fowler, Noll, Vo): the experiment file's fingerprint in the manifest
+std::uint64_t fnv1a64(const std::string& bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
+// the manifest: everything that decides the trials and their analysis, written before the
+// first trial (the study pre-registered by construction) and the same for a resumed run
+std::string manifest_text(const DiscriminationSpec& spec, const std::string& file_text, const std::vector<DiscriminationBlock>& blocks) {
+  char hash[32];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a64(file_text)));
+  using config::number;
+  std::string m = "experiment: " + spec.file + "\nexperiment_fnv1a64: " + hash + "\nseed: " + std::to_string(spec.seed) + "\nparameter: " +
+                  spec.parameter + "\nreference: " + number(spec.reference) + "\nprocedures:";
+  for (const ProcedureSpec& p : spec.procedures) m += " " + p.label;
+  m += std::string("\nanalysis: ") + psychophysics::to_string(spec.fit.shape) + ", exponent " + (spec.fit.spread > 0.0 ? number(spec.fit.spread) : "fitted") +
+       ", lapse in [0, " + number(spec.fit.free_lapse ? spec.fit.max_lapse : 0.0) + "], bootstrap " + std::to_string(spec.bootstrap_replicates) +
+       ", 95 % profile-likelihood and bootstrap intervals\nblocks: subject,condition,order,seed,observer_jnd\n";
+  for (const DiscriminationBlock& b : blocks) {
+    m += b.subject + "," + b.condition.label + "," + std::to_string(b.order) + "," + std::to_string(b.seed) + "," + number(b.observer.function.threshold) + "\n";
+  }
+  return m;
+}
+
+// the folder's manifest and experiment file: written by the first run; a run of another
+// plan (file, --subjects) is refused
+void check_same_plan(const DiscriminationSpec& spec, const std::string& out, const std::vector<DiscriminationBlock>& blocks) {
   std::ifstream file(spec.file);
   std::stringstream text;
   text << file.rdbuf();
-  std::ifstream in(kept);
+  const std::string manifest = manifest_text(spec, text.str(), blocks);
+  const std::string path = out + "/manifest.txt";
+  std::ifstream in(path);
   if (!in) {
-    std::ofstream(kept) << text.str();
+    std::ofstream(out + "/experiment.yaml") << text.str();
+    std::ofstream(path) << manifest;
     return;
   }
   std::stringstream held;
   held << in.rdbuf();
-  if (held.str() != text.str()) {
-    throw config::Error(kept + ": this folder holds a run of another experiment file\n  fix: run the same file to resume it, or give another --out");
+  if (held.str() != manifest) {
+    throw config::Error(path + ": this folder holds a run of another plan (experiment file or --subjects differ)\n"
+                        "  fix: run with the same file and options to resume it, or give another --out");
   }
 }
 
@@ -312,12 +341,12 @@ std::string summarise(const DiscriminationSpec& spec, const DiscriminationBlock&
 
 DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::string& out, RunnerUi& ui, std::size_t max_trials) {
   fs::create_directories(out);
-  check_same_experiment(spec, out);
+  const std::vector<DiscriminationBlock> blocks = make_blocks(spec);
+  check_same_plan(spec, out, blocks);
   DiscriminationRun run;
   run.trials = out + "/trials.csv";
   run.summary = out + "/summary.csv";
   const std::map<std::string, std::vector<Told>> told = read_trials(run.trials, spec);
-  const std::vector<DiscriminationBlock> blocks = make_blocks(spec);
   std::string summary = std::string(kDiscriminationSummaryHeader) + "\n";
   bool complete = true;
   for (const DiscriminationBlock& b : blocks) {

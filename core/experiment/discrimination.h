@@ -97,8 +97,10 @@ extern const char* const kDiscriminationTrialsHeader;
 // summary.csv's header
 extern const char* const kDiscriminationSummaryHeader;
 
-// runs every block into `out` (created): experiment.yaml (the file as run; another file's run
-// is refused), trials.csv (appended per trial), summary.csv (rewritten at the end). Stops
+// runs every block into `out` (created): manifest.txt (before the first trial: the file's
+// FNV-1a hash, seeds, procedures, analysis and every block with its observer; a run of
+// another plan is refused) and experiment.yaml (the file as run), trials.csv (appended per
+// trial), summary.csv (written at the end). Stops
 // between two trials on SIGINT / SIGTERM (take_stop_signal) or after `max_trials` trials
 // (0: no limit) when given, and resumes from trials.csv when run again.
 DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::string& out, RunnerUi& ui, std::size_t max_trials = 0);

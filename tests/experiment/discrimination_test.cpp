@@ -67,6 +67,25 @@ TEST(Discrimination, TheExampleLoadsAsWritten) {
   for (const auto& [subject, by] : jnd) EXPECT_NEAR(by.at("CM1") / by.at("CM0"), 0.75, 1e-12) << subject;
 }
 
+TEST(Discrimination, TheManifestIsWrittenBeforeTheFirstTrial) {
+  const test::TempDir dir;
+  const DiscriminationSpec spec = small_example();
+  QuietUi ui;
+  const DiscriminationRun none = run_discrimination(spec, dir.path(), ui, 1);
+  EXPECT_EQ(none.trials_run, 1u);
+  const std::string manifest = test::read_file(dir.file("manifest.txt"));
+  EXPECT_NE(manifest.find("experiment_fnv1a64: "), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("seed: 7\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("analysis: weibull, exponent 3.5"), std::string::npos) << manifest;
+  // one line per block with its seed and its observer's JND
+  std::size_t blocks = 0;
+  for (const DiscriminationBlock& b : make_blocks(spec)) {
+    blocks += manifest.find(b.subject + "," + b.condition.label + "," + std::to_string(b.order) + "," + std::to_string(b.seed) + ",") != std::string::npos;
+  }
+  EXPECT_EQ(blocks, 6u);
+  EXPECT_EQ(test::read_file(dir.file("experiment.yaml")), test::read_file(test::source_path(kExample)));
+}
+
 TEST(Discrimination, RecordsEveryTrialAndFitsEveryBlock) {
   const test::TempDir dir;
   const DiscriminationSpec spec = small_example();
@@ -134,7 +153,12 @@ TEST(Discrimination, AFolderOfAnotherRunIsRefused) {
   test::write_file(changed, test::read_file(test::source_path(kExample)) + "\n# changed\n");
   DiscriminationSpec another = load_discrimination(changed);
   const std::string refused = test::error_of([&] { run_discrimination(another, dir.path(), ui); });
-  EXPECT_NE(refused.find("another experiment file"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("another plan"), std::string::npos) << refused;
+  // fewer subjects (--subjects)
+  DiscriminationSpec fewer = spec;
+  fewer.subjects.pop_back();
+  const std::string shorter = test::error_of([&] { run_discrimination(fewer, dir.path(), ui); });
+  EXPECT_NE(shorter.find("another plan"), std::string::npos) << shorter;
   // the same file, but trials.csv holds levels these procedures would not ask for
   DiscriminationSpec moved = spec;
   moved.procedures[0].quest.guess_level = 50.0;
