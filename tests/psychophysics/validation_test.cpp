@@ -123,7 +123,7 @@ std::pair<double, double> jnd_coverage(const char* name, const std::function<std
     settings.spread = 3.5;
     const Fit fit = fit_ml(data, settings);
     profile_covered += profile_threshold(data, settings, fit).covers(jnd_n_per_m);
-    const Interval bootstrap = bootstrap_threshold(run, settings, fit, 200, math::derive_seed(901, static_cast<std::uint64_t>(i)));
+    const Interval bootstrap = bootstrap_threshold(run, settings, fit, 100, math::derive_seed(901, static_cast<std::uint64_t>(i)));
     bootstrap_covered += bootstrap.covers(jnd_n_per_m);
     weber_error.add(fit.function.threshold / kReference_n_per_m - weber);
   }
