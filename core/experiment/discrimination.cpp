@@ -121,7 +121,7 @@ VirtualObservers read_observers(const config::Map& parent, const std::vector<Con
   return o;
 }
 
-// the name stored for a level: full precision, so a resumed procedure finds its own levels
+// a level as trials.csv stores it: full precision, so a resumed procedure finds its own levels
 std::string exact(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
