@@ -294,20 +294,8 @@ void check_same_plan(const DiscriminationSpec& spec, const std::string& out, con
   std::ifstream file(spec.file);
   std::stringstream text;
   text << file.rdbuf();
-  const std::string manifest = manifest_text(spec, text.str(), blocks);
-  const std::string path = out + "/manifest.txt";
-  std::ifstream in(path);
-  if (!in) {
-    std::ofstream(out + "/experiment.yaml") << text.str();
-    std::ofstream(path) << manifest;
-    return;
-  }
-  std::stringstream held;
-  held << in.rdbuf();
-  if (held.str() != manifest) {
-    throw config::Error(path + ": this folder holds a run of another plan (experiment file or --subjects differ)\n"
-                        "  fix: run with the same file and options to resume it, or give another --out");
-  }
+  keep_or_check(out + "/manifest.txt", manifest_text(spec, text.str(), blocks), "experiment file or --subjects differ");
+  keep_or_check(out + "/experiment.yaml", text.str(), "experiment file differs");
 }
 
 // the summary row of a finished block

@@ -40,6 +40,20 @@ void append_line(const std::string& path, const char* header, const std::string&
   if (!out) throw config::Error(path + ": cannot write\n  fix: check the folder's permissions and free space");
 }
 
+void keep_or_check(const std::string& path, const std::string& text, const std::string& differs) {
+  std::ifstream in(path);
+  if (!in) {
+    std::ofstream(path) << text;
+    return;
+  }
+  std::stringstream held;
+  held << in.rdbuf();
+  if (held.str() != text) {
+    throw config::Error(path + ": this folder holds a run of another plan (" + differs + ")\n"
+                        "  fix: run with the same file and options to resume it, or give another --out");
+  }
+}
+
 const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed";
 const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,kind";
 

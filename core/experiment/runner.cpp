@@ -265,23 +265,6 @@ class TrialRun {
   graph::GraphSession* session_ = nullptr;  // while run() runs
 };
 
-// plan.csv: written by the first run, the same for every resumed one
-void check_plan(const std::string& out, const std::vector<Trial>& plan) {
-  const std::string path = out + "/plan.csv";
-  const std::string text = plan_text(plan);
-  std::ifstream in(path);
-  if (!in) {
-    std::ofstream(path) << text;
-    return;
-  }
-  std::stringstream held;
-  held << in.rdbuf();
-  if (held.str() != text) {
-    throw config::Error(path + ": this folder holds a run of another plan (experiment file, --subjects or --conditions differ)\n"
-                        "  fix: run with the same file and options to resume it, or give another --out");
-  }
-}
-
 }  // namespace
 
 RunnerUi::~RunnerUi() = default;
@@ -309,7 +292,8 @@ std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const st
 RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, RunnerUi& ui) {
   fs::create_directories(out + "/trials");
   const std::vector<Trial> plan = make_plan(spec);
-  check_plan(out, plan);
+  // plan.csv: written by the first run, the same for every resumed one
+  keep_or_check(out + "/plan.csv", plan_text(plan), "experiment file, --subjects or --conditions differ");
   std::error_code ec;
   fs::copy_file(spec.file, out + "/experiment.yaml", fs::copy_options::skip_existing, ec);
   RunSummary summary;
