@@ -107,6 +107,27 @@ TEST(Quest, PosteriorFollowsTheAnswersAndLevelsStayOnTheGrid) {
   EXPECT_NEAR(steps, std::round(steps), 1e-9) << "levels on the grid";
 }
 
+TEST(Quest, PlacementAtTheMeanModeOrAQuantileOfThePosterior) {
+  QuestSettings s;
+  s.guess_level = 50.0;
+  // the same answers to each: right, right, wrong at the levels each asks
+  auto answered = [&](Placement placement, double quantile) {
+    s.placement = placement;
+    s.quantile = quantile;
+    auto q = make_quest(s);
+    run(*q, "CCW");
+    return q;
+  };
+  const auto low = answered(Placement::quantile, 0.2), high = answered(Placement::quantile, 0.8);
+  EXPECT_NEAR(low->next_level(), quest_quantile(*low, 0.2), 1e-9 * low->next_level()) << "the posterior's 20 % quantile";
+  EXPECT_NEAR(high->next_level(), quest_quantile(*high, 0.8), 1e-9 * high->next_level());
+  EXPECT_LT(low->next_level(), high->next_level());
+  const auto mean = answered(Placement::mean, 0.5);
+  EXPECT_NEAR(std::log10(mean->next_level()), std::round(std::log10(mean->estimate() / 50.0) / 0.01) * 0.01 + std::log10(50.0), 1e-9)
+      << "the posterior mean, on the grid";
+  EXPECT_TRUE(std::isnan(quest_quantile(*make_staircase({}), 0.5))) << "not a QUEST";
+}
+
 TEST(Quest, StopsWhenThePosteriorIntervalIsNarrowEnough) {
   QuestSettings s;
   s.prior_sd_log10 = 0.5;  // prior 5-95 % interval: 2 x 1.645 x 0.5 = 1.645 log10 units
