@@ -1,5 +1,7 @@
 #include "core/experiment/experiment.h"
 
+#include "core/experiment/plan_file.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -53,6 +55,43 @@ std::vector<std::string> numbered(int count) {
 
 }  // namespace
 
+std::vector<std::string> read_subjects(const config::Map& m) {
+  const std::string& path = m.file();
+  std::vector<std::string> subjects;
+  const YAML::Node node = m.get("subjects");
+  if (node.IsScalar()) return numbered(m.integer("subjects", 0, 1, 10000));
+  if (!node.IsSequence() || node.size() == 0) m.fail("subjects", "subjects must be a count or a list of ids", "write subjects: 12, or subjects: [P01, P02]");
+  for (const auto& id : node) {
+    if (!id.IsScalar() || id.Scalar().empty()) config::fail(path, id, "a subject id must be a word", "write e.g. subjects: [P01, P02]");
+    if (std::find(subjects.begin(), subjects.end(), id.Scalar()) != subjects.end()) {
+      config::fail(path, id, "subject '" + id.Scalar() + "' is listed twice", "give each subject once");
+    }
+    subjects.push_back(id.Scalar());
+  }
+  return subjects;
+}
+
+std::vector<Condition> read_conditions(const config::Map& m) {
+  const std::string& path = m.file();
+  std::vector<Condition> out;
+  const YAML::Node conditions = m.get("conditions");
+  if (!conditions.IsSequence() || conditions.size() == 0) m.fail("conditions", "conditions must be a list", "write conditions: [CM0, CM1, CM2, CM3]");
+  for (const auto& c : conditions) {
+    if (!c.IsScalar()) config::fail(path, c, "a condition must be a preset name or a file", "write e.g. CM1 or models/mine.yaml");
+    out.push_back(condition(path, c, c.Scalar()));
+    for (std::size_t i = 0; i + 1 < out.size(); ++i) {
+      if (out[i].label == out.back().label) config::fail(path, c, "condition '" + out.back().label + "' is listed twice", "give each condition once");
+    }
+  }
+  return out;
+}
+
+Order read_order(const config::Map& m) {
+  const std::string order = m.text("order", "random");
+  if (order != "random" && order != "balanced") m.fail("order", "order '" + order + "' is not random or balanced", "write order: random (seeded per subject) or order: balanced (Latin square)");
+  return order == "random" ? Order::random : Order::balanced;
+}
+
 const char* to_string(TrialKind kind) {
   switch (kind) {
     case TrialKind::familiarisation: return "familiarisation";
@@ -65,47 +104,23 @@ const char* to_string(TrialKind kind) {
 ExperimentSpec load_experiment(const std::string& path) {
   const YAML::Node root = config::load_file(path);
   const config::Map m(root, path, "experiment",
-                      {"name", "description", "seed", "subjects", "virtual_subject", "conditions", "order", "limit_s",
+                      {"name", "description", "kind", "seed", "subjects", "virtual_subject", "conditions", "order", "limit_s",
                        "familiarisation_s", "practice_s", "graph", "launch_args"});
+  if (m.text("kind", "bridge") != "bridge") m.fail("kind", "a bridge experiment's kind is bridge", "write kind: bridge, or kind: discrimination with its own keys (README.md, \"Discrimination experiments\")");
   ExperimentSpec s;
   s.file = fs::absolute(path).lexically_normal().string();
   s.name = m.text("name", fs::path(path).stem().string());
   s.seed = static_cast<std::uint64_t>(m.integer("seed", 1, 0, 2147483647));
-  // the subjects: a count or a list of ids
-  const YAML::Node subjects = m.get("subjects");
-  if (subjects.IsScalar()) {
-    s.subjects = numbered(m.integer("subjects", 0, 1, 10000));
-  } else if (subjects.IsSequence() && subjects.size() > 0) {
-    for (const auto& id : subjects) {
-      if (!id.IsScalar() || id.Scalar().empty()) config::fail(path, id, "a subject id must be a word", "write e.g. subjects: [P01, P02]");
-      if (std::find(s.subjects.begin(), s.subjects.end(), id.Scalar()) != s.subjects.end()) {
-        config::fail(path, id, "subject '" + id.Scalar() + "' is listed twice", "give each subject once");
-      }
-      s.subjects.push_back(id.Scalar());
-    }
-  } else {
-    m.fail("subjects", "subjects must be a count or a list of ids", "write subjects: 12, or subjects: [P01, P02]");
-  }
+  s.subjects = read_subjects(m);
   // who holds the device: a virtual subject (checked now), or people
   if (m.has("virtual_subject")) {
     s.virtual_subject = beside(path, m.text("virtual_subject"));
     if (!fs::is_regular_file(s.virtual_subject)) m.fail("virtual_subject", "no subject file " + s.virtual_subject, "give a virtual subject's YAML file, relative to the experiment file");
     devices::load_subject(s.virtual_subject);
   }
-  // the conditions
-  const YAML::Node conditions = m.get("conditions");
-  if (!conditions.IsSequence() || conditions.size() == 0) m.fail("conditions", "conditions must be a list", "write conditions: [CM0, CM1, CM2, CM3]");
-  for (const auto& c : conditions) {
-    if (!c.IsScalar()) config::fail(path, c, "a condition must be a preset name or a file", "write e.g. CM1 or models/mine.yaml");
-    s.conditions.push_back(condition(path, c, c.Scalar()));
-    for (std::size_t i = 0; i + 1 < s.conditions.size(); ++i) {
-      if (s.conditions[i].label == s.conditions.back().label) config::fail(path, c, "condition '" + s.conditions.back().label + "' is listed twice", "give each condition once");
-    }
-  }
+  s.conditions = read_conditions(m);
   // the protocol
-  const std::string order = m.text("order", "random");
-  if (order != "random" && order != "balanced") m.fail("order", "order '" + order + "' is not random or balanced", "write order: random (seeded per subject) or order: balanced (Latin square)");
-  s.order = order == "random" ? Order::random : Order::balanced;
+  s.order = read_order(m);
   s.limit_s = m.positive("limit_s", s.limit_s);
   s.familiarisation_s = m.positive("familiarisation_s", 0.0, true);
   s.practice_s = m.positive("practice_s", 0.0, true);
@@ -139,10 +154,12 @@ ExperimentSpec load_experiment(const std::string& path) {
   return s;
 }
 
-void override_subjects(ExperimentSpec& spec, int count) {
+std::vector<std::string> subjects_numbered(int count) {
   if (count < 1) throw config::Error("--subjects " + std::to_string(count) + " is not a count\n  fix: give a number from 1");
-  spec.subjects = numbered(count);
+  return numbered(count);
 }
+
+void override_subjects(ExperimentSpec& spec, int count) { spec.subjects = subjects_numbered(count); }
 
 void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& conditions) {
   if (conditions.empty()) throw config::Error("--conditions is empty\n  fix: give e.g. --conditions CM0,CM1");

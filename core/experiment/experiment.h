@@ -46,6 +46,7 @@ struct ExperimentSpec {
 ExperimentSpec load_experiment(const std::string& path);
 
 // --subjects N (ids 1..N) and --conditions A,B,... on top of the file; throws config::Error
+std::vector<std::string> subjects_numbered(int count);
 void override_subjects(ExperimentSpec& spec, int count);
 void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& conditions);
 

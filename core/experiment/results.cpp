@@ -18,7 +18,8 @@ using config::number;
 
 double seconds(std::int64_t ns) { return static_cast<double>(ns) * 1e-9; }
 
-// the cells of one CSV line (no quoting: enact writes none)
+}  // namespace
+
 std::vector<std::string> cells(const std::string& line) {
   std::vector<std::string> out;
   std::stringstream ss(line);
@@ -28,7 +29,6 @@ std::vector<std::string> cells(const std::string& line) {
   return out;
 }
 
-// appends one line to a CSV file, writing the header first into a new (or empty) file
 void append_line(const std::string& path, const char* header, const std::string& line) {
   std::ifstream probe(path);
   const bool fresh = !probe || probe.peek() == std::ifstream::traits_type::eof();
@@ -40,7 +40,19 @@ void append_line(const std::string& path, const char* header, const std::string&
   if (!out) throw config::Error(path + ": cannot write\n  fix: check the folder's permissions and free space");
 }
 
-}  // namespace
+void keep_or_check(const std::string& path, const std::string& text, const std::string& differs) {
+  std::ifstream in(path);
+  if (!in) {
+    std::ofstream(path) << text;
+    return;
+  }
+  std::stringstream held;
+  held << in.rdbuf();
+  if (held.str() != text) {
+    throw config::Error(path + ": this folder holds a run of another plan (" + differs + ")\n"
+                        "  fix: run with the same file and options to resume it, or give another --out");
+  }
+}
 
 const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed";
 const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,kind";

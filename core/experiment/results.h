@@ -48,6 +48,17 @@ void append_ranking(const std::string& path, const std::string& subject, const s
 // the subjects already ranked
 std::set<std::string> ranked_subjects(const std::string& path);
 
+// the cells of one CSV line (no quoting: enact writes none)
+std::vector<std::string> cells(const std::string& line);
+// appends one line to a CSV file, writing the header first into a new (or empty) file,
+// flushed; throws config::Error when it cannot
+void append_line(const std::string& path, const char* header, const std::string& line);
+
+// a run's plan in its folder: `text` written to `path` when it is not there yet; when it is,
+// a different text is refused (config::Error: "this folder holds a run of another plan
+// (`differs`)" and the fix: the same file and options, or another --out)
+void keep_or_check(const std::string& path, const std::string& text, const std::string& differs);
+
 // plan.csv: the whole plan, written when a run starts; a resumed run must make the same one
 std::string plan_text(const std::vector<Trial>& plan);
 

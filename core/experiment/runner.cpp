@@ -50,16 +50,6 @@ constexpr int kMaxFailures = 3;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// a pending SIGINT or SIGTERM (they are blocked, so they wait), taken; true if there was one
-bool take_stop_signal() {
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGTERM);
-  const timespec zero{0, 0};
-  return sigtimedwait(&set, nullptr, &zero) > 0;
-}
-
 // stdout and stderr (fds 1 and 2) go to a file while this lives: the graph's processes
 // inherit them
 struct OutputTo {
@@ -279,26 +269,18 @@ class TrialRun {
   graph::GraphSession* session_ = nullptr;  // while run() runs
 };
 
-// plan.csv: written by the first run, the same for every resumed one
-void check_plan(const std::string& out, const std::vector<Trial>& plan) {
-  const std::string path = out + "/plan.csv";
-  const std::string text = plan_text(plan);
-  std::ifstream in(path);
-  if (!in) {
-    std::ofstream(path) << text;
-    return;
-  }
-  std::stringstream held;
-  held << in.rdbuf();
-  if (held.str() != text) {
-    throw config::Error(path + ": this folder holds a run of another plan (experiment file, --subjects or --conditions differ)\n"
-                        "  fix: run with the same file and options to resume it, or give another --out");
-  }
-}
-
 }  // namespace
 
 RunnerUi::~RunnerUi() = default;
+
+bool take_stop_signal() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  const timespec zero{0, 0};
+  return sigtimedwait(&set, nullptr, &zero) > 0;
+}
 
 std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const std::vector<Trial>& plan, const std::string& out) {
   std::vector<std::string> problems;
@@ -314,7 +296,8 @@ std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const st
 RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, RunnerUi& ui) {
   fs::create_directories(out + "/trials");
   const std::vector<Trial> plan = make_plan(spec);
-  check_plan(out, plan);
+  // plan.csv: written by the first run, the same for every resumed one
+  keep_or_check(out + "/plan.csv", plan_text(plan), "experiment file, --subjects or --conditions differ");
   std::error_code ec;
   fs::copy_file(spec.file, out + "/experiment.yaml", fs::copy_options::skip_existing, ec);
   RunSummary summary;

@@ -58,6 +58,10 @@ class RunnerUi {
   virtual void note(const std::string& line) = 0;
 };
 
+// a pending SIGINT or SIGTERM (blocked by launch::block_supervisor_signals, so they wait),
+// taken; true if there was one
+bool take_stop_signal();
+
 struct RunSummary {
   std::size_t run = 0;          // trials run now
   std::size_t skipped = 0;      // trials done by an earlier run

@@ -6,10 +6,12 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
+#include "core/experiment/discrimination.h"
 #include "core/experiment/experiment.h"
 #include "core/experiment/runner.h"
 #include "core/launch/supervisor.h"
@@ -37,6 +39,13 @@ was put back at the start, a + Enter aborts the trial (it runs again); after a s
 last trial the subject's ranking of the conditions is asked (DIR/ranking.csv).
 
 Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
+
+A file with `kind: discrimination` (README.md, "Discrimination experiments") runs two-interval
+discrimination trials about a live parameter (e.g. stiffness_n_per_m) under constant
+stimuli, staircases or QUEST, answered by virtual observers, into DIR/trials.csv (one row
+per trial, at once) and DIR/summary.csv (per subject and condition: the fitted JND, its
+profile-likelihood and bootstrap 95 % intervals, the Weber fraction). Run again to resume.
+Then: scripts/psychophysics.py plot DIR/trials.csv --out DIR/figures
 
 options:
   --subjects N          N subjects (ids 1..N) instead of the file's
@@ -193,6 +202,39 @@ void print_plan(const experiment::ExperimentSpec& spec, const std::vector<experi
   }
 }
 
+void print_blocks(const experiment::DiscriminationSpec& spec) {
+  std::printf("discrimination %s: %zu subjects, %zu conditions, %s %s around %s, %zu procedures interleaved, virtual observers\n", spec.name.c_str(),
+              spec.subjects.size(), spec.conditions.size(), spec.order == experiment::Order::random ? "random" : "balanced", spec.parameter.c_str(),
+              config::number(spec.reference).c_str(), spec.procedures.size());
+  std::printf("%-10s %-12s %-6s %s\n", "subject", "condition", "order", "observer's JND");
+  for (const auto& b : experiment::make_blocks(spec)) {
+    std::printf("%-10s %-12s %-6d %s\n", b.subject.c_str(), b.condition.label.c_str(), b.order, config::number(b.observer.function.threshold).c_str());
+  }
+}
+
+// a discrimination experiment: no graph, every answer from the virtual observers
+int discrimination_run(const Args& a, FILE* term) {
+  experiment::DiscriminationSpec spec = experiment::load_discrimination(a.positional[0]);
+  if (a.has("conditions")) throw UsageError("--conditions is for bridge experiments; edit the discrimination file's conditions");
+  if (a.has("subjects")) {
+    const double n = a.number("subjects", 0.0);
+    if (n != static_cast<int>(n)) throw UsageError("--subjects needs a whole number");
+    spec.subjects = experiment::subjects_numbered(static_cast<int>(n));
+  }
+  if (a.flag("plan")) {
+    print_blocks(spec);
+    return 0;
+  }
+  const std::string out = a.get("out", "results/" + spec.name);
+  TerminalUi ui(term);
+  const experiment::DiscriminationRun r = experiment::run_discrimination(spec, out, ui);
+  ui.note(std::to_string(r.trials_run) + " trials run" + (r.blocks_done_before ? ", " + std::to_string(r.blocks_done_before) + " blocks done before" : "") +
+          "; trials: " + r.trials +
+          (r.interrupted ? "\nstopped before the end: run the same command again to resume"
+                         : "\nsummary: " + r.summary + "\nfigures: scripts/psychophysics.py plot " + r.trials + " --out " + out + "/figures"));
+  return r.interrupted ? 130 : 0;
+}
+
 }  // namespace
 
 int experiment_run(int argc, char** argv) {
@@ -204,6 +246,11 @@ int experiment_run(int argc, char** argv) {
   if (a.positional.size() != 1) throw UsageError("give exactly one experiment file");
   // every thread from here on (the bus's included) leaves SIGINT / SIGTERM to the runner
   launch::block_supervisor_signals();
+  if (experiment::is_discrimination(a.positional[0])) {
+    const std::unique_ptr<FILE, int (*)(FILE*)> term(fdopen(fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3), "w"), &std::fclose);
+    if (!term) throw std::runtime_error("cannot duplicate stderr");
+    return discrimination_run(a, term.get());
+  }
   experiment::ExperimentSpec spec = experiment::load_experiment(a.positional[0]);
   if (a.has("subjects")) {
     const double n = a.number("subjects", 0.0);

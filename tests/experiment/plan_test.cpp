@@ -129,6 +129,7 @@ TEST(Plan, BadFilesNameTheLineAndTheFix) {
       {"name: t\nsubjects: 2\nconditions: [CM1]\ngraph: " + test::source_path("launch/bridge_rt.yaml") + "\n", "declares no argument"},
       {"name: t\nsubjects: 2\nconditions: [CM1]\ngraph: nowhere.yaml\n", "bad.yaml:4:"},
       {"name: t\nsubjects: 2\nvirtual_subject: nobody.yaml\nconditions: [CM1]\ngraph: " + graph + "\n", "bad.yaml:3:"},
+      {head + "conditions: [CM1]\nkind: survey\n", "bad.yaml:6:"},  // neither bridge nor discrimination
   };
   for (const Case& c : cases) {
     const std::string e = error_of(c.text);
@@ -144,6 +145,9 @@ TEST(Plan, ShippedExperimentsLoad) {
   EXPECT_EQ(paper.limit_s, 180.0);
   const ExperimentSpec quick = load_experiment(test::source_path("launch/experiments/bridge_quick.yaml"));
   EXPECT_TRUE(quick.virtual_subjects());
+  // kind: bridge is the default, and may be written
+  const test::TempDir dir;
+  EXPECT_EQ(load_experiment(write_experiment(dir, "kind: bridge\n")).conditions.size(), 4u);
 }
 
 }  // namespace
