@@ -12,12 +12,8 @@ std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, st
   for (const NodeSpec& n : graph.nodes) {
     for (const Param& p : n.params) graph.realtime.io_with_loop |= p.name == "loop_transport" && p.value == "zeromq";
   }
-  auto profile = std::make_unique<rt::LauncherProfile>(graph.realtime);
-  for (NodeSpec& n : graph.nodes) {
-    if (profile->in_loop(n.name)) n.env.push_back({rt::kProfileEnv, profile->node(n.name).to_env()});
-  }
-  log << "enact launch: " << profile->summary() << "\n";
-  // the machine's figures the loops wait by (measured once per boot, before any node runs)
+  // the machine's figures the loops wait by: measured once per boot, before the profile
+  // confines the launcher to its CPUs (the probe measures across every CPU)
   if (graph.realtime.enabled) {
     const rt::MachineProbe probe = rt::cached_probe();
     char line[256];
@@ -25,6 +21,11 @@ std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, st
                   static_cast<double>(probe.sleep_late.p99_ns) * 1e-3, static_cast<double>(probe.pipe_same_cpu.p50_ns) * 1e-3);
     log << "enact launch: " << line << "\n";
   }
+  auto profile = std::make_unique<rt::LauncherProfile>(graph.realtime);
+  for (NodeSpec& n : graph.nodes) {
+    if (profile->in_loop(n.name)) n.env.push_back({rt::kProfileEnv, profile->node(n.name).to_env()});
+  }
+  log << "enact launch: " << profile->summary() << "\n";
   return profile;
 }
 

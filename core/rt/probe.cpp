@@ -176,7 +176,9 @@ MachineProbe cached_probe(bool fresh) {
     std::ifstream in(path);
     std::stringstream text;
     text << in.rdbuf();
-    if (const auto cached = from_text(text.str()); cached && cached->boot_id == boot) return *cached;
+    // (a probe made by a process confined to fewer CPUs than this one may use is made again)
+    const auto cached = from_text(text.str());
+    if (cached && cached->boot_id == boot && cached->cpus >= static_cast<int>(system_calls().allowed_cpus().size())) return *cached;
   }
   const MachineProbe p = probe_machine();
   std::error_code ec;

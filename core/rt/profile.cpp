@@ -136,6 +136,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
   }
   // the loop on the last CPU no other graph's loop holds, the rest on the CPUs no loop holds
   const std::vector<int> allowed = system_.allowed_cpus();
+  allowed_ = allowed;
   if (allowed.size() >= 2 && !profile_.loop.empty()) {
     const auto held = [&](int cpu) { return profile_.other_loops.count(cpu) > 0; };
     const auto free_cpu = std::find_if(allowed.rbegin(), allowed.rend(), [&](int cpu) { return !held(cpu); });
@@ -201,6 +202,8 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
 
 LauncherProfile::~LauncherProfile() {
   if (latency_fd_ >= 0) system_.release_cpu_latency(latency_fd_);
+  // the launcher's CPUs as they were (an experiment runs its next trial's profile from here)
+  if (pinned_ && !allowed_.empty()) system_.pin_thread(allowed_);
 }
 
 bool LauncherProfile::in_loop(const std::string& name) const {

@@ -99,6 +99,7 @@ class LauncherProfile {
   GraphProfile profile_;
   ProfileSystem system_;
   std::vector<int> loop_cpus_, other_cpus_;
+  std::vector<int> allowed_;  // the launcher's CPUs before the profile (given back at the end)
   bool pinned_ = false;
   bool fifo_ok_ = false;
   int latency_fd_ = -1;

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "core/bus/context.h"
 #include "core/bus/loop_link.h"
@@ -56,43 +58,52 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
     s.raw_sub.set(zmq::sockopt::subscribe, "");
     s.raw_sub.connect(parent[2 * i + 1]);
   }
-  // the local arms: the link (answered like the graph's simulator: the link first, then a bus
-  // without subscribers) and the pipes (echoed)
-  bus::BytePublisher link_out("ipc://" + dir + "/peer-link-bus", {.node = "sim", .send_hwm = 10000});
-  bus::Publisher<msgs::ForceCommand> link_forces(link_out, "ffd/force");
-  bus::ByteSubscriber link_in;
-  bus::Subscriber<msgs::DeviceState> link_states(link_in, "ffd/state");
-  bus::LoopLink link = bus::LoopLink::connect(setup.link_path, rt::now_ns() + 10'000'000'000);
-  if (!link.connected()) throw std::runtime_error("bench loop peer: cannot connect to the local link " + setup.link_path);
-  link_forces.also_over(&link);
-  char link_buffer[bus::LoopLink::kMaxMessage];
-  char pipe_buffer[4096];
   std::printf("%s %s %s %s\n", sides[0].out->endpoint().c_str(), sides[0].raw_pub.get(zmq::sockopt::last_endpoint).c_str(),
               sides[1].out->endpoint().c_str(), sides[1].raw_pub.get(zmq::sockopt::last_endpoint).c_str());
   std::fflush(stdout);
+  // the local arms, each on a thread of its own that waits on its one descriptor as the
+  // graph's simulator waits on its link (the process's CPU and priority, inherited)
+  std::atomic<bool> done{false};
+  std::thread link_arm([&] {
+    // answered like the graph's simulator: a step of its own simulator, the answer on the link
+    // first, then on a bus without subscribers
+    sim::Simulator own;
+    own.configure(p);
+    own.activate(0);
+    bus::BytePublisher link_out("ipc://" + dir + "/peer-link-bus", {.node = "sim", .send_hwm = 10000});
+    bus::Publisher<msgs::ForceCommand> link_forces(link_out, "ffd/force");
+    bus::ByteSubscriber link_in;
+    bus::Subscriber<msgs::DeviceState> link_states(link_in, "ffd/state");
+    bus::LoopLink link = bus::LoopLink::connect(setup.link_path, rt::now_ns() + 10'000'000'000);
+    link_forces.also_over(&link);
+    char buffer[bus::LoopLink::kMaxMessage];
+    msgs::DeviceState state;
+    msgs::ForceCommand command;
+    while (!done.load() && link.connected()) {
+      const long n = link.receive(buffer, sizeof buffer, rt::now_ns() + 100'000'000);
+      if (n <= 0 || !link_states.accept_payload(buffer, static_cast<std::size_t>(n), state)) continue;
+      const sim::StepOutput& o = own.step(state.header().stamp_ns(), graph::get(state.position()));
+      graph::fill(command, state.header().seq(), o.force_n, o.fault);
+      link_forces.publish(command);
+    }
+  });
+  std::thread pipe_arm([&] {
+    char buffer[4096];
+    for (ssize_t n; !done.load() && (n = read(setup.pipe_in, buffer, sizeof buffer)) > 0;) {
+      if (write(setup.pipe_out, buffer, static_cast<std::size_t>(n)) != n) break;
+    }
+  });
   msgs::DeviceState state;
   msgs::ForceCommand command;
   zmq::message_t m;
-  zmq::pollitem_t items[6] = {{sides[0].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[0].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
-                              {sides[1].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[1].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
-                              {nullptr, link.fd(), ZMQ_POLLIN, 0},                  {nullptr, setup.pipe_in, ZMQ_POLLIN, 0}};
-  // answer until told to stop (SIGTERM) or the parent is gone (its stdin pipe closed)
+  zmq::pollitem_t items[4] = {{sides[0].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[0].raw_sub.handle(), 0, ZMQ_POLLIN, 0},
+                              {sides[1].in.socket().handle(), 0, ZMQ_POLLIN, 0}, {sides[1].raw_sub.handle(), 0, ZMQ_POLLIN, 0}};
+  // answer until told to stop (SIGTERM) or the parent is gone
   while (!graph::stop_requested() && getppid() != 1) {
     try {
-      if (zmq::poll(items, 6, std::chrono::milliseconds(100)) == 0) continue;
+      if (zmq::poll(items, 4, std::chrono::milliseconds(100)) == 0) continue;
     } catch (const zmq::error_t&) {
       continue;
-    }
-    if (items[5].revents & ZMQ_POLLIN) {
-      const ssize_t n = read(setup.pipe_in, pipe_buffer, sizeof pipe_buffer);
-      if (n <= 0) break;  // the parent is gone
-      if (write(setup.pipe_out, pipe_buffer, static_cast<std::size_t>(n)) != n) break;
-    }
-    for (long n; link.connected() && (n = link.receive(link_buffer, sizeof link_buffer, 0)) > 0;) {
-      if (!link_states.accept_payload(link_buffer, static_cast<std::size_t>(n), state)) continue;
-      const sim::StepOutput& o = simulator.step(state.header().stamp_ns(), graph::get(state.position()));
-      graph::fill(command, state.header().seq(), o.force_n, o.fault);
-      link_forces.publish(command);
     }
     for (int i = 0; i < 2; ++i) {
       Side& s = sides[i];
@@ -104,7 +115,13 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
       while (s.raw_sub.recv(m, zmq::recv_flags::dontwait)) s.raw_pub.send(zmq::buffer(m.data(), m.size()), zmq::send_flags::dontwait);
     }
   }
-  return 0;
+  // the threads end with the process: the pipe's reader may be blocked in read (its writer,
+  // the parent, closes it on exit)
+  done.store(true);
+  link_arm.detach();
+  pipe_arm.detach();
+  std::fflush(stdout);
+  _exit(0);
 }
 
 Peer::Peer(const std::string& dir, const std::string& scene, const PeerSetup& setup, const std::string& profile_env) {

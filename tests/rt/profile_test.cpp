@@ -61,6 +61,9 @@ TEST(RtProfile, TwoCpusPutTheLoopOnTheLastAndTheLauncherOnTheOther) {
     EXPECT_TRUE(mentions(p.summary(), "CPU 1")) << p.summary();
   }
   EXPECT_EQ(sys.released, 1);  // the latency request ends with the profile
+  // and the launcher gets its CPUs back (an experiment's next trial places its loop again)
+  ASSERT_EQ(sys.pinned.size(), 2u);
+  EXPECT_EQ(sys.pinned[1], (std::vector<int>{0, 1}));
 }
 
 // a second graph on the machine (the registry's running loops): its loop goes on a CPU the
