@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <string>
+
+#include "core/rt/probe.h"
+#include "core/rt/profile.h"
 #include "tests/cli/cli_support.h"
 
 namespace enact::test {
@@ -44,6 +49,46 @@ TEST(Doctor, NoMemoryLockingAndNoRealtimePriorityBlockTheLoop) {
   EXPECT_TRUE(line_of(r.out, "memlock").starts_with("FAIL")) << r.out;
   EXPECT_TRUE(line_of(r.out, "sched_fifo").starts_with("FAIL")) << r.out;
   EXPECT_NE(line_of(r.out, "memlock").find("fix:"), std::string::npos);
+}
+
+// a probe of this boot with the given figures, in a cache folder of its own (XDG_CACHE_HOME)
+std::string cached_machine(const TempDir& dir, std::int64_t sleep_p99_ns, std::int64_t fifo_p99_ns) {
+  rt::MachineProbe p;
+  std::ifstream("/proc/sys/kernel/random/boot_id") >> p.boot_id;
+  p.cpus = static_cast<int>(rt::system_calls().allowed_cpus().size());
+  p.sleep_late = {sleep_p99_ns / 2, sleep_p99_ns, sleep_p99_ns * 2, 1000};
+  p.sleep_late_fifo = {fifo_p99_ns / 2, fifo_p99_ns, fifo_p99_ns * 2, 1000};
+  p.fifo_permitted = true;
+  p.pipe_same_cpu = {4'000, 6'000, 40'000, 2000};
+  p.pipe_cross_cpu = {25'000, 60'000, 900'000, 1000};
+  std::filesystem::create_directories(dir.path() + "/enact");
+  std::ofstream(dir.path() + "/enact/machine-probe") << rt::to_text(p);
+  return "XDG_CACHE_HOME=" + dir.path() + " ";
+}
+
+// the machine section: the probe's figures, the rate each mode holds from them, and what to
+// change, read from this boot's probe (here a crafted one, so that the advice is checked)
+TEST(Doctor, SaysWhatThisMachinesFiguresHoldAndWhatToChange) {
+  {
+    TempDir dir;
+    // a VM that wakes 90 us late, FIFO no sooner
+    const RunResult r = run(cached_machine(dir, 90'000, 88'000) + ENACT_CLI + " doctor");
+    EXPECT_NE(r.out.find("normal scheduling: late p50 45.0 us, p99 90.0 us"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("pipe round trip between two threads on one CPU: p50 4.0 us"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("a sleeping thread wakes 90 us late (p99)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("SCHED_FIFO wakes no sooner here"), std::string::npos) << r.out;
+    // 2 x (90 x 1.25 + 5) us and the tick: under 5 kHz
+    EXPECT_NE(r.out.find("a sleeping loop cannot hold 5 kHz here"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("ready for the real-time loop"), std::string::npos) << r.out;
+  }
+  {
+    TempDir dir;
+    // a machine that wakes 5 us late, FIFO at 3 us
+    const RunResult r = run(cached_machine(dir, 5'000, 3'000) + ENACT_CLI + " doctor");
+    EXPECT_NE(r.out.find("co-located (enact-rt), sleeping each tick: up to "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("wakes no sooner"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("cannot hold 5 kHz"), std::string::npos) << r.out;
+  }
 }
 
 }  // namespace
