@@ -1,0 +1,136 @@
+// The safety layer (core/devices/safety.h) holds for the vendor backends as for the Falcon:
+// each backend, on its fake library, wrapped in SafeForceDevice: a command over the peak
+// force is clamped to the device profile's peak, NaN gives no force, a silent loop trips the
+// watchdog and the device gets zero, a jump is slew-limited to the profile's step, and the
+// force is zero when the device goes away. What is checked is what the fake device got.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <thread>
+
+#include "core/devices/safety.h"
+#include "core/devices/vendor/dhd_device.h"
+#include "core/devices/vendor/hd_device.h"
+#include "core/rt/clock.h"
+#include "tests/devices/vendor/fake_library.h"
+#include "tests/support/test_util.h"
+
+namespace enact::devices::vendor {
+namespace {
+
+using math::Vec3;
+
+struct Backend {
+  const char* name;
+  const char* library;
+  std::function<std::unique_ptr<ForceDevice>()> make;
+};
+
+Backend dhd() {
+  return {"dhd", FAKE_DHD_LIBRARY, [] {
+            DhdParams p;
+            p.library = FAKE_DHD_LIBRARY;
+            return std::make_unique<DhdForceDevice>(p);
+          }};
+}
+
+Backend hd() {
+  return {"hd", FAKE_HD_LIBRARY, [] {
+            HdParams p;
+            p.library = FAKE_HD_LIBRARY;
+            return std::make_unique<HdForceDevice>(p);
+          }};
+}
+
+class VendorSafety : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override {
+    fake = std::make_unique<test::FakeLibrary>(GetParam().library);
+    fake->set_up();
+    SafetyParams s;
+    s.reengage_s = 0.0;  // no ramp back after activation: the limits alone shape the force
+    safe = std::make_unique<SafeForceDevice>(GetParam().make(), s);
+    safe->configure();
+    safe->activate();
+  }
+  // write f about every millisecond until done() or timeout_s, with a read after each
+  bool drive(const Vec3& f, const std::function<bool()>& done, double timeout_s = 2.0) {
+    ForceSample s;
+    return test::eventually([&] {
+      safe->write(rt::now_ns(), f);
+      safe->read(rt::now_ns(), s);
+      return done();
+    }, timeout_s);
+  }
+  std::unique_ptr<test::FakeLibrary> fake;
+  std::unique_ptr<SafeForceDevice> safe;
+};
+
+TEST_P(VendorSafety, ACommandOverThePeakIsClampedToTheProfilesPeak) {
+  const double peak = safe->profile().peak_force_n;
+  ASSERT_GT(peak, 0.0);
+  double most = 0.0;
+  ASSERT_TRUE(drive({100.0, 0.0, 0.0}, [&] {
+    most = std::max(most, math::norm(fake->force_n()));
+    return std::abs(math::norm(fake->force_n()) - peak) < 1e-9;
+  })) << most;
+  EXPECT_LE(most, peak + 1e-9);
+  ForceSample s;
+  safe->read(rt::now_ns(), s);
+  EXPECT_TRUE(has(s.faults, DeviceFault::clamped));
+  EXPECT_GT(safe->clamps(), 0u);
+}
+
+TEST_P(VendorSafety, ANanCommandGivesNoForce) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int i = 0; i < 40; ++i) {
+    safe->write(rt::now_ns(), {nan, 1.0, 0.0});
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+    ASSERT_EQ(math::norm(fake->force_n()), 0.0);
+  }
+  ForceSample s;
+  safe->read(rt::now_ns(), s);
+  EXPECT_TRUE(has(s.faults, DeviceFault::nonfinite_command));
+}
+
+TEST_P(VendorSafety, ASilentLoopTripsTheWatchdogAndTheDeviceGetsZero) {
+  ASSERT_TRUE(drive({0.0, 0.0, 1.0}, [&] { return std::abs(math::norm(fake->force_n()) - 1.0) < 1e-9; }));
+  // reads go on, writes stop: after 10 ms the watchdog ramps the force to zero over 5 ms
+  ForceSample s;
+  ASSERT_TRUE(test::eventually([&] {
+    safe->read(rt::now_ns(), s);
+    return has(s.faults, DeviceFault::watchdog) && math::norm(fake->force_n()) == 0.0;
+  }, 1.0));
+  EXPECT_EQ(safe->watchdog_trips(), 1u);
+}
+
+TEST_P(VendorSafety, AJumpIsLimitedToTheProfilesForceStep) {
+  const double step_n = safe->profile().max_force_step_n_per_ms;  // at most one millisecond's worth per write
+  ASSERT_GT(step_n, 0.0);
+  ASSERT_LT(step_n, safe->profile().peak_force_n) << "the jump below must exceed one step";
+  ASSERT_TRUE(drive({}, [&] { return true; }));
+  safe->write(rt::now_ns(), {0.0, -100.0, 0.0});
+  const double sent = math::norm(safe->sent_force_n());
+  EXPECT_LE(sent, step_n + 1e-9);
+  EXPECT_GT(sent, 0.0);
+  EXPECT_GT(safe->slew_limited(), 0u);
+  // the device gets that limited force, not the jump
+  ASSERT_TRUE(test::eventually([&] { return std::abs(math::norm(fake->force_n()) - sent) < 1e-9; }, 1.0)) << math::norm(fake->force_n());
+}
+
+TEST_P(VendorSafety, TheForceIsZeroWhenTheDeviceGoesAway) {
+  ASSERT_TRUE(drive({0.5, 0.0, 0.0}, [&] { return std::abs(math::norm(fake->force_n()) - 0.5) < 1e-9; }));
+  safe->deactivate();
+  EXPECT_EQ(math::norm(fake->force_n()), 0.0);
+  safe.reset();
+  EXPECT_EQ(math::norm(fake->force_n()), 0.0);
+  EXPECT_EQ(fake->is_open(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, VendorSafety, ::testing::Values(dhd(), hd()), [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace enact::devices::vendor
