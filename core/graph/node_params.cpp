@@ -155,8 +155,8 @@ const ParamTable& sim_table() {
 
 const ParamTable& force_table() {
   static const ParamTable t{
-      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon"}, .doc = "simulated, or a Novint Falcon over USB"},
-      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device)"},
+      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon", "dhd", "hd"}, .doc = "simulated; a Novint Falcon over USB; a Force Dimension device (DHD SDK); an OpenHaptics device such as a 3D Systems Touch (HD API)"},
+      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device; dhd: default omega3; hd: default touch)"},
       {.name = "hand_path", .type = ParamType::text, .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"},
       {.name = "subject", .type = ParamType::text, .doc = "a virtual subject's file (YAML) holds the device instead"},
       {.name = "subject_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's traits"},
@@ -172,6 +172,8 @@ const ParamTable& force_table() {
       {.name = "firmware", .type = ParamType::text, .doc = "falcon: the firmware file to upload when none runs"},
       {.name = "homing_timeout_s", .fallback = number(kFalcon.homing_timeout_s), .min = 0, .above_min = true, .doc = "falcon: how long the user has to home the grip"},
       {.name = "max_force_n", .fallback = number(kFalcon.max_force_n), .min = 0, .max = 9, .above_min = true, .doc = "falcon: the force is clamped to this"},
+      {.name = "library", .type = ParamType::text, .doc = "dhd, hd: the vendor's library, a file name or path (default libdhd.so, libHD.so)"},
+      {.name = "device_name", .type = ParamType::text, .doc = "hd: the device's name in Touch Setup (empty: the default device)"},
   };
   return t;
 }

@@ -1,0 +1,124 @@
+// The vendor backends in a graph: wired from node params (core/graph/components.cpp) inside
+// the safety layer, with the params of other devices refused; and the co-located bridge
+// (launch/bridge_rt_dhd.yaml, bridge_rt_hd.yaml) started with the real `enact launch` on
+// each fake library for 10 s, the fake's hand walking the bridge path: the handle moves
+// along the bridge in the enact frame, forces and pins follow contact.
+//
+// Machine assumptions: 2 noisy shared cores; only generous bounds on timing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "core/devices/safety.h"
+#include "core/devices/vendor/dhd_device.h"
+#include "core/devices/vendor/hd_device.h"
+#include "core/graph/components.h"
+#include "core/rt/clock.h"
+#include "tests/devices/vendor/fake_library.h"
+#include "tests/integration/integration_util.h"
+#include "tests/support/refusal.h"
+
+namespace enact::test {
+namespace {
+
+constexpr double kReadyTimeout_s = 30.0;
+constexpr double kObserve_s = 10.0;
+constexpr double kGraphDuration_s = 30.0;  // a safety net: the test stops the graph itself
+
+TEST(VendorComponents, ADhdDeviceComesConfiguredInsideTheSafetyLayer) {
+  FakeLibrary fake(FAKE_DHD_LIBRARY);
+  fake.set_up();
+  graph::Params p("ffd");
+  p.set("device", "dhd");
+  p.set("library", FAKE_DHD_LIBRARY);
+  auto d = graph::make_force_device(p);
+  p.refuse_unknown();
+  auto* safe = dynamic_cast<devices::SafeForceDevice*>(d.get());
+  ASSERT_NE(safe, nullptr);
+  EXPECT_NE(dynamic_cast<devices::vendor::DhdForceDevice*>(&safe->inner()), nullptr);
+  EXPECT_EQ(d->profile().name, "omega3");
+}
+
+TEST(VendorComponents, AnHdDeviceTakesItsProfileAndName) {
+  FakeLibrary fake(FAKE_HD_LIBRARY);
+  fake.set_up();
+  graph::Params p("ffd");
+  p.set("device", "hd");
+  p.set("library", FAKE_HD_LIBRARY);
+  p.set("device_name", "Default Device");
+  p.set("profile", "falcon");
+  auto d = graph::make_force_device(p);
+  auto* safe = dynamic_cast<devices::SafeForceDevice*>(d.get());
+  ASSERT_NE(safe, nullptr);
+  EXPECT_NE(dynamic_cast<devices::vendor::HdForceDevice*>(&safe->inner()), nullptr);
+  EXPECT_EQ(d->profile().name, "falcon");
+}
+
+TEST(VendorComponents, ParamsOfOtherDevicesAreRefused) {
+  const auto refusal = [](const std::string& device, const char* name, const char* value) {
+    graph::Params p("ffd");
+    p.set("device", device);
+    p.set(name, value);
+    return error_of([&] { graph::make_force_device(p); });
+  };
+  EXPECT_NE(refusal("dhd", "hand_path", "x.csv").find("parameter hand_path is only for device=simulated"), std::string::npos);
+  EXPECT_NE(refusal("dhd", "device_name", "x").find("parameter device_name is only for device=hd"), std::string::npos);
+  EXPECT_NE(refusal("hd", "serial", "x").find("parameter serial is only for device=falcon"), std::string::npos);
+  EXPECT_NE(refusal("simulated", "library", "x").find("parameter library is only for device=dhd or device=hd"), std::string::npos);
+}
+
+struct Run {
+  const char* device;
+  const char* launch;
+  const char* library;
+};
+
+class VendorGraph : public ::testing::TestWithParam<Run> {};
+
+TEST_P(VendorGraph, TheBridgeRunsOnTheFakeLibrary) {
+  TempDir dir;
+  // the fake's hand walks the bridge path (the child inherits the environment)
+  setenv("ENACT_FAKE_HAND_PATH", source_path("launch/paths/bridge_walk.csv").c_str(), 1);
+  Launcher launcher(dir, source_path(GetParam().launch), kGraphDuration_s, {std::string("library=") + GetParam().library});
+  unsetenv("ENACT_FAKE_HAND_PATH");
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  Observer obs(launcher.endpoint());
+  obs.all_topics();
+  Observed seen;
+  obs.observe(kObserve_s, seen);
+  ASSERT_GE(seen.states.size(), 1000u) << launcher.log();
+  ASSERT_GE(seen.scenes.size(), 100u);
+
+  // the handle follows the bridge path in the enact frame: it starts at the path's first
+  // point (-6.0, -20.9, 13.0) mm and moves over the bridge (a wrong frame puts it elsewhere)
+  const auto& p0 = seen.states.front().position();
+  EXPECT_NEAR(p0.x(), -0.0060, 0.004);
+  EXPECT_NEAR(p0.y(), -0.0209, 0.004);
+  EXPECT_NEAR(p0.z(), 0.013, 0.004);
+  double span = 0.0;
+  std::uint64_t healthy = 0;
+  for (const auto& s : seen.states) {
+    span = std::max(span, std::hypot(s.position().x() - p0.x(), s.position().y() - p0.y()));
+    healthy += s.faults() == 0;
+  }
+  std::printf("[ %s graph ] %zu device states, %llu without a fault, the handle moved %.1f mm\n", GetParam().device, seen.states.size(),
+              static_cast<unsigned long long>(healthy), span * 1e3);
+  EXPECT_GT(span, 0.01);
+  EXPECT_GT(healthy * 10, seen.states.size() * 9) << "most samples healthy";
+
+  // forces and pins follow contact (CM1), and the handle rests on the top at times
+  const ContactCheck contact = check_follows_contact(seen.scenes);
+  std::printf("[ %s graph ] %zu scenes, %d on the top\n", GetParam().device, seen.scenes.size(), contact.on_top);
+  EXPECT_EQ(contact.bad, 0) << contact.first_bad;
+  EXPECT_GT(contact.on_top, 10) << "the handle never rested on the top: the checks above were vacuous";
+}
+
+INSTANTIATE_TEST_SUITE_P(Fakes, VendorGraph,
+                         ::testing::Values(Run{"dhd", "launch/bridge_rt_dhd.yaml", FAKE_DHD_LIBRARY}, Run{"hd", "launch/bridge_rt_hd.yaml", FAKE_HD_LIBRARY}),
+                         [](const auto& info) { return std::string(info.param.device); });
+
+}  // namespace
+}  // namespace enact::test
