@@ -31,6 +31,11 @@ std::vector<DeviceProfile> profiles() {
       // 2.31 (y), 1.02 (z) N/mm (the least here). Where the HD origin lies in the workspace,
       // speed, acceleration, moving mass, damping and the force step limit (1 N/ms: the 3.3 N
       // no sooner than 3.3 ms) are assumed.
+      // Haply Inverse3 (device: inverse3). No figure here is from a data sheet we could read: all
+      // TO CHECK against haply.co's current specifications. Workspace: a box of 240 x 160 x 160 mm
+      // about enact's origin (origin_m in the service frame); peak and continuous force set low
+      // on purpose (3 N) until checked, so the safety layer errs on the gentle side; the rest assumed.
+      {"inverse3", {-0.120, -0.080, -0.080}, {0.120, 0.080, 0.080}, 3.0, 3.0, 1.0, 30.0, 1e-5, 0.2, 0.5, 1.0, 0.0},
       {"touch", {-0.080, -0.035, -0.060}, {0.080, 0.035, 0.060}, 3.3, 0.88, 1.0, 30.0, 5.5e-5, 0.05, 0.3, 1.0, 1020.0},
   };
 }

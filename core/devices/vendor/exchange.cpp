@@ -68,7 +68,7 @@ math::Vec3 Exchange::command(std::int64_t now_ns) noexcept {
 void Exchange::await_zero(std::int64_t timeout_ns) const noexcept {
   const std::uint64_t before = zeroed_.load();
   const std::int64_t give_up = rt::now_ns() + timeout_ns;
-  while (zeroed_.load() == before && !failed() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  while (zeroed_.load() < before + 2 && !failed() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
 }
 
 }  // namespace enact::devices::vendor

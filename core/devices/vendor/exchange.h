@@ -48,8 +48,8 @@ class Exchange {
   bool failed() const noexcept { return failed_.load(); }
   // zero commands taken while inactive
   const std::atomic<std::uint64_t>& zeroed() const noexcept { return zeroed_; }
-  // wait (polling, not real-time) until a zero command was taken after now, the device
-  // failed, or timeout_ns passed (deactivate: the zero force went out)
+  // wait (polling, not real-time) until two zero commands were taken after now (so the
+  // first has gone out to the device), the device failed, or timeout_ns passed
   void await_zero(std::int64_t timeout_ns) const noexcept;
 
  private:
