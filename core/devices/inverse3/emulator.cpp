@@ -187,4 +187,9 @@ std::uint64_t Inverse3Emulator::updates() const {
   return impl_->updates;
 }
 
+std::size_t Inverse3Emulator::connections() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->clients.size();
+}
+
 }  // namespace enact::devices::inverse3

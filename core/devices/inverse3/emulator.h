@@ -63,6 +63,8 @@ class Inverse3Emulator {
   std::uint64_t messages() const;
   std::uint64_t bad_messages() const;
   std::uint64_t updates() const;
+  // simulation connections open now
+  std::size_t connections() const;
 
  private:
   struct Impl;
