@@ -3,6 +3,8 @@
 #include "core/config/yaml.h"
 #include "core/devices/falcon/emulator.h"
 #include "core/devices/falcon/falcon_device.h"
+#include "core/devices/inverse3/emulated.h"
+#include "core/devices/inverse3/inverse3_device.h"
 #include "core/devices/metec/emulator.h"
 #include "core/devices/metec/metec_device.h"
 #include "core/devices/safety.h"
@@ -40,11 +42,16 @@ constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subjec
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)
 bool emulated(const Params& p) { return p.text("transport") == "emulator"; }
 
-constexpr std::initializer_list<const char*> kFalconParams = {"transport", "serial", "firmware", "homing_timeout_s", "max_force_n"};
+constexpr std::initializer_list<const char*> kFalconParams = {"serial", "firmware", "homing_timeout_s", "max_force_n"};
+constexpr const char* kTransportDevices = "device=falcon or device=inverse3";
+
+constexpr std::initializer_list<const char*> kInverse3Params = {"port", "events_port", "device_id", "origin_m"};
 
 std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
+  refuse_given(p, {"transport"}, kTransportDevices);
   refuse_given(p, kFalconParams, "device=falcon");
   refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  refuse_given(p, kInverse3Params, "device=inverse3");
   devices::SimulatedForceParams f;
   f.profile = p.text("profile");
   read_hand(p, f);
@@ -54,6 +61,7 @@ std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
 std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
   refuse_given(p, {"profile"}, "device=simulated (the Falcon's profile is 'falcon')");
   refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  refuse_given(p, kInverse3Params, "device=inverse3");
   devices::falcon::FalconParams f;
   f.serial = p.text("serial");
   f.firmware = p.text("firmware");
@@ -75,7 +83,9 @@ std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
 // a vendor SDK's device: a person holds it (no scripted hand here: a fake library's own hand
 // stands in for one in tests), the Falcon's params do not apply
 void refuse_for_vendor(const Params& p) {
+  refuse_given(p, {"transport"}, kTransportDevices);
   refuse_given(p, kFalconParams, "device=falcon");
+  refuse_given(p, kInverse3Params, "device=inverse3");
   refuse_given(p, kHandParams, "device=simulated or device=falcon with transport=emulator (a real device is held by a person)");
 }
 
@@ -97,11 +107,35 @@ std::unique_ptr<devices::ForceDevice> hd_force(const Params& p) {
   return std::make_unique<devices::vendor::HdForceDevice>(h);
 }
 
+// the Haply Inverse3: through the Inverse Service, or (transport=emulator) an emulated service
+// in this process whose handle the emulator's hand holds
+std::unique_ptr<devices::ForceDevice> inverse3_force(const Params& p) {
+  refuse_given(p, kFalconParams, "device=falcon");
+  refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  devices::inverse3::Inverse3Params d;
+  d.port = static_cast<int>(p.integer("port"));
+  d.events_port = static_cast<int>(p.integer("events_port"));
+  d.device_id = p.text("device_id");
+  d.origin_m = p.vec3("origin_m");
+  if (p.has("profile")) d.profile = p.text("profile");
+  if (!emulated(p)) {
+    refuse_given(p, kHandParams, "transport=emulator (the emulated hand)");
+    return std::make_unique<devices::inverse3::Inverse3ForceDevice>(d);
+  }
+  refuse_given(p, {"port", "events_port", "device_id"}, "transport=usb (the emulator takes free ports)");
+  devices::inverse3::Inverse3EmulatorParams e;
+  read_hand(p, e.handle);
+  e.handle.profile = d.profile;
+  e.origin_m = d.origin_m;
+  return std::make_unique<devices::inverse3::EmulatedInverse3>(d, e);
+}
+
 // the force device named by `device` (a device the table does not name is refused by declare())
 std::unique_ptr<devices::ForceDevice> inner_force_device(const Params& p, const std::string& device) {
   if (device == "falcon") return falcon_force(p);
   if (device == "dhd") return dhd_force(p);
   if (device == "hd") return hd_force(p);
+  if (device == "inverse3") return inverse3_force(p);
   return simulated_force(p);
 }
 

@@ -1,7 +1,8 @@
 // The vendor backends in a graph: wired from node params (core/graph/components.cpp) inside
 // the safety layer, with the params of other devices refused; and the co-located bridge
-// (launch/bridge_rt_dhd.yaml, bridge_rt_hd.yaml) started with the real `enact launch` on
-// each fake library for 10 s, the fake's hand walking the bridge path: the handle moves
+// started with the real `enact launch` for 10 s on each fake library (bridge_rt_dhd.yaml,
+// bridge_rt_hd.yaml: the fake's hand walking the bridge path) and on the emulated Inverse
+// Service (bridge_rt_inverse3_emulated.yaml: the emulator's scripted hand): the handle moves
 // along the bridge in the enact frame, forces and pins follow contact.
 //
 // Machine assumptions: 2 noisy shared cores; only generous bounds on timing.
@@ -12,6 +13,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/devices/inverse3/emulated.h"
 #include "core/devices/safety.h"
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
@@ -57,6 +59,24 @@ TEST(VendorComponents, AnHdDeviceTakesItsProfileAndName) {
   EXPECT_EQ(d->profile().name, "falcon");
 }
 
+TEST(VendorComponents, AnInverse3OnItsEmulatorComesConfigured) {
+  graph::Params p("ffd");
+  p.set("device", "inverse3");
+  p.set("transport", "emulator");
+  p.set("start_m", "0.01,0.02,0.0");
+  auto d = graph::make_force_device(p);
+  p.refuse_unknown();
+  auto* safe = dynamic_cast<devices::SafeForceDevice*>(d.get());
+  ASSERT_NE(safe, nullptr);
+  ASSERT_NE(dynamic_cast<devices::inverse3::EmulatedInverse3*>(&safe->inner()), nullptr);
+  EXPECT_EQ(d->profile().name, "inverse3");
+  d->activate();
+  devices::ForceSample s;
+  ASSERT_TRUE(eventually([&] { return d->read(rt::now_ns(), s) && s.faults == 0; }, 5.0));
+  EXPECT_NEAR(s.position_m.x, 0.01, 2e-4);
+  EXPECT_NEAR(s.position_m.y, 0.02, 2e-4);
+}
+
 TEST(VendorComponents, ParamsOfOtherDevicesAreRefused) {
   const auto refusal = [](const std::string& device, const char* name, const char* value) {
     graph::Params p("ffd");
@@ -68,21 +88,24 @@ TEST(VendorComponents, ParamsOfOtherDevicesAreRefused) {
   EXPECT_NE(refusal("dhd", "device_name", "x").find("parameter device_name is only for device=hd"), std::string::npos);
   EXPECT_NE(refusal("hd", "serial", "x").find("parameter serial is only for device=falcon"), std::string::npos);
   EXPECT_NE(refusal("simulated", "library", "x").find("parameter library is only for device=dhd or device=hd"), std::string::npos);
+  EXPECT_NE(refusal("dhd", "transport", "emulator").find("parameter transport is only for device=falcon or device=inverse3"), std::string::npos);
+  EXPECT_NE(refusal("falcon", "origin_m", "0,0,0").find("parameter origin_m is only for device=inverse3"), std::string::npos);
+  EXPECT_NE(refusal("inverse3", "hand_path", "x.csv").find("parameter hand_path is only for transport=emulator"), std::string::npos);
 }
 
 struct Run {
   const char* device;
   const char* launch;
-  const char* library;
+  std::vector<std::string> args;  // launch arguments
 };
 
 class VendorGraph : public ::testing::TestWithParam<Run> {};
 
-TEST_P(VendorGraph, TheBridgeRunsOnTheFakeLibrary) {
+TEST_P(VendorGraph, TheBridgeRunsOnItsStandIn) {
   TempDir dir;
-  // the fake's hand walks the bridge path (the child inherits the environment)
+  // a fake library's hand walks the bridge path (the child inherits the environment)
   setenv("ENACT_FAKE_HAND_PATH", source_path("launch/paths/bridge_walk.csv").c_str(), 1);
-  Launcher launcher(dir, source_path(GetParam().launch), kGraphDuration_s, {std::string("library=") + GetParam().library});
+  Launcher launcher(dir, source_path(GetParam().launch), kGraphDuration_s, GetParam().args);
   unsetenv("ENACT_FAKE_HAND_PATH");
   ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
   Observer obs(launcher.endpoint());
@@ -116,8 +139,10 @@ TEST_P(VendorGraph, TheBridgeRunsOnTheFakeLibrary) {
   EXPECT_GT(contact.on_top, 10) << "the handle never rested on the top: the checks above were vacuous";
 }
 
-INSTANTIATE_TEST_SUITE_P(Fakes, VendorGraph,
-                         ::testing::Values(Run{"dhd", "launch/bridge_rt_dhd.yaml", FAKE_DHD_LIBRARY}, Run{"hd", "launch/bridge_rt_hd.yaml", FAKE_HD_LIBRARY}),
+INSTANTIATE_TEST_SUITE_P(StandIns, VendorGraph,
+                         ::testing::Values(Run{"dhd", "launch/bridge_rt_dhd.yaml", {std::string("library=") + FAKE_DHD_LIBRARY}},
+                                           Run{"hd", "launch/bridge_rt_hd.yaml", {std::string("library=") + FAKE_HD_LIBRARY}},
+                                           Run{"inverse3", "launch/bridge_rt_inverse3_emulated.yaml", {}}),
                          [](const auto& info) { return std::string(info.param.device); });
 
 }  // namespace
