@@ -20,6 +20,7 @@ bool load(const std::string& library, const char* device, SharedLibrary& out, Ap
   } catch (const config::Error& e) {
     why = e.what();
     if (const auto cut = why.find("\n  fix:"); cut != std::string::npos) why.erase(cut);
+    if (const std::string prefix = std::string(device) + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
     return false;
   }
 }

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/devices/inverse3/emulated.h"
+#include "core/devices/inverse3/emulator.h"
 #include "core/devices/safety.h"
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
@@ -21,6 +22,7 @@
 #include "core/rt/clock.h"
 #include "tests/devices/vendor/fake_library.h"
 #include "tests/integration/integration_util.h"
+#include "tests/cli/cli_support.h"
 #include "tests/support/refusal.h"
 
 namespace enact::test {
@@ -91,6 +93,44 @@ TEST(VendorComponents, ParamsOfOtherDevicesAreRefused) {
   EXPECT_NE(refusal("dhd", "transport", "emulator").find("parameter transport is only for device=falcon or device=inverse3"), std::string::npos);
   EXPECT_NE(refusal("falcon", "origin_m", "0,0,0").find("parameter origin_m is only for device=inverse3"), std::string::npos);
   EXPECT_NE(refusal("inverse3", "hand_path", "x.csv").find("parameter hand_path is only for transport=emulator"), std::string::npos);
+}
+
+TEST(VendorCli, DevicesSaysWhatIsMissingForEachAbsentDevice) {
+  int closed_port = 0;
+  {
+    devices::inverse3::Inverse3Emulator gone({});
+    closed_port = gone.port();
+  }
+  const RunResult r = enact("devices --dhd-library /nonexistent/libdhd.so --hd-library /nonexistent/libHD.so --inverse3-port " + std::to_string(closed_port));
+  EXPECT_NE(r.out.find("Force Dimension (device: dhd): absent: cannot load /nonexistent/libdhd.so"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fix: install the Force Dimension SDK"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("OpenHaptics (device: hd): absent: cannot load /nonexistent/libHD.so"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Haply Inverse3 (device: inverse3): absent: the Haply Inverse Service does not answer on 127.0.0.1:" + std::to_string(closed_port)),
+            std::string::npos)
+      << r.out;
+  // this machine has no supported USB device either: nothing found
+  if (r.out.find("no supported USB device found") != std::string::npos) EXPECT_EQ(r.exit_code, 1) << r.out;
+}
+
+TEST(VendorCli, DevicesFindsEachOnItsStandIn) {
+  FakeLibrary dhd(FAKE_DHD_LIBRARY), hd(FAKE_HD_LIBRARY);
+  dhd.set_up();
+  hd.set_up();
+  devices::inverse3::Inverse3Emulator emu({});
+  const std::string port = std::to_string(emu.port());
+  const RunResult r = enact(std::string("devices --dhd-library ") + FAKE_DHD_LIBRARY + " --hd-library " + FAKE_HD_LIBRARY + " --inverse3-port " + port);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(std::string("Force Dimension (device: dhd): 1 device(s) found through ") + FAKE_DHD_LIBRARY + "  ready"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(std::string("OpenHaptics (device: hd): the default device opens through ") + FAKE_HD_LIBRARY + "  ready"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Haply Inverse3 (device: inverse3): 049D on the service at 127.0.0.1:" + port + "  ready"), std::string::npos) << r.out;
+}
+
+TEST(VendorCli, DevicesSaysAnInverse3IsInUse) {
+  devices::inverse3::Inverse3EmulatorParams busy;
+  busy.in_use = true;
+  devices::inverse3::Inverse3Emulator emu(busy);
+  const RunResult r = enact("devices --dhd-library /nonexistent/libdhd.so --hd-library /nonexistent/libHD.so --inverse3-port " + std::to_string(emu.port()));
+  EXPECT_NE(r.out.find("049D on the service at 127.0.0.1:" + std::to_string(emu.port()) + "  in use by another session"), std::string::npos) << r.out;
 }
 
 struct Run {
