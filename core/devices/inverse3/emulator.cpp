@@ -20,13 +20,6 @@ json vec3(const math::Vec3& v) { return {{"x", v.x}, {"y", v.y}, {"z", v.z}}; }
 
 }  // namespace
 
-SimulatedForceParams Inverse3EmulatorParams::default_handle() {
-  SimulatedForceParams p;
-  p.profile = "inverse3";
-  p.start_m = {0.0, 0.0, 0.0};
-  return p;
-}
-
 struct Inverse3Emulator::Impl {
   Inverse3EmulatorParams params;
   mutable std::mutex mutex;  // the handle, the counters, the clients

@@ -27,14 +27,13 @@
 namespace enact::devices::inverse3 {
 
 struct Inverse3EmulatorParams {
-  SimulatedForceParams handle = default_handle();  // the handle's dynamics and the hand
+  SimulatedForceParams handle{.profile = "inverse3", .start_m = {0.0, 0.0, 0.0}};  // the handle's dynamics and the hand
   math::Vec3 origin_m{0.0, -0.14, 0.14};           // where enact's origin is in the service frame
   std::string device_id = "049D";
   double tick_hz = 4000.0;                         // (0, 100000]: the device's rate
   int port = 0;                                    // the simulation channel (0: a free port)
   int events_port = 0;                             // the events channel (0: a free port)
   bool in_use = false;                             // the device is taken by another session
-  static SimulatedForceParams default_handle();
 };
 
 class Inverse3Emulator {

@@ -35,6 +35,19 @@ bool read_ok(Inverse3ForceDevice& d, ForceSample& s) {
   return test::eventually([&] { return d.read(rt::now_ns(), s); }, 5.0);
 }
 
+// an active backend on an emulated service whose handle rests at the origin, read once
+class Running : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    d.configure();
+    d.activate();
+    ASSERT_TRUE(read_ok(d, s));
+  }
+  Inverse3Emulator emu{emulator_at({})};
+  Inverse3ForceDevice d{device_on(emu)};
+  ForceSample s;
+};
+
 TEST(Inverse3Device, ReadsTheHandleInTheEnactFrame) {
   Inverse3Emulator emu(emulator_at({0.01, -0.02, 0.03}));
   Inverse3ForceDevice d(device_on(emu));
@@ -51,18 +64,13 @@ TEST(Inverse3Device, ReadsTheHandleInTheEnactFrame) {
   EXPECT_EQ(s.faults, 0u);
 }
 
-TEST(Inverse3Device, TheForceReachesTheHandleItsWay) {
-  Inverse3Emulator emu(emulator_at({}));
-  Inverse3ForceDevice d(device_on(emu));
-  d.configure();
-  d.activate();
+TEST_F(Running, TheForceReachesTheHandleItsWay) {
   const Vec3 f{0.5, -1.0, 1.5};
   ASSERT_TRUE(test::eventually([&] {
     d.write(rt::now_ns(), f);
     return math::norm(emu.force_n() - f) < 1e-12;
   })) << emu.force_n().x << " " << emu.force_n().y << " " << emu.force_n().z;
   // and it moves the handle up (enact +z) against the emulated hand
-  ForceSample s;
   ASSERT_TRUE(test::eventually([&] {
     d.write(rt::now_ns(), {0.0, 0.0, 1.5});
     return d.read(rt::now_ns(), s) && s.position_m.z > 0.002;
@@ -82,13 +90,8 @@ TEST(Inverse3Device, TheLoopRunsAtTheRateTheServiceGives) {
   EXPECT_GE(taken, 50u) << "the loop stalled";
 }
 
-TEST(Inverse3Device, TheGripButtonsReachTheSample) {
-  Inverse3Emulator emu(emulator_at({}));
-  Inverse3ForceDevice d(device_on(emu));
-  d.configure();
-  d.activate();
+TEST_F(Running, TheGripButtonsReachTheSample) {
   emu.set_buttons(0b101);
-  ForceSample s;
   ASSERT_TRUE(test::eventually([&] { return d.read(rt::now_ns(), s) && s.buttons == 0b101u; }));
 }
 
@@ -124,26 +127,14 @@ TEST(Inverse3Device, ADeviceInUseOrNotListedIsRefused) {
   EXPECT_NE(e.find("lists no Inverse3 '0AAA' (it lists 049D)"), std::string::npos) << e;
 }
 
-TEST(Inverse3Device, ALostConnectionIsADeviceError) {
-  Inverse3Emulator emu(emulator_at({}));
-  Inverse3ForceDevice d(device_on(emu));
-  d.configure();
-  d.activate();
-  ForceSample s;
-  ASSERT_TRUE(read_ok(d, s));
+TEST_F(Running, ALostConnectionIsADeviceError) {
   emu.disconnect();
   ASSERT_TRUE(test::eventually([&] { return !d.read(rt::now_ns(), s); }, 2.0));
   EXPECT_TRUE(has(s.faults, DeviceFault::device_error));
   EXPECT_FALSE(d.fault().empty());
 }
 
-TEST(Inverse3Device, AnEmergencyBrakeEventStopsTheDevice) {
-  Inverse3Emulator emu(emulator_at({}));
-  Inverse3ForceDevice d(device_on(emu));
-  d.configure();
-  d.activate();
-  ForceSample s;
-  ASSERT_TRUE(read_ok(d, s));
+TEST_F(Running, AnEmergencyBrakeEventStopsTheDevice) {
   // an event that does not stop it is counted only
   emu.emit("device-safety-triggered", "warning", "fod_stage_changed", "guard -> hard");
   ASSERT_TRUE(test::eventually([&] { return d.events() >= 1; }, 2.0));
@@ -153,11 +144,7 @@ TEST(Inverse3Device, AnEmergencyBrakeEventStopsTheDevice) {
   EXPECT_NE(d.fault().find("ebrake_triggered"), std::string::npos) << d.fault();
 }
 
-TEST(Inverse3Device, DeactivateSendsZeroAndASilentLoopGetsZero) {
-  Inverse3Emulator emu(emulator_at({}));
-  Inverse3ForceDevice d(device_on(emu));
-  d.configure();
-  d.activate();
+TEST_F(Running, DeactivateSendsZeroAndASilentLoopGetsZero) {
   ASSERT_TRUE(test::eventually([&] {
     d.write(rt::now_ns(), {1.0, 0.0, 0.0});
     return emu.force_n().x == 1.0;
