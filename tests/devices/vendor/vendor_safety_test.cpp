@@ -1,9 +1,10 @@
 // The safety layer (core/devices/safety.h) holds for the vendor backends as for the Falcon:
 // each backend, on its fake library (DHD, HD) or its emulated service (Inverse3), wrapped in
-// SafeForceDevice: a command over the peak
-// force is clamped to the device profile's peak, NaN gives no force, a silent loop trips the
-// watchdog and the device gets zero, a jump is slew-limited to the profile's step, and the
-// force is zero when the device goes away. What is checked is what the device got.
+// SafeForceDevice: a command over the peak force is clamped to the device profile's peak,
+// NaN gives no force, a silent loop trips the watchdog and the device gets zero, a jump is
+// slew-limited to the profile's step, and the force is zero when the device goes away. What
+// is checked is what the device got. And the loop's read and write, through the safety
+// layer, allocate nothing on any of them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "core/devices/vendor/hd_device.h"
 #include "core/rt/clock.h"
 #include "tests/devices/vendor/fake_library.h"
+#include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
 
 namespace enact::devices::vendor {
@@ -147,6 +149,17 @@ TEST_P(VendorSafety, TheForceIsZeroWhenTheDeviceGoesAway) {
   safe.reset();
   EXPECT_EQ(math::norm(device_force_n()), 0.0);
   EXPECT_TRUE(test::eventually([&] { return !device_open(); }, 1.0)) << "the device is closed (the connection to the service is gone)";
+}
+
+TEST_P(VendorSafety, TheLoopsReadAndWriteAllocateNothing) {
+  ForceSample s;
+  ASSERT_TRUE(test::eventually([&] { return safe->read(rt::now_ns(), s); }));
+  test::AllocGuard guard;
+  for (int i = 0; i < 1000; ++i) {
+    safe->read(rt::now_ns(), s);
+    safe->write(rt::now_ns(), {0.001 * i, 0.0, 0.0});
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, VendorSafety, ::testing::Values(on_fake<DhdForceDevice, DhdParams>("dhd", FAKE_DHD_LIBRARY), on_fake<HdForceDevice, HdParams>("hd", FAKE_HD_LIBRARY), on_emulated_service()), [](const auto& info) { return std::string(info.param.name); });
