@@ -52,8 +52,16 @@ struct Inverse3Emulator::Impl {
     return j.dump();
   }
 
-  // the force of a message for our device; false when it is not JSON or not for us
+  // the force of a message for our device; false when it is not JSON, not for us, or a field
+  // has the wrong type
   bool command(const std::string& text, math::Vec3& force_n) const {
+    try {
+      return read_command(text, force_n);
+    } catch (const json::exception&) {
+      return false;
+    }
+  }
+  bool read_command(const std::string& text, math::Vec3& force_n) const {
     const json j = json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object() || !j.contains("inverse3") || !j["inverse3"].is_array()) return false;
     bool ours = false;

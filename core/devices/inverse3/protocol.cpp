@@ -19,10 +19,8 @@ std::uint32_t grip_buttons(const json& grip) {
   return state.value("button", false) ? 1u : 0u;
 }
 
-}  // namespace
-
-bool parse_update(const std::string& text, Update& out, std::string& why) {
-  out = {};
+// parse_update's work; throws json::exception on a field of the wrong type
+bool read_update(const std::string& text, Update& out, std::string& why) {
   const json j = json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) {
     why = "not JSON";
@@ -49,13 +47,8 @@ bool parse_update(const std::string& text, Update& out, std::string& why) {
   return true;
 }
 
-std::string force_command(const std::string& device_id, const math::Vec3& force_n, const std::string& profile) {
-  json j = {{"inverse3", json::array({{{"device_id", device_id}, {"commands", {{"set_cursor_force", {{"vector", vec3(force_n)}}}}}}})}};
-  if (!profile.empty()) j["session"] = {{"configure", {{"profile", {{"name", profile}}}}}};
-  return j.dump();
-}
-
-bool parse_event(const std::string& text, Event& out) {
+// parse_event's work; throws json::exception on a field of the wrong type
+bool read_event(const std::string& text, Event& out) {
   const json j = json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object() || !j.contains("name")) return false;
   const json data = j.value("data", json::object());
@@ -65,6 +58,34 @@ bool parse_event(const std::string& text, Event& out) {
   out.device_id = data.is_object() ? data.value("device_id", "") : "";
   out.safety_type = data.is_object() ? data.value("safety_type", "") : "";
   return true;
+}
+
+}  // namespace
+
+bool parse_update(const std::string& text, Update& out, std::string& why) {
+  out = {};
+  try {
+    return read_update(text, out, why);
+  } catch (const json::exception& e) {
+    out = {};
+    why = std::string("a field of the wrong type (") + e.what() + ")";
+    return false;
+  }
+}
+
+std::string force_command(const std::string& device_id, const math::Vec3& force_n, const std::string& profile) {
+  json j = {{"inverse3", json::array({{{"device_id", device_id}, {"commands", {{"set_cursor_force", {{"vector", vec3(force_n)}}}}}}})}};
+  if (!profile.empty()) j["session"] = {{"configure", {{"profile", {{"name", profile}}}}}};
+  // a device id that is not UTF-8 (the service's to give) is sent with replacement characters, not thrown
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+bool parse_event(const std::string& text, Event& out) {
+  try {
+    return read_event(text, out);
+  } catch (const json::exception&) {
+    return false;
+  }
 }
 
 bool stops_device(const Event& e) {

@@ -44,7 +44,8 @@ struct Update {
   std::uint32_t buttons = 0;  // the first VerseGrip's buttons (bit 0: a / the button, 1: b, 2: c)
 };
 
-// parse an inventory or state update; false (and why) when it is not one
+// parse an inventory or state update; false (and why) when it is not one, or a field has
+// the wrong type (never throws)
 bool parse_update(const std::string& text, Update& out, std::string& why);
 
 // the force command for one device (force in the service frame, N); with the session's
@@ -59,6 +60,7 @@ struct Event {
   std::string safety_type;  // data.safety_type, if any
   std::string message;
 };
+// false when it is not an event (never throws)
 bool parse_event(const std::string& text, Event& out);
 // whether an event stops the device from rendering forces for us: the device was lost, its
 // emergency brake engaged, or another session took it

@@ -51,6 +51,19 @@ TEST(Inverse3Protocol, WhatIsNotAnUpdateIsSaidSo) {
   EXPECT_EQ(why, "no \"inverse3\" list");
 }
 
+TEST(Inverse3Protocol, AFieldOfTheWrongTypeIsRefusedNotThrown) {
+  Update u;
+  std::string why;
+  EXPECT_FALSE(parse_update(R"({"inverse3": [{"device_id": 7}]})", u, why));
+  EXPECT_NE(why.find("a field of the wrong type"), std::string::npos) << why;
+  EXPECT_FALSE(parse_update(R"({"inverse3": [{"state": {"cursor_position": {"x": "far"}}}]})", u, why));
+  EXPECT_FALSE(parse_update(R"({"inverse3": [3]})", u, why));
+  EXPECT_TRUE(u.inverse3.empty()) << "nothing half-read is left";
+  Event e;
+  EXPECT_FALSE(parse_event(R"({"name": "device-busy", "data": {"device_id": [1]}})", e));
+  EXPECT_NO_THROW(force_command(std::string("\xff\xfe"), {}));
+}
+
 TEST(Inverse3Protocol, TheForceCommandIsSetCursorForceForTheDevice) {
   const auto j = nlohmann::json::parse(force_command("049D", {0.5, -1.0, 1.5}, "enact"));
   const auto& d = j.at("inverse3").at(0);
