@@ -143,6 +143,10 @@ void Inverse3ForceDevice::io_loop() noexcept {
 void Inverse3ForceDevice::events_loop() noexcept {
   while (!stop_.load()) {
     const auto text = events_client_->receive(kEventsPoll_ns);
+    if (!text && events_client_->closed()) {
+      std::fprintf(stderr, "inverse3: the events channel closed: safety events are no longer reported\n");
+      return;
+    }
     Event e;
     if (!text || !parse_event(*text, e)) continue;
     events_.fetch_add(1);
