@@ -13,7 +13,7 @@ namespace {
 constexpr const char* kDevice = "dhd";
 constexpr std::int64_t kDeactivateWait_ns = 200'000'000;
 constexpr const char* kInstall =
-    "install the Force Dimension SDK and set library to its libdhd.so (e.g. /opt/forcedimension/sdk/lib/release/lin-x86_64-gcc/libdhd.so), "
+    "install the Force Dimension SDK and set library to its libdhd.so, "
     "or put its folder on LD_LIBRARY_PATH; `enact devices --dhd-library PATH` checks it";
 
 }  // namespace

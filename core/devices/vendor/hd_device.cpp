@@ -16,7 +16,7 @@ constexpr const char* kDevice = "hd";
 constexpr std::int64_t kDeactivateWait_ns = 200'000'000;
 constexpr std::int64_t kFirstCallbackWait_ns = 2'000'000'000;  // the scheduler's first servo tick
 constexpr const char* kInstall =
-    "install OpenHaptics for Linux and the Touch device driver, and set library to its libHD.so (e.g. /usr/lib/libHD.so), "
+    "install OpenHaptics for Linux and the Touch device driver, and set library to its libHD.so, "
     "or put its folder on LD_LIBRARY_PATH; `enact devices --hd-library PATH` checks it";
 
 }  // namespace
