@@ -10,7 +10,7 @@
 // service's tick loop: send the force command (zero until activate), wait for the one state
 // update the service answers with, publish the position and velocity (enact frame: the
 // service frame less origin_m) and the first VerseGrip's buttons through the shared
-// exchange (core/devices/vendor/exchange.h). So the loop runs at the rate the service
+// exchange (core/devices/io_exchange.h). So the loop runs at the rate the service
 // answers; the real-time loop never waits on the socket.
 // Faults: no answer within reply_timeout_s, or the connection closed (the service stopped,
 // the device was unplugged), end the I/O thread: reads say device_error. An event that
@@ -26,7 +26,7 @@
 #include "core/devices/device.h"
 #include "core/devices/inverse3/protocol.h"
 #include "core/devices/inverse3/ws_client.h"
-#include "core/devices/vendor/exchange.h"
+#include "core/devices/io_exchange.h"
 
 namespace enact::devices::inverse3 {
 
@@ -81,7 +81,7 @@ class Inverse3ForceDevice final : public ForceDevice {
   std::string device_id_;
   std::unique_ptr<WsClient> client_;
   std::unique_ptr<WsClient> events_client_;
-  vendor::Exchange exchange_;
+  IoExchange exchange_;
   std::thread io_;
   std::thread events_thread_;
   std::atomic<bool> stop_{false};

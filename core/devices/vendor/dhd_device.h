@@ -5,7 +5,7 @@
 //
 // The DHD API has no scheduler of its own: the application polls the device. So an I/O
 // thread of ours (usb::IoThread, every io_period_s) reads position, velocity and buttons
-// and sends the force the loop last wrote, through the shared exchange (exchange.h), so the
+// and sends the force the loop last wrote, through the shared exchange (core/devices/io_exchange.h), so the
 // real-time loop never waits on a USB call. The functions bound (Force Dimension SDK
 // reference, dhdc.h): dhdOpen, dhdClose, dhdGetStatus (the calibration state: a device in
 // RESET mode is not calibrated; to check on a device), dhdEnableForce, dhdGetPosition,
@@ -21,7 +21,7 @@
 
 #include "core/devices/device.h"
 #include "core/devices/usb/io_thread.h"
-#include "core/devices/vendor/exchange.h"
+#include "core/devices/io_exchange.h"
 #include "core/devices/vendor/shared_library.h"
 
 namespace enact::devices::vendor {
@@ -81,7 +81,7 @@ class DhdForceDevice final : public ForceDevice {
   SharedLibrary library_;
   DhdApi api_;
   int id_ = -1;  // the device's ID from dhdOpen; -1: none open
-  Exchange exchange_;
+  IoExchange exchange_;
   usb::IoThread io_;
   bool configured_ = false;
 };

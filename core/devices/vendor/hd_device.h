@@ -6,7 +6,7 @@
 // The HD API runs the device from its own servo thread (the "scheduler", about 1 kHz): all
 // device state is read and forces are set inside a callback it calls, between hdBeginFrame
 // and hdEndFrame (OpenHaptics Programmer's Guide, "the servo loop"). So our callback is
-// the I/O side of the shared exchange (exchange.h): it publishes position, velocity and
+// the I/O side of the shared exchange (core/devices/io_exchange.h): it publishes position, velocity and
 // buttons and sets the force the loop last wrote; the real-time loop never calls HD.
 // Functions bound (hd.h): hdInitDevice, hdDisableDevice, hdGetError, hdGetErrorString,
 // hdBeginFrame, hdEndFrame, hdGetDoublev, hdGetIntegerv, hdSetDoublev, hdEnable,
@@ -23,7 +23,7 @@
 #include <string>
 
 #include "core/devices/device.h"
-#include "core/devices/vendor/exchange.h"
+#include "core/devices/io_exchange.h"
 #include "core/devices/vendor/shared_library.h"
 
 namespace enact::devices::vendor {
@@ -114,7 +114,7 @@ class HdForceDevice final : public ForceDevice {
   HHD device_ = kHdInvalidHandle;
   HDSchedulerHandle callback_ = 0;
   bool scheduled_ = false;
-  Exchange exchange_;
+  IoExchange exchange_;
   std::atomic<Calibration> calibration_{Calibration::unknown};
   std::atomic<std::uint64_t> ticks_{0};
   bool configured_ = false;

@@ -1,6 +1,6 @@
 #pragma once
-// The exchange between a device backend's I/O side (our I/O thread, or the vendor's servo
-// thread calling back into us) and the real-time loop, without locks (usb::Latest): the
+// The exchange between a device backend's I/O side (a USB exchange thread, a polling thread, a
+// vendor's servo thread calling back into us) and the real-time loop, without locks (usb::Latest): the
 // I/O side publishes each sample it reads and takes the force to send; the loop reads the
 // newest sample and writes commands. The rules every such backend keeps:
 // - read(): a device error (fault bit device_error, velocity zeroed) while not active, after
@@ -17,10 +17,10 @@
 #include "core/devices/device.h"
 #include "core/devices/usb/latest.h"
 
-namespace enact::devices::vendor {
+namespace enact::devices {
 
 // one reading of the device, in the enact frame and SI units
-struct Reading {
+struct IoReading {
   std::int64_t time_ns = 0;
   math::Vec3 position_m;
   math::Vec3 velocity_m_per_s;
@@ -28,7 +28,7 @@ struct Reading {
   bool valid = false;
 };
 
-class Exchange {
+class IoExchange {
  public:
   // forget everything: no sample, no command, inactive, not failed
   void reset(std::int64_t stale_ns, std::int64_t command_timeout_ns, std::int64_t now_ns) noexcept;
@@ -42,7 +42,7 @@ class Exchange {
   // the I/O side (one thread)
   // the force to send now (enact frame, N)
   math::Vec3 command(std::int64_t now_ns) noexcept;
-  void publish(const Reading& reading) noexcept { reading_.store(reading); }
+  void publish(const IoReading& reading) noexcept { reading_.store(reading); }
   // the device failed (unplugged, an API call failed): reads are device errors from now on
   void fail() noexcept { failed_.store(true); }
   bool failed() const noexcept { return failed_.load(); }
@@ -57,7 +57,7 @@ class Exchange {
     math::Vec3 force_n;
     std::uint64_t count = 0;  // writes so far
   };
-  usb::Latest<Reading> reading_;
+  usb::Latest<IoReading> reading_;
   usb::Latest<Force> force_;
   std::atomic<bool> active_{false};
   std::atomic<bool> failed_{false};
@@ -72,4 +72,4 @@ class Exchange {
 // whether p is inside the profile's workspace (bounds included)
 bool inside_workspace(const DeviceProfile& profile, const math::Vec3& p) noexcept;
 
-}  // namespace enact::devices::vendor
+}  // namespace enact::devices

@@ -1,13 +1,13 @@
-#include "core/devices/vendor/exchange.h"
+#include "core/devices/io_exchange.h"
 
 #include <chrono>
 #include <thread>
 
 #include "core/rt/clock.h"
 
-namespace enact::devices::vendor {
+namespace enact::devices {
 
-void Exchange::reset(std::int64_t stale_ns, std::int64_t command_timeout_ns, std::int64_t now_ns) noexcept {
+void IoExchange::reset(std::int64_t stale_ns, std::int64_t command_timeout_ns, std::int64_t now_ns) noexcept {
   stale_ns_ = stale_ns;
   command_timeout_ns_ = command_timeout_ns;
   reading_.store({});
@@ -24,8 +24,8 @@ bool inside_workspace(const DeviceProfile& profile, const math::Vec3& p) noexcep
   return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
 }
 
-bool Exchange::read(std::int64_t now_ns, const DeviceProfile& profile, ForceSample& out) const noexcept {
-  const Reading r = reading_.load();
+bool IoExchange::read(std::int64_t now_ns, const DeviceProfile& profile, ForceSample& out) const noexcept {
+  const IoReading r = reading_.load();
   out.time_ns = r.valid ? r.time_ns : now_ns;
   out.position_m = r.position_m;
   out.velocity_m_per_s = r.velocity_m_per_s;
@@ -40,18 +40,18 @@ bool Exchange::read(std::int64_t now_ns, const DeviceProfile& profile, ForceSamp
   return true;
 }
 
-void Exchange::write(const math::Vec3& force_n) noexcept {
+void IoExchange::write(const math::Vec3& force_n) noexcept {
   const math::Vec3 f = math::finite(force_n) ? force_n : math::Vec3{};
   force_.store({f, force_.load().count + 1});
 }
 
-void Exchange::set_active(bool active) noexcept {
+void IoExchange::set_active(bool active) noexcept {
   // a fresh activation starts from zero force
   if (active) force_.store({{}, force_.load().count});
   active_.store(active);
 }
 
-math::Vec3 Exchange::command(std::int64_t now_ns) noexcept {
+math::Vec3 IoExchange::command(std::int64_t now_ns) noexcept {
   const Force f = force_.load();
   if (f.count != seen_writes_) {
     seen_writes_ = f.count;
@@ -65,10 +65,10 @@ math::Vec3 Exchange::command(std::int64_t now_ns) noexcept {
   return f.force_n;
 }
 
-void Exchange::await_zero(std::int64_t timeout_ns) const noexcept {
+void IoExchange::await_zero(std::int64_t timeout_ns) const noexcept {
   const std::uint64_t before = zeroed_.load();
   const std::int64_t give_up = rt::now_ns() + timeout_ns;
   while (zeroed_.load() < before + 2 && !failed() && rt::now_ns() < give_up) std::this_thread::sleep_for(std::chrono::microseconds(200));
 }
 
-}  // namespace enact::devices::vendor
+}  // namespace enact::devices
