@@ -4,6 +4,7 @@
 // the DHD documentation does: x points at the operator, y to the operator's right, z up;
 // metres and newtons. fake_* functions let a test steer it (the test dlopens the same file,
 // so both see one state).
+#include <atomic>
 #include <cstring>
 #include <mutex>
 #include <string>
@@ -20,12 +21,13 @@ Vec3 enact_to_dhd(const Vec3& e) { return {-e.y, e.x, e.z}; }
 struct Fake {
   std::mutex m;
   enact::test::fake::Arm arm{&enact_to_dhd};
-  bool present = true;
-  bool calibrated = true;
+  // set by the test's thread, read by the backend's: atomic
+  std::atomic<bool> present{true};
+  std::atomic<bool> calibrated{true};
   bool failing = false;
   bool open = false;
   bool force_enabled = false;
-  unsigned int buttons = 0;
+  std::atomic<unsigned int> buttons{0};
   std::string error = "no error";
 };
 

@@ -39,12 +39,13 @@ struct Scheduled {
 struct Fake {
   std::recursive_mutex m;
   enact::test::fake::Arm arm{&enact_to_hd};
-  bool present = true;
-  bool calibrated = true;
+  // set by the test's thread, read by the backend's: atomic
+  std::atomic<bool> present{true};
+  std::atomic<bool> calibrated{true};
   bool failing = false;
   bool open = false;
   bool force_output = false;
-  int buttons = 0;
+  std::atomic<int> buttons{0};
   Vec3 pending_force_n;
   std::deque<unsigned int> errors;
   std::vector<Scheduled> scheduled;
