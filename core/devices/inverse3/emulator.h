@@ -27,7 +27,7 @@
 namespace enact::devices::inverse3 {
 
 struct Inverse3EmulatorParams {
-  SimulatedForceParams handle{.profile = "inverse3", .start_m = {0.0, 0.0, 0.0}};  // the handle's dynamics and the hand
+  SimulatedForceParams handle = held_at_origin("inverse3");  // the handle's dynamics and the hand
   math::Vec3 origin_m{0.0, -0.14, 0.14};           // where enact's origin is in the service frame
   std::string device_id = "049D";
   double tick_hz = 4000.0;                         // (0, 100000]: the device's rate

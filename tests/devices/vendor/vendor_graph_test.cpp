@@ -109,7 +109,9 @@ TEST(VendorCli, DevicesSaysWhatIsMissingForEachAbsentDevice) {
             std::string::npos)
       << r.out;
   // this machine has no supported USB device either: nothing found
-  if (r.out.find("no supported USB device found") != std::string::npos) EXPECT_EQ(r.exit_code, 1) << r.out;
+  if (r.out.find("no supported USB device found") != std::string::npos) {
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+  }
 }
 
 TEST(VendorCli, DevicesFindsEachOnItsStandIn) {
@@ -183,7 +185,7 @@ INSTANTIATE_TEST_SUITE_P(StandIns, VendorGraph,
                          ::testing::Values(Run{"dhd", "launch/bridge_rt_dhd.yaml", {std::string("library=") + FAKE_DHD_LIBRARY}},
                                            Run{"hd", "launch/bridge_rt_hd.yaml", {std::string("library=") + FAKE_HD_LIBRARY}},
                                            Run{"inverse3", "launch/bridge_rt_inverse3_emulated.yaml", {}}),
-                         [](const auto& info) { return std::string(info.param.device); });
+                         [](const auto& param_info) { return std::string(param_info.param.device); });
 
 }  // namespace
 }  // namespace enact::test

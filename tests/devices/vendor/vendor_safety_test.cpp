@@ -162,7 +162,7 @@ TEST_P(VendorSafety, TheLoopsReadAndWriteAllocateNothing) {
   EXPECT_EQ(guard.allocations(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, VendorSafety, ::testing::Values(on_fake<DhdForceDevice, DhdParams>("dhd", FAKE_DHD_LIBRARY), on_fake<HdForceDevice, HdParams>("hd", FAKE_HD_LIBRARY), on_emulated_service()), [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Backends, VendorSafety, ::testing::Values(on_fake<DhdForceDevice, DhdParams>("dhd", FAKE_DHD_LIBRARY), on_fake<HdForceDevice, HdParams>("hd", FAKE_HD_LIBRARY), on_emulated_service()), [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
 }  // namespace enact::devices::vendor
