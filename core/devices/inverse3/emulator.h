@@ -8,7 +8,8 @@
 // - one state update per message received, at most one per device tick (tick_hz; Haply
 //   gives "multi-kHz", the 4 kHz default is to check), so the client is paced at the rate
 //   the device runs; a set_cursor_force acts for one tick, then the device idles (no force)
-//   unless another arrives;
+//   unless another arrives (Haply: control commands are "applied once and forgotten"; how
+//   long the real device holds one is to check);
 // - a message that is not JSON, or commands for another device_id, are counted and answered
 //   with a state update all the same (what the real service does with them is to check);
 // - events on the events channel: device-safety-triggered and any other, on demand;
