@@ -1,10 +1,15 @@
 // The Force Dimension backend (core/devices/vendor/dhd_device.h) against the fake libdhd
-// (fake_dhd.cpp): the frame and units both ways, buttons, refusals that name the file, the
+// (fake_dhd.cpp): the frame and units both ways, one polling thread (never the loop's),
+// buttons, refusals that name the file, the
 // function and the fix, a failing device, the backend's own zeroing (a silent loop,
 // deactivate, destruction).
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
+
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "core/devices/vendor/dhd_device.h"
 #include "core/rt/clock.h"
@@ -75,6 +80,23 @@ TEST_F(Dhd, AForceMovesTheHandleItsWay) {
     return d->read(rt::now_ns(), s) && std::abs(s.position_m.x - 0.005) < 2e-4 && std::abs(s.velocity_m_per_s.x) < 1e-3;
   }, 5.0)) << s.position_m.x;
   EXPECT_NEAR(s.position_m.y, 0.0, 2e-4);
+}
+
+TEST_F(Dhd, TheDeviceIsPolledFromOneThreadNeverTheLoops) {
+  auto d = open_device();
+  void* lib = dlopen(FAKE_DHD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(lib, nullptr);
+  auto callers = reinterpret_cast<int (*)()>(dlsym(lib, "fake_callers"));
+  ASSERT_NE(callers, nullptr);
+  // this thread is the loop: its reads and writes must not reach the device
+  ForceSample s;
+  for (int i = 0; i < 200; ++i) {
+    d->read(rt::now_ns(), s);
+    d->write(rt::now_ns(), {0.01 * i, 0.0, 0.0});
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  EXPECT_EQ(callers(), 1) << "the device was called from more than one thread";
+  dlclose(lib);
 }
 
 TEST_F(Dhd, ButtonsReachTheSample) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstring>
 #include <mutex>
+#include <thread>
 #include <string>
 
 #include "tests/devices/vendor/fake_arm.h"
@@ -29,11 +30,22 @@ struct Fake {
   bool force_enabled = false;
   std::atomic<unsigned int> buttons{0};
   std::string error = "no error";
+  // the threads that called the device after dhdOpen: the DHD API wants one
+  std::thread::id caller;
+  std::atomic<int> callers{0};
 };
 
 Fake& fake() {
   static Fake f;
   return f;
+}
+
+// count a new calling thread (under f.m)
+void note_caller(Fake& f) {
+  if (f.callers.load() == 0 || f.caller != std::this_thread::get_id()) {
+    f.caller = std::this_thread::get_id();
+    f.callers.fetch_add(1);
+  }
 }
 
 int fail(Fake& f, const char* why) {
@@ -53,6 +65,7 @@ int dhdOpen() {
   if (!f.present) return fail(f, "no device found");
   f.open = true;
   f.force_enabled = false;
+  f.callers.store(0);
   f.arm.open();
   return 0;
 }
@@ -88,6 +101,7 @@ int dhdGetPosition(double* x, double* y, double* z, char) {
   Fake& f = fake();
   std::lock_guard lock(f.m);
   if (!f.open || f.failing) return fail(f, "communication error");
+  note_caller(f);
   f.arm.advance();
   *x = f.arm.position_m().x;
   *y = f.arm.position_m().y;
@@ -109,6 +123,7 @@ int dhdSetForce(double x, double y, double z, char) {
   Fake& f = fake();
   std::lock_guard lock(f.m);
   if (!f.open || f.failing) return fail(f, "communication error");
+  note_caller(f);
   f.arm.set_force(f.force_enabled ? Vec3{x, y, z} : Vec3{});
   return 0;
 }
@@ -146,5 +161,7 @@ void fake_position(double* out) {
   out[2] = f.arm.position_m().z;
 }
 int fake_is_open() { return fake().open ? 1 : 0; }
+// how many times the calling thread of dhdGetPosition / dhdSetForce changed since dhdOpen (1: one thread)
+int fake_callers() { return fake().callers.load(); }
 
 }  // extern "C"

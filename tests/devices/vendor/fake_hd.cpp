@@ -52,6 +52,7 @@ struct Fake {
   unsigned long next_handle = 1;
   std::thread scheduler;
   std::atomic<bool> running{false};
+  std::atomic<int> frame_calls_off_servo{0};  // frame and state calls from a thread not the servo loop's
 };
 
 Fake& fake() {
@@ -63,7 +64,15 @@ constexpr unsigned int kInvalidEnum = 0x0100;
 constexpr unsigned int kCommError = 0x0201;
 constexpr unsigned int kInvalidHandle = 0xFFFFFFFFu;
 
+thread_local bool on_servo_thread = false;
+
+// the HD API reads and writes device state in a frame, in the servo loop
+void check_servo_thread() {
+  if (!on_servo_thread) fake().frame_calls_off_servo.fetch_add(1);
+}
+
 void servo_loop() {
+  on_servo_thread = true;
   Fake& f = fake();
   auto next = std::chrono::steady_clock::now();
   while (f.running.load()) {
@@ -120,12 +129,14 @@ HDErrorInfo hdGetError() {
 const char* hdGetErrorString(unsigned int code) { return code == kCommError ? "communication error (fake)" : "fake HD error"; }
 
 void hdBeginFrame(unsigned int) {
+  check_servo_thread();
   Fake& f = fake();
   std::lock_guard lock(f.m);
   f.arm.advance();
 }
 
 void hdEndFrame(unsigned int) {
+  check_servo_thread();
   Fake& f = fake();
   std::lock_guard lock(f.m);
   if (f.failing) f.errors.push_back(kCommError);
@@ -133,6 +144,7 @@ void hdEndFrame(unsigned int) {
 }
 
 void hdGetDoublev(unsigned int name, double* out) {
+  check_servo_thread();
   Fake& f = fake();
   std::lock_guard lock(f.m);
   Vec3 v;
@@ -150,6 +162,7 @@ void hdGetDoublev(unsigned int name, double* out) {
 }
 
 void hdGetIntegerv(unsigned int name, int* out) {
+  check_servo_thread();
   Fake& f = fake();
   std::lock_guard lock(f.m);
   if (name != 0x2000) {
@@ -160,6 +173,7 @@ void hdGetIntegerv(unsigned int name, int* out) {
 }
 
 void hdSetDoublev(unsigned int name, const double* in) {
+  check_servo_thread();
   Fake& f = fake();
   std::lock_guard lock(f.m);
   if (name != 0x2700) {
@@ -236,5 +250,6 @@ void fake_position(double* out) {
 }
 int fake_is_open() { return fake().open ? 1 : 0; }
 int fake_scheduler_running() { return fake().running.load() ? 1 : 0; }
+int fake_frame_calls_off_servo() { return fake().frame_calls_off_servo.load(); }
 
 }  // extern "C"

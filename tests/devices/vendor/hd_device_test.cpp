@@ -1,12 +1,15 @@
 // The OpenHaptics backend (core/devices/vendor/hd_device.h) against the fake libHD
 // (fake_hd.cpp, whose scheduler calls our servo callback every millisecond): millimetres to
-// metres and the frame both ways, buttons, refusals, an HD error in the servo loop, and the
+// metres and the frame both ways, device state touched only in the servo loop, buttons,
+// refusals, an HD error in the servo loop, and the
 // scheduler stopped and the device disabled on destruction.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "core/devices/vendor/hd_device.h"
 #include "core/rt/clock.h"
@@ -68,6 +71,27 @@ TEST_F(Hd, SetsTheForceInTheHdFrameAndItMovesTheHandle) {
     d.write(rt::now_ns(), {0.0, 0.0, 1.5});
     return math::norm(fake.force_n() - Vec3{0.0, 1.5, 0.0}) < 1e-12;
   }));
+}
+
+TEST_F(Hd, DeviceStateIsTouchedOnlyInTheServoLoop) {
+  void* lib = dlopen(FAKE_HD_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(lib, nullptr);
+  auto off_servo = reinterpret_cast<int (*)()>(dlsym(lib, "fake_frame_calls_off_servo"));
+  ASSERT_NE(off_servo, nullptr);
+  const int before = off_servo();
+  HdForceDevice d(fake_params());
+  d.configure();
+  d.activate();
+  // this thread is the loop: frames and state calls belong to HD's servo thread
+  ForceSample s;
+  for (int i = 0; i < 200; ++i) {
+    d.read(rt::now_ns(), s);
+    d.write(rt::now_ns(), {0.0, 0.0, 0.001 * i});
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  EXPECT_GT(d.servo_ticks(), 0u);
+  EXPECT_EQ(off_servo(), before) << "a frame or state call outside the servo loop";
+  dlclose(lib);
 }
 
 TEST_F(Hd, TheStylusButtonsReachTheSample) {
