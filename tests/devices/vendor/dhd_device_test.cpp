@@ -1,8 +1,7 @@
 // The Force Dimension backend (core/devices/vendor/dhd_device.h) against the fake libdhd
 // (fake_dhd.cpp): the frame and units both ways, one polling thread (never the loop's),
-// buttons, refusals that name the file, the
-// function and the fix, a failing device, the backend's own zeroing (a silent loop,
-// deactivate, destruction).
+// buttons, refusals that name the file, the function and the fix, a failing device, the
+// backend's own zeroing (a silent loop, deactivate, destruction).
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>

@@ -1,8 +1,8 @@
 // The OpenHaptics backend (core/devices/vendor/hd_device.h) against the fake libHD
 // (fake_hd.cpp, whose scheduler calls our servo callback every millisecond): millimetres to
 // metres and the frame both ways, device state touched only in the servo loop, buttons,
-// refusals, an HD error in the servo loop, and the
-// scheduler stopped and the device disabled on destruction.
+// refusals, an HD error in the servo loop, and the scheduler stopped and the device disabled
+// on destruction.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
