@@ -21,7 +21,7 @@ for a in "$@"; do
     *) targets+=("$a") ;;
   esac
 done
-all=(mcap scene model launch path bus param_set falcon metec)
+all=(mcap scene model launch path bus param_set falcon metec inverse3)
 (( ${#targets[@]} )) || targets=("${all[@]}")
 for t in "${targets[@]}"; do
   [[ " ${all[*]} " == *" $t "* ]] || { echo "fuzz.sh: no target '$t' (targets: ${all[*]})" >&2; exit 2; }

@@ -8,8 +8,8 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${ENACT_ASAN_DIR:-$root/build-asan}"
 suites=(test_config_yaml test_msgs test_physics test_haptics test_task test_rt test_bus test_record
-        test_devices test_falcon test_metec test_usb test_sim test_launch test_launch_cli test_graph)
-fuzz=(mcap scene model launch path bus param_set falcon metec)
+        test_devices test_falcon test_metec test_usb test_vendor test_inverse3 test_sim test_launch test_launch_cli test_graph)
+fuzz=(mcap scene model launch path bus param_set falcon metec inverse3)
 # enact itself: the launch and device suites run the command line
 targets=(enact "${suites[@]}" "${fuzz[@]/#/replay_}")
 if [[ ! -f "$build/build.ninja" ]]; then

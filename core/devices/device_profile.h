@@ -23,6 +23,8 @@ struct DeviceProfile {
   // the largest change of the commanded force allowed within one millisecond (any shorter
   // interval: proportionally less): the safety layer's last-line slew limit; assumed
   double max_force_step_n_per_ms = 0.0;
+  // the largest stiffness the maker rates the device to render (0: not published)
+  double max_stiffness_n_per_m = 0.0;
 };
 
 std::optional<DeviceProfile> find_device_profile(const std::string& name);

@@ -11,6 +11,13 @@
 #include "core/devices/virtual_subject.h"
 
 namespace enact::devices {
+
+SimulatedForceParams held_at_origin(const std::string& profile) {
+  SimulatedForceParams p;
+  p.profile = profile;
+  p.start_m = {0.0, 0.0, 0.0};
+  return p;
+}
 namespace {
 
 using math::Vec3;

@@ -44,6 +44,10 @@ struct SimulatedForceParams {
   double substep_s = 1e-4;                // > 0, the longest integration step; bounded for accuracy (configure says)
 };
 
+// the params of a device of `profile` whose hand holds it at the enact origin (the handle of
+// an emulator)
+SimulatedForceParams held_at_origin(const std::string& profile);
+
 class SimulatedForceDevice final : public ForceDevice {
  public:
   explicit SimulatedForceDevice(SimulatedForceParams params = {});

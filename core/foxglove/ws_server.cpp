@@ -33,8 +33,10 @@ struct WsServer::Impl {
     return it == ids.end() ? 0 : it->second;
   }
 
-  // accepts the handshake only when the client offers our subprotocol, and selects it
+  // accepts the handshake only when the client offers our subprotocol, and selects it (no
+  // subprotocol asked for: every handshake is accepted)
   bool validate(const Handle& h) {
+    if (subprotocol.empty()) return true;
     const auto con = server.get_con_from_hdl(h);
     for (const std::string& p : con->get_requested_subprotocols()) {
       if (p == subprotocol) {
@@ -123,6 +125,18 @@ bool WsServer::send(ClientId client, const std::string& data, bool binary) {
   if (ec || !con || con->get_buffered_amount() > impl_->max_backlog_bytes) return false;
   ec = con->send(data, binary ? websocketpp::frame::opcode::binary : websocketpp::frame::opcode::text);
   return !ec;
+}
+
+void WsServer::close(ClientId client) {
+  Handle h;
+  {
+    std::lock_guard lock(impl_->mutex);
+    const auto it = impl_->handles.find(client);
+    if (it == impl_->handles.end()) return;
+    h = it->second;
+  }
+  websocketpp::lib::error_code ec;
+  impl_->server.close(h, websocketpp::close::status::going_away, "", ec);
 }
 
 void WsServer::stop() {

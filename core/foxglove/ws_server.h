@@ -24,7 +24,7 @@ struct WsHandlers {
 class WsServer {
  public:
   // binds `host`:`port` (0: any free port) and accepts connections offering `subprotocol`
-  // (others are refused at the handshake). The handlers run on the server's thread.
+  // (others are refused at the handshake; an empty subprotocol accepts every connection). The handlers run on the server's thread.
   // Throws std::runtime_error when the address cannot be bound.
   WsServer(const std::string& host, int port, std::string subprotocol, WsHandlers handlers, std::size_t max_backlog_bytes);
   // stop()
@@ -39,6 +39,9 @@ class WsServer {
   // client is gone or more than max_backlog_bytes are already waiting to go out to it: a
   // slow client loses messages, nobody else waits for it.
   bool send(ClientId client, const std::string& data, bool binary);
+
+  // closes one connection (from any thread; a client already gone is ignored)
+  void close(ClientId client);
 
   // closes every connection and joins the thread; safe twice
   void stop();

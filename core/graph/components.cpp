@@ -3,12 +3,16 @@
 #include "core/config/yaml.h"
 #include "core/devices/falcon/emulator.h"
 #include "core/devices/falcon/falcon_device.h"
+#include "core/devices/inverse3/emulated.h"
+#include "core/devices/inverse3/inverse3_device.h"
 #include "core/devices/metec/emulator.h"
 #include "core/devices/metec/metec_device.h"
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/devices/usb/libusb.h"
+#include "core/devices/vendor/dhd_device.h"
+#include "core/devices/vendor/hd_device.h"
 #include "core/graph/node_params.h"
 
 namespace enact::graph {
@@ -38,8 +42,16 @@ constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subjec
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)
 bool emulated(const Params& p) { return p.text("transport") == "emulator"; }
 
+constexpr std::initializer_list<const char*> kFalconParams = {"serial", "firmware", "homing_timeout_s", "max_force_n"};
+constexpr const char* kTransportDevices = "device=falcon or device=inverse3";
+
+constexpr std::initializer_list<const char*> kInverse3Params = {"port", "events_port", "device_id", "origin_m"};
+
 std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
-  refuse_given(p, {"transport", "serial", "firmware", "homing_timeout_s", "max_force_n"}, "device=falcon");
+  refuse_given(p, {"transport"}, kTransportDevices);
+  refuse_given(p, kFalconParams, "device=falcon");
+  refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  refuse_given(p, kInverse3Params, "device=inverse3");
   devices::SimulatedForceParams f;
   f.profile = p.text("profile");
   read_hand(p, f);
@@ -48,6 +60,8 @@ std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
 
 std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
   refuse_given(p, {"profile"}, "device=simulated (the Falcon's profile is 'falcon')");
+  refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  refuse_given(p, kInverse3Params, "device=inverse3");
   devices::falcon::FalconParams f;
   f.serial = p.text("serial");
   f.firmware = p.text("firmware");
@@ -64,6 +78,65 @@ std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
   auto bus = std::make_unique<devices::usb::FakeBus>();
   bus->add(devices::usb::emulated_device("falcon", std::make_shared<devices::falcon::FalconEmulator>(e)));
   return std::make_unique<devices::falcon::FalconForceDevice>(f, std::move(bus));
+}
+
+// a vendor SDK's device: a person holds it (no scripted hand here: a fake library's own hand
+// stands in for one in tests), the Falcon's params do not apply
+void refuse_for_vendor(const Params& p) {
+  refuse_given(p, {"transport"}, kTransportDevices);
+  refuse_given(p, kFalconParams, "device=falcon");
+  refuse_given(p, kInverse3Params, "device=inverse3");
+  refuse_given(p, kHandParams, "device=simulated or device=falcon with transport=emulator (a real device is held by a person)");
+}
+
+std::unique_ptr<devices::ForceDevice> dhd_force(const Params& p) {
+  refuse_for_vendor(p);
+  refuse_given(p, {"device_name"}, "device=hd");
+  devices::vendor::DhdParams d;
+  if (p.has("library")) d.library = p.text("library");
+  if (p.has("profile")) d.profile = p.text("profile");
+  return std::make_unique<devices::vendor::DhdForceDevice>(d);
+}
+
+std::unique_ptr<devices::ForceDevice> hd_force(const Params& p) {
+  refuse_for_vendor(p);
+  devices::vendor::HdParams h;
+  if (p.has("library")) h.library = p.text("library");
+  if (p.has("profile")) h.profile = p.text("profile");
+  h.device_name = p.text("device_name");
+  return std::make_unique<devices::vendor::HdForceDevice>(h);
+}
+
+// the Haply Inverse3: through the Inverse Service, or (transport=emulator) an emulated service
+// in this process whose handle the emulator's hand holds
+std::unique_ptr<devices::ForceDevice> inverse3_force(const Params& p) {
+  refuse_given(p, kFalconParams, "device=falcon");
+  refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
+  devices::inverse3::Inverse3Params d;
+  d.port = static_cast<int>(p.integer("port"));
+  d.events_port = static_cast<int>(p.integer("events_port"));
+  d.device_id = p.text("device_id");
+  d.origin_m = p.vec3("origin_m");
+  if (p.has("profile")) d.profile = p.text("profile");
+  if (!emulated(p)) {
+    refuse_given(p, kHandParams, "transport=emulator (the emulated hand)");
+    return std::make_unique<devices::inverse3::Inverse3ForceDevice>(d);
+  }
+  refuse_given(p, {"port", "events_port", "device_id"}, "transport=usb (the emulator takes free ports)");
+  devices::inverse3::Inverse3EmulatorParams e;
+  read_hand(p, e.handle);
+  e.handle.profile = d.profile;
+  e.origin_m = d.origin_m;
+  return std::make_unique<devices::inverse3::EmulatedInverse3>(d, e);
+}
+
+// the force device named by `device` (a device the table does not name is refused by declare())
+std::unique_ptr<devices::ForceDevice> inner_force_device(const Params& p, const std::string& device) {
+  if (device == "falcon") return falcon_force(p);
+  if (device == "dhd") return dhd_force(p);
+  if (device == "hd") return hd_force(p);
+  if (device == "inverse3") return inverse3_force(p);
+  return simulated_force(p);
 }
 
 std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows, int cols, double rise_time_s) {
@@ -99,9 +172,7 @@ sim::SimParams sim_params(const Params& p) {
 
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   p.declare(force_table());
-  const std::string device = p.text("device");
-  // a device the table does not name is refused by declare()
-  std::unique_ptr<devices::ForceDevice> inner = device == "falcon" ? falcon_force(p) : simulated_force(p);
+  std::unique_ptr<devices::ForceDevice> inner = inner_force_device(p, p.text("device"));
   devices::SafetyParams s;
   s.watchdog_s = p.number("watchdog_s");
   s.ramp_s = p.number("ramp_s");

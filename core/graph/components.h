@@ -16,8 +16,10 @@ namespace enact::graph {
 sim::SimParams sim_params(const Params& p);
 
 // the force device of force_table() (declared here): simulated (profile, a scripted hand or a
-// virtual subject) or falcon (transport usb or emulator: serial, firmware, homing_timeout_s,
-// max_force_n; the emulator's hand). Parameters of another device or transport are refused.
+// virtual subject), falcon (transport usb or emulator: serial, firmware, homing_timeout_s,
+// max_force_n; the emulator's hand), dhd (library, profile), hd (library, device_name,
+// profile) or inverse3 (transport usb: port, events_port, device_id; or emulator: the
+// emulator's hand; origin_m, profile). Parameters of another device or transport are refused.
 // Wrapped in the safety layer (clamp, NaN, watchdog); configured, not yet active
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
 

@@ -7,6 +7,7 @@
 
 #include "core/config/format.h"
 #include "core/devices/falcon/falcon_device.h"
+#include "core/devices/inverse3/inverse3_device.h"
 #include "core/devices/metec/metec_device.h"
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
@@ -31,6 +32,7 @@ const sim::SimParams kSim{};
 const devices::SimulatedForceParams kHand{};
 const devices::SafetyParams kSafety{};
 const devices::falcon::FalconParams kFalcon{};
+const devices::inverse3::Inverse3Params kInverse3{};
 const devices::SimulatedTactileParams kCells{};
 const devices::metec::MetecParams kMetec{};
 const graph::LoggerOptions kLogger{};
@@ -164,8 +166,8 @@ const ParamTable& sim_table() {
 
 const ParamTable& force_table() {
   static const ParamTable t{
-      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon"}, .doc = "simulated, or a Novint Falcon over USB"},
-      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device)"},
+      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon", "dhd", "hd", "inverse3"}, .doc = "simulated; a Novint Falcon over USB; a Force Dimension device (DHD SDK); an OpenHaptics device such as a 3D Systems Touch (HD API); a Haply Inverse3 (Inverse Service)"},
+      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device; dhd: default omega3; hd: default touch; inverse3: default inverse3)"},
       {.name = "hand_path", .type = ParamType::text, .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"},
       {.name = "subject", .type = ParamType::text, .doc = "a virtual subject's file (YAML) holds the device instead"},
       {.name = "subject_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's traits"},
@@ -176,11 +178,17 @@ const ParamTable& force_table() {
       {.name = "watchdog_s", .fallback = number(kSafety.watchdog_s), .min = 0, .above_min = true, .doc = "longest time without a command before the force ramps down"},
       {.name = "ramp_s", .fallback = number(kSafety.ramp_s), .min = 0, .doc = "ramp from the last command to zero"},
       {.name = "reengage_s", .fallback = number(kSafety.reengage_s), .min = 0, .doc = "ramp from zero back to the commands after an interruption"},
-      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "falcon: the machine's USB, or the Falcon emulator"},
+      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "falcon: the machine's USB, or the Falcon emulator; inverse3: the Inverse Service (usb), or its emulator"},
       {.name = "serial", .type = ParamType::text, .doc = "falcon: the serial number (empty: the first found)"},
       {.name = "firmware", .type = ParamType::text, .doc = "falcon: the firmware file to upload when none runs"},
       {.name = "homing_timeout_s", .fallback = number(kFalcon.homing_timeout_s), .min = 0, .above_min = true, .doc = "falcon: how long the user has to home the grip"},
       {.name = "max_force_n", .fallback = number(kFalcon.max_force_n), .min = 0, .max = 9, .above_min = true, .doc = "falcon: the force is clamped to this"},
+      {.name = "library", .type = ParamType::text, .doc = "dhd, hd: the vendor's library, a file name or path (default libdhd.so, libHD.so)"},
+      {.name = "device_name", .type = ParamType::text, .doc = "hd: the device's name in Touch Setup (empty: the default device)"},
+      {.name = "port", .type = ParamType::integer, .fallback = std::to_string(kInverse3.port), .min = 1, .max = 65535, .doc = "inverse3: the Inverse Service's simulation channel (WebSocket)"},
+      {.name = "events_port", .type = ParamType::integer, .fallback = std::to_string(kInverse3.events_port), .min = 0, .max = 65535, .doc = "inverse3: the Inverse Service's events channel (0: none)"},
+      {.name = "device_id", .type = ParamType::text, .doc = "inverse3: the device's id in the service (empty: the first listed)"},
+      {.name = "origin_m", .type = ParamType::vec3, .fallback = number(kInverse3.origin_m.x) + "," + number(kInverse3.origin_m.y) + "," + number(kInverse3.origin_m.z), .doc = "inverse3: the point of the service's frame that is enact's origin"},
   };
   return t;
 }

@@ -47,26 +47,10 @@ TEST(UsbGraph, FalconAndMetecOnTheirEmulatorsRunTheBridge) {
   EXPECT_GT(healthy * 10, seen.states.size() * 9) << "most samples healthy";
 
   // forces and pins follow contact, as with the simulated devices (CM1)
-  int on_top = 0, bad = 0;
-  std::string first_bad;
-  for (const auto& s : seen.scenes) {
-    ASSERT_EQ(s.pin_level_size(), 16);
-    bool any = false, ok = true;
-    for (int i = 0; i < 16; ++i) {
-      any = any || s.in_contact(i);
-      ok = ok && s.pin_level(i) == (s.in_contact(i) ? 1.0f : 0.0f);
-    }
-    if (s.on_top()) {
-      ++on_top;
-      ok = ok && s.resultant_force().z() > 0.0;
-    }
-    if (!any) ok = ok && s.resultant_force().x() == 0.0 && s.resultant_force().y() == 0.0 && s.resultant_force().z() == 0.0;
-    bad += !ok;
-    if (!ok && first_bad.empty()) first_bad = s.ShortDebugString();
-  }
-  std::printf("[ usb graph ] %zu scenes, %d on the top\n", seen.scenes.size(), on_top);
-  EXPECT_EQ(bad, 0) << first_bad;
-  EXPECT_GT(on_top, 10) << "the grip never rested on the top: the checks above were vacuous";
+  const ContactCheck contact = check_follows_contact(seen.scenes);
+  std::printf("[ usb graph ] %zu scenes, %d on the top\n", seen.scenes.size(), contact.on_top);
+  EXPECT_EQ(contact.bad, 0) << contact.first_bad;
+  EXPECT_GT(contact.on_top, 10) << "the grip never rested on the top: the checks above were vacuous";
 
   // the Metec cells show the frames: where two frames in a row asked for the same pins, the
   // cells show exactly those from a rise time (24 ms) plus a margin for the I/O thread

@@ -95,7 +95,7 @@ TEST(Components, OnlyKnownDevices) {
   Params p("ffd");
   p.set("device", "falcon-usb");
   const std::string msg = error_of([&] { make_force_device(p); });
-  EXPECT_NE(msg.find("must be one of simulated, falcon, got 'falcon-usb' (did you mean falcon?)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("must be one of simulated, falcon, dhd, hd, inverse3, got 'falcon-usb' (did you mean falcon?)"), std::string::npos) << msg;
 }
 
 // every node's --help lists each of its declared parameters, from the one table

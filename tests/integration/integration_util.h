@@ -292,4 +292,30 @@ class Observer {
   bus::ByteSubscriber bytes_;
 };
 
+// the scenes of a bridge run under CM1 checked against contact: every pin up exactly where
+// its mass is in contact, a force pushing up while on the top, no force without contact
+struct ContactCheck {
+  int on_top = 0;         // scenes on the top surface
+  int bad = 0;            // scenes that break a rule
+  std::string first_bad;  // the first of them, as text
+};
+inline ContactCheck check_follows_contact(const std::vector<msgs::SceneState>& scenes) {
+  ContactCheck c;
+  for (const auto& s : scenes) {
+    bool any = false, ok = s.pin_level_size() == 16;
+    for (int i = 0; ok && i < 16; ++i) {
+      any = any || s.in_contact(i);
+      ok = s.pin_level(i) == (s.in_contact(i) ? 1.0f : 0.0f);
+    }
+    if (s.on_top()) {
+      ++c.on_top;
+      ok = ok && s.resultant_force().z() > 0.0;
+    }
+    if (!any) ok = ok && s.resultant_force().x() == 0.0 && s.resultant_force().y() == 0.0 && s.resultant_force().z() == 0.0;
+    c.bad += !ok;
+    if (!ok && c.first_bad.empty()) c.first_bad = s.ShortDebugString();
+  }
+  return c;
+}
+
 }  // namespace enact::test

@@ -17,12 +17,7 @@ constexpr Vec3 kIndexPoint_device{0.0, 0.0, 0.075};
 
 }  // namespace
 
-SimulatedForceParams FalconEmulatorParams::default_grip() {
-  SimulatedForceParams p;
-  p.profile = "falcon";
-  p.start_m = {0.0, 0.0, 0.0};
-  return p;
-}
+SimulatedForceParams FalconEmulatorParams::default_grip() { return held_at_origin("falcon"); }
 
 double FalconEmulator::index_angle() {
   static const double angle = [] {

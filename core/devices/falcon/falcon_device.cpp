@@ -34,7 +34,7 @@ FalconForceDevice::FalconForceDevice(FalconParams params, std::unique_ptr<usb::B
 FalconForceDevice::~FalconForceDevice() {
   io_.stop();
   // last words: zero force, LEDs off
-  if (link_ && !unplugged_.load() && !halted_.load()) link_->send(Command{}, 100);
+  if (link_ && !exchange_.failed() && !halted_.load()) link_->send(Command{}, 100);
   emergency_.reset();
   link_.reset();
   transport_.reset();
@@ -69,15 +69,10 @@ void FalconForceDevice::configure() {
   if (!probe(*link_)) load_firmware(*link_);
   home(*link_);
   // the I/O thread, zero force until activate
-  unplugged_.store(false);
   halted_.store(false);
-  active_.store(false);
-  force_.store({});
-  sample_.store({});
+  exchange_.reset(stale_ns_, std::llround(kCommandTimeout_s * 1e9), rt::now_ns());
   last_ns_ = 0;
   velocity_m_per_s_ = {};
-  seen_writes_ = 0;
-  last_write_seen_ns_ = rt::now_ns();
   emergency_ = usb::EmergencyStop(&FalconForceDevice::emergency, this);
   io_.start(std::llround(params_.io_period_s * 1e9), [this](std::int64_t now) { return io_step(now); });
   configured_ = true;
@@ -142,55 +137,26 @@ void FalconForceDevice::home(Link& link) {
 
 void FalconForceDevice::activate() {
   if (!configured_) refuse(kDevice, "activate before configure", "call configure() first");
-  force_.store({{}, force_.load().count});
-  active_.store(true);
+  exchange_.set_active(true);
 }
 
 void FalconForceDevice::deactivate() noexcept {
-  if (!active_.exchange(false)) return;
+  if (!exchange_.active()) return;
   // wait for a zero packet to have gone out (the thread may be gone: unplugged)
-  io_.await(zeroed_, zeroed_.load(), kDeactivateWait_ns);
+  exchange_.set_active(false);
+  exchange_.await_zero(kDeactivateWait_ns);
 }
 
-bool FalconForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept {
-  const Sample s = sample_.load();
-  out.time_ns = s.valid ? s.time_ns : now_ns;
-  out.position_m = s.position_m;
-  out.velocity_m_per_s = s.velocity_m_per_s;
-  out.buttons = s.buttons;
-  // unplugged, silent for longer than stale_s, or not active: a device error
-  const bool stale = !s.valid || now_ns - s.time_ns > stale_ns_;
-  if (!active_.load(std::memory_order_relaxed) || unplugged_.load(std::memory_order_relaxed) || stale) {
-    out.velocity_m_per_s = {};
-    out.faults = bit(DeviceFault::device_error);
-    return false;
-  }
-  const Vec3& lo = profile_.workspace_min_m;
-  const Vec3& hi = profile_.workspace_max_m;
-  const Vec3& p = s.position_m;
-  const bool inside = p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
-  out.faults = inside ? 0u : bit(DeviceFault::workspace_limit);
-  return true;
-}
+bool FalconForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept { return exchange_.read(now_ns, profile_, out); }
 
-void FalconForceDevice::write(std::int64_t, const math::Vec3& force_n) noexcept {
-  // NaN/Inf: no force (the safety layer above says so in its fault bits)
-  const Vec3 f = math::finite(force_n) ? force_n : Vec3{};
-  force_.store({f, force_.load().count + 1});
-}
+// NaN/Inf: no force (the safety layer above says so in its fault bits)
+void FalconForceDevice::write(std::int64_t, const math::Vec3& force_n) noexcept { exchange_.write(force_n); }
 
 Command FalconForceDevice::command(std::int64_t now_ns) noexcept {
-  const Force f = force_.load();
-  // a loop that stopped writing: zero force after kCommandTimeout_s
-  if (f.count != seen_writes_) {
-    seen_writes_ = f.count;
-    last_write_seen_ns_ = now_ns;
-  }
-  const bool silent = now_ns - last_write_seen_ns_ > std::llround(kCommandTimeout_s * 1e9);
+  // zero when inactive, or when the loop stopped writing (kCommandTimeout_s)
+  Vec3 force = exchange_.command(now_ns);
   Command c{{}, kLedGreen, true};
-  if (!active_.load() || silent) return c;
   // clamp, then the transposed Jacobian at the last measured position
-  Vec3 force = f.force_n;
   if (const double m = math::norm(force); m > params_.max_force_n) force = force * (params_.max_force_n / m);
   Vec3 tau;
   if (torques(jacobian_, direction_to_device(force), tau)) c.motor = motor_commands(tau);
@@ -200,14 +166,12 @@ Command FalconForceDevice::command(std::int64_t now_ns) noexcept {
 bool FalconForceDevice::io_step(std::int64_t now_ns) noexcept {
   if (halted_.load()) return false;
   const Command c = command(now_ns);
-  const bool zero = c.motor == std::array<std::int16_t, 3>{};
   Reading r;
   const usb::Status s = link_->exchange(c, r, stale_ns_);
   if (s == usb::Status::no_device) {
-    unplugged_.store(true);
+    exchange_.fail();
     return false;
   }
-  if (zero && !active_.load()) zeroed_.fetch_add(1);
   if (s != usb::Status::ok || !take(r, rt::now_ns())) {
     missed_.fetch_add(1);
     return true;
@@ -233,14 +197,14 @@ bool FalconForceDevice::take(const Reading& r, std::int64_t now_ns) noexcept {
   }
   device_position_m_ = p;
   last_ns_ = now_ns;
-  sample_.store({now_ns, position, velocity_m_per_s_, r.buttons, true});
+  exchange_.publish({now_ns, position, velocity_m_per_s_, r.buttons, true});
   return true;
 }
 
 void FalconForceDevice::emergency(void* self) noexcept {
   auto* d = static_cast<FalconForceDevice*>(self);
   d->halted_.store(true);
-  if (d->transport_ && !d->unplugged_.load()) d->transport_->emergency_bulk_out(kEndpointOut, d->zero_packet_.data(), kPacketSize);
+  if (d->transport_ && !d->exchange_.failed()) d->transport_->emergency_bulk_out(kEndpointOut, d->zero_packet_.data(), kPacketSize);
 }
 
 }  // namespace enact::devices::falcon

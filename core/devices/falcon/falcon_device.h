@@ -29,10 +29,10 @@
 
 #include "core/devices/device.h"
 #include "core/devices/falcon/kinematics.h"
+#include "core/devices/io_exchange.h"
 #include "core/devices/falcon/link.h"
 #include "core/devices/usb/emergency.h"
 #include "core/devices/usb/io_thread.h"
-#include "core/devices/usb/latest.h"
 #include "core/devices/usb/transport.h"
 
 namespace enact::devices::falcon {
@@ -69,7 +69,7 @@ class FalconForceDevice final : public ForceDevice {
   std::uint64_t exchanges() const { return exchanges_.load(); }
   std::uint64_t missed() const { return missed_.load(); }
   // the device answered no_device (unplugged)
-  bool unplugged() const { return unplugged_.load(); }
+  bool unplugged() const { return exchange_.failed(); }
   // whether configure() uploaded the firmware (false: it was running)
   bool uploaded_firmware() const { return uploaded_; }
 
@@ -77,19 +77,6 @@ class FalconForceDevice final : public ForceDevice {
   static constexpr double kCommandTimeout_s = 0.020;
 
  private:
-  // what the I/O thread hands to the real-time side
-  struct Sample {
-    std::int64_t time_ns = 0;
-    Vec3 position_m;  // enact frame
-    Vec3 velocity_m_per_s;
-    std::uint32_t buttons = 0;
-    bool valid = false;
-  };
-  struct Force {
-    Vec3 force_n;
-    std::uint64_t count = 0;  // writes so far
-  };
-
   void validate() const;
   void load_firmware(Link& link);
   bool probe(Link& link);
@@ -110,13 +97,9 @@ class FalconForceDevice final : public ForceDevice {
   std::int64_t stale_ns_ = 0;
   bool configured_ = false;
   bool uploaded_ = false;
-  // real-time side <-> I/O thread
-  usb::Latest<Sample> sample_;
-  usb::Latest<Force> force_;
-  std::atomic<bool> active_{false};
-  std::atomic<bool> unplugged_{false};
+  // real-time side <-> I/O thread (unplugged: the exchange's failure)
+  IoExchange exchange_;
   std::atomic<bool> halted_{false};        // the emergency stop ran: no more packets
-  std::atomic<std::uint64_t> zeroed_{0};   // zero packets sent while inactive
   std::atomic<std::uint64_t> exchanges_{0};
   std::atomic<std::uint64_t> missed_{0};
   // the I/O thread's own state
@@ -124,8 +107,6 @@ class FalconForceDevice final : public ForceDevice {
   Jacobian jacobian_{};
   Vec3 velocity_m_per_s_;
   std::int64_t last_ns_ = 0;
-  std::uint64_t seen_writes_ = 0;
-  std::int64_t last_write_seen_ns_ = 0;
 };
 
 }  // namespace enact::devices::falcon
