@@ -33,9 +33,11 @@ TEST(UsbLatest, ReadersNeverSeeATornValue) {
     }
   });
   std::uint64_t torn = 0, changes = 0, last = 0;
-  // read until the writer changed the value many times under the readers (bounded)
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (changes < 10000 && std::chrono::steady_clock::now() < end) {
+  // read until the writer changed the value many times under the readers. On a loaded machine
+  // the two threads may share one CPU and the value changes only when they switch (a few
+  // hundred times a second): the bound only keeps a broken program from hanging the suite
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (changes < 1000 && std::chrono::steady_clock::now() < end) {
     const Words v = latest.load();
     for (std::uint64_t x : v.w) torn += x != v.w[0];
     changes += v.w[0] != last;
@@ -44,7 +46,7 @@ TEST(UsbLatest, ReadersNeverSeeATornValue) {
   stop = true;
   writer.join();
   EXPECT_EQ(torn, 0u);
-  EXPECT_GE(changes, 10000u) << "the writer never overlapped the readers: the check above was vacuous";
+  EXPECT_GE(changes, 1000u) << "the writer never overlapped the readers: the check above was vacuous";
 }
 
 TEST(UsbLatest, StoreAndLoadAllocateNothing) {
