@@ -4,6 +4,7 @@
 #include <alloca.h>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/resource.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -49,6 +50,17 @@ bool set_fifo(int priority, RtReport& report) {
                                  "run as root or grant CAP_SYS_NICE / rtprio in /etc/security/limits.conf "
                                  "(in a container: --cap-add SYS_NICE); running with normal scheduling"));
   return false;
+}
+
+void set_nice(int nice, RtReport& report) {
+  // the calling thread alone (Linux: a thread id is a PRIO_PROCESS target of its own)
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice) == 0) {
+    report.notes.push_back("nice " + std::to_string(nice));
+    return;
+  }
+  report.notes.push_back(refused("nice " + std::to_string(nice), errno,
+                                 "grant CAP_SYS_NICE or a nice limit in /etc/security/limits.conf ('@realtime - nice -20'); other threads "
+                                 "on the loop's CPU take their share of it"));
 }
 
 bool pin(const std::vector<int>& cpus, RtReport& report) {
@@ -97,6 +109,7 @@ RtReport apply_rt_setup(const RtParams& params) {
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   if (params.lock_memory) report.memory_locked = lock_memory(report);
   if (params.fifo_priority > 0) report.fifo = set_fifo(params.fifo_priority, report);
+  else if (params.nice != 0) set_nice(params.nice, report);
   if (!params.cpus.empty()) report.pinned = pin(params.cpus, report);
   return report;
 }

@@ -12,6 +12,10 @@ struct RtParams {
   bool lock_memory = false;  // mlockall(MCL_CURRENT | MCL_FUTURE): no page faults in the loop
   int fifo_priority = 0;     // 0: do not change the scheduling; 1..99: SCHED_FIFO at this priority
   std::vector<int> cpus;     // CPUs to pin the thread to; empty: do not pin
+  // normal scheduling's weight for a thread that spins its whole period (never sleeps, so not
+  // SCHED_FIFO, which the kernel throttles): -20 makes the other threads on its CPU take a
+  // sliver of it instead of a share. 0: unchanged. Refused without the privilege: said.
+  int nice = 0;
 
   // throws config::Error for a priority outside 0..99 or a CPU index out of 0..CPU_SETSIZE-1
   void validate() const;

@@ -128,6 +128,7 @@ int run(int argc, char** argv) {
   const std::int64_t period_ns = rt::PeriodicScheduler(sched).period_ns();
   const rt::WaitPlan wait = rt::loop_wait(spin_us, period_ns, rtp.fifo_priority > 0, false, own_cpu);
   if (!wait.fifo) rtp.fifo_priority = 0;
+  if (wait.spin_whole_period) rtp.nice = -20;
   sched.spin_ns = wait.spin_ns;
   // components, configured (bad input is refused here, before anything moves)
   sim::SimParams sp = graph::sim_params(sim_p);

@@ -255,8 +255,8 @@ void machine_section(bool fresh) {
   }
   if (p.fifo_permitted && p.sleep_late_fifo.p99_ns * 10 >= late_p99 * 9) {
     ++tips;
-    std::printf("  - SCHED_FIFO wakes no sooner here (%.1f against %.1f us p99): the shipped launch files keep fifo_priority 0; FIFO helps only "
-                "against other load on the loop's CPU (--arg fifo_priority=80)\n",
+    std::printf("  - SCHED_FIFO wakes no sooner here (%.1f against %.1f us p99, the machine quiet); it still keeps other threads off the "
+                "loop's CPU: scripts/graph_deadlines.py compares the shipped fifo_priority 80 with -- --arg fifo_priority=0 on this machine\n",
                 us(p.sleep_late_fifo.p99_ns), us(late_p99));
   }
   if (p.cpus < 2) {
