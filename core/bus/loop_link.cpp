@@ -6,6 +6,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <utility>
@@ -90,8 +91,8 @@ LoopLink LoopLink::connect(const std::string& path, std::int64_t deadline_ns) {
       return link;
     }
     close_fd(fd);
-    if (rt::now_ns() + 2'000'000 > deadline_ns) break;
-    rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+    if (rt::now_ns() >= deadline_ns) break;
+    rt::sleep_until_ns(std::min(rt::now_ns() + 2'000'000, deadline_ns));
   } while (true);
   return link;
 }
