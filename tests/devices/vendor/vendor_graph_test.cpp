@@ -29,7 +29,7 @@ namespace enact::test {
 namespace {
 
 constexpr double kReadyTimeout_s = 30.0;
-constexpr double kObserve_s = 10.0;
+constexpr double kObserve_s = 5.0;
 constexpr double kGraphDuration_s = 30.0;  // a safety net: the test stops the graph itself
 
 TEST(VendorComponents, ADhdDeviceComesConfiguredInsideTheSafetyLayer) {
