@@ -122,11 +122,9 @@ void put(std::ostream& out, const char* key, const Spread& s) {
   out << key << " " << s.p50_ns << " " << s.p99_ns << " " << s.max_ns << " " << s.count << "\n";
 }
 
-double us(std::int64_t ns) { return static_cast<double>(ns) * 1e-3; }
-
 std::string spread_text(const Spread& s) {
   char text[160];
-  std::snprintf(text, sizeof text, "p50 %.1f us, p99 %.1f us, max %.1f us (%lld samples)", us(s.p50_ns), us(s.p99_ns), us(s.max_ns),
+  std::snprintf(text, sizeof text, "p50 %.1f us, p99 %.1f us, max %.1f us (%lld samples)", to_us(s.p50_ns), to_us(s.p99_ns), to_us(s.max_ns),
                 static_cast<long long>(s.count));
   return text;
 }
@@ -263,13 +261,13 @@ WaitPlan plan_wait(const MachineProbe& probe, std::int64_t period_ns, bool fifo,
   // Spun whole under normal scheduling (a FIFO thread that never sleeps is throttled)
   if (!must_sleep && own_cpu && period_ns < 2 * late.p99_ns) {
     std::snprintf(why, sizeof why, "spins the whole %.1f us period on a CPU of its own, normal scheduling: this machine wakes a sleeping thread %.1f us late (p99)",
-                  us(period_ns), us(late.p99_ns));
+                  to_us(period_ns), to_us(late.p99_ns));
     return {true, period_ns, false, why};
   }
   // a FIFO loop, or one whose CPU's other thread must run, sleeps every tick
   const std::int64_t spin = fifo || must_sleep ? std::min(window, period_ns / 2) : std::min(window, period_ns);
-  std::snprintf(why, sizeof why, "sleeps to %.1f us before each deadline, then spins%s: this machine wakes a sleeping thread %.1f us late (p99)%s", us(spin),
-                fifo ? " (SCHED_FIFO)" : "", us(late.p99_ns), spin < window ? ", more than half the period: some ticks will be late" : "");
+  std::snprintf(why, sizeof why, "sleeps to %.1f us before each deadline, then spins%s: this machine wakes a sleeping thread %.1f us late (p99)%s", to_us(spin),
+                fifo ? " (SCHED_FIFO)" : "", to_us(late.p99_ns), spin < window ? ", more than half the period: some ticks will be late" : "");
   return {false, spin, fifo, why};
 }
 
@@ -278,7 +276,7 @@ WaitPlan loop_wait(double spin_us, std::int64_t period_ns, bool fifo, bool must_
   const auto spin = static_cast<std::int64_t>(spin_us * 1e3);
   char why[160];
   std::snprintf(why, sizeof why, "sleeps to %.1f us before each deadline, then spins (spin_us, set by hand)",
-                us(fifo || must_sleep ? std::min(spin, period_ns / 2) : spin));
+                to_us(fifo || must_sleep ? std::min(spin, period_ns / 2) : spin));
   return {false, spin, fifo, why};
 }
 
@@ -291,7 +289,7 @@ double sleeping_rate_limit_hz(const MachineProbe& probe, bool fifo, std::int64_t
 std::string describe(const MachineProbe& p) {
   std::ostringstream out;
   out << "machine probe (" << p.cpus << " CPUs; cached per boot in " << cache_path() << "):\n";
-  out << "  sleep to a deadline every " << us(p.period_ns) << " us, normal scheduling: late " << spread_text(p.sleep_late) << "\n";
+  out << "  sleep to a deadline every " << to_us(p.period_ns) << " us, normal scheduling: late " << spread_text(p.sleep_late) << "\n";
   out << "  the same under SCHED_FIFO: " << (p.fifo_permitted ? "late " + spread_text(p.sleep_late_fifo) : std::string("refused (no privilege)")) << "\n";
   out << "  pipe round trip between two threads on one CPU: " << spread_text(p.pipe_same_cpu) << "\n";
   out << "  the same across two CPUs: " << (p.pipe_cross_cpu.count ? spread_text(p.pipe_cross_cpu) : std::string("one CPU only")) << "\n";

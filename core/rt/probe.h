@@ -20,6 +20,9 @@
 
 namespace enact::rt {
 
+// nanoseconds as microseconds, for the figures people read
+inline double to_us(std::int64_t ns) { return static_cast<double>(ns) * 1e-3; }
+
 // percentiles of one measurement, ns (all 0: not measured)
 struct Spread {
   std::int64_t p50_ns = 0, p99_ns = 0, max_ns = 0;

@@ -24,7 +24,7 @@ constexpr double kRate_hz = 5000.0;
 constexpr std::int64_t kBlockTicks = 250;  // 50 ms at 5 kHz
 
 // nanoseconds as microseconds
-inline double us(std::int64_t ns) { return static_cast<double>(ns) * 1e-3; }
+inline double us(std::int64_t ns) { return rt::to_us(ns); }
 
 // a / b, b at least 1
 inline double ratio(std::int64_t a, std::int64_t b) { return static_cast<double>(a) / static_cast<double>(std::max<std::int64_t>(1, b)); }

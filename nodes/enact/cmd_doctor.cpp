@@ -219,14 +219,13 @@ std::int64_t tick_cost_ns() {
 }
 
 double khz(double hz) { return hz * 1e-3; }
-double us(std::int64_t ns) { return static_cast<double>(ns) * 1e-3; }
 
 // the probe's figures, the rate each mode holds here, and what to change for more
 void machine_section(bool fresh) {
   const rt::MachineProbe p = rt::cached_probe(fresh);
   std::printf("\n%s", rt::describe(p).c_str());
   const std::int64_t work_ns = tick_cost_ns();
-  std::printf("  the co-located tick (bridge scene, CM1): %.2f us p99\n", us(work_ns));
+  std::printf("  the co-located tick (bridge scene, CM1): %.2f us p99\n", rt::to_us(work_ns));
   const std::int64_t late_p99 = p.sleep_late.p99_ns;
   // a loop that sleeps every tick: its spin window covers the lateness, twice over
   const double sleeping_hz = rt::sleeping_rate_limit_hz(p, false, work_ns);
@@ -251,13 +250,13 @@ void machine_section(bool fresh) {
     std::printf("  - a sleeping thread wakes %.0f us late (p99): deep CPU idle states or a virtual CPU that sleeps; fix: let enact hold the CPU latency "
                 "request (/dev/cpu_dma_latency, see cpu_latency above), the kernel option idle=poll or processor.max_cstate=1, or a VM with "
                 "dedicated vCPUs\n",
-                us(late_p99));
+                rt::to_us(late_p99));
   }
   if (p.fifo_permitted && p.sleep_late_fifo.p99_ns * 10 >= late_p99 * 9) {
     ++tips;
     std::printf("  - SCHED_FIFO wakes no sooner here (%.1f against %.1f us p99, the machine quiet); it still keeps other threads off the "
                 "loop's CPU: scripts/graph_deadlines.py compares the shipped fifo_priority 80 with -- --arg fifo_priority=0 on this machine\n",
-                us(p.sleep_late_fifo.p99_ns), us(late_p99));
+                rt::to_us(p.sleep_late_fifo.p99_ns), rt::to_us(late_p99));
   }
   if (p.cpus < 2) {
     ++tips;
