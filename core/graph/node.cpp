@@ -73,20 +73,22 @@ bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns) {
   }
 }
 
+bool await_subscribers(bus::BytePublisher& out, const char* topic, int count, std::int64_t deadline_ns) {
+  while (out.subscriber_count(topic) < count && rt::now_ns() < deadline_ns && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+  return out.subscriber_count(topic) >= count;
+}
+
 void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who) {
   if (count <= 0) return;
   // a short grace for subscribers already on their way, then the wait is announced
-  const std::int64_t grace = rt::now_ns() + 200'000'000;
-  while (out.subscriber_count(topic) < count && rt::now_ns() < grace && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
-  if (out.subscriber_count(topic) >= count) return;
+  if (await_subscribers(out, topic, count, rt::now_ns() + 200'000'000)) return;
   tell_launcher("wait " + std::to_string(kObserversWait_s));
   const char* attach = std::getenv("ENACT_ATTACH");
   say(node, "waiting up to " + std::to_string(static_cast<int>(kObserversWait_s)) + " s for " + std::to_string(count) + " " + who + " of " + topic +
                 (attach ? " (they attach at " + std::string(attach) + ")" : ""));
-  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9);
-  while (out.subscriber_count(topic) < count && rt::now_ns() < give_up && !stop_requested()) rt::sleep_until_ns(rt::now_ns() + 2'000'000);
+  const bool came = await_subscribers(out, topic, count, rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9));
   const int n = out.subscriber_count(topic);
-  if (n < count) say(node, std::to_string(n) + " of " + std::to_string(count) + " " + who + " listening to " + topic + " after " + std::to_string(static_cast<int>(kObserversWait_s)) + " s; running anyway");
+  if (!came) say(node, std::to_string(n) + " of " + std::to_string(count) + " " + who + " listening to " + topic + " after " + std::to_string(static_cast<int>(kObserversWait_s)) + " s; running anyway");
   else say(node, std::to_string(n) + " " + who + " listening to " + topic + "; starting");
 }
 

@@ -42,6 +42,9 @@ void announce_topics(const bus::BytePublisher& out);
 // launcher to wait that long more for "ready"; says so again, naming `who`, when they do
 // not come (the node then runs anyway)
 void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who);
+// waits quietly until `count` subscribers listen to `topic` on `out`, until deadline_ns or a
+// stop request: whether they do
+bool await_subscribers(bus::BytePublisher& out, const char* topic, int count, std::int64_t deadline_ns);
 // the clock master: waits up to kObserversWait_s (or a stop request) until the peer of the
 // loop's same-host link (node `peer`) connects, saying so when it takes longer than a moment;
 // false when it did not come (the node then runs anyway, every sample unanswered)

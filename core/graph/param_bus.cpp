@@ -1,6 +1,8 @@
 #include "core/graph/param_bus.h"
 
+#include <chrono>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 
@@ -54,10 +56,50 @@ ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::B
       board_(board) {
   in_bytes_.connect(node_endpoint(kInboundNode));
   // the live-only parameters as the scene and model set them
-  if (!board_) return;
-  board_->set(prefix_ + "threshold_m", config::number(planner_.computer_model().threshold_m));
-  board_->set(prefix_ + "stiffness_n_per_m", config::number(planner_.stiffness_n_per_m()));
-  board_->set(prefix_ + "damping_n_s_per_m", config::number(planner_.damping_n_s_per_m()));
+  if (board_) {
+    board_->set(prefix_ + "threshold_m", config::number(planner_.computer_model().threshold_m));
+    board_->set(prefix_ + "stiffness_n_per_m", config::number(planner_.stiffness_n_per_m()));
+    board_->set(prefix_ + "damping_n_s_per_m", config::number(planner_.damping_n_s_per_m()));
+  }
+  planning_ = std::thread([this] { plan_all(); });
+}
+
+ParamPort::~ParamPort() {
+  stopping_.store(true);
+  wake_.release();
+  planning_.join();
+}
+
+void ParamPort::plan_all() {
+  PlanRequest r;
+  Plan p;
+  while (!stopping_.load()) {
+    (void)wake_.try_acquire_for(std::chrono::milliseconds(100));
+    while (to_plan_.try_pop(r)) {
+      sim::ParamValue value;
+      if (r.value_case == msgs::ParamUpdate::kNumber) value.number = r.number;
+      if (r.value_case == msgs::ParamUpdate::kFlag) value.flag = r.flag;
+      if (r.value_case == msgs::ParamUpdate::kText) value.text = r.text;
+      const sim::ParamPlan plan = planner_.plan(r.name, value, r.id);
+      p = Plan{.id = r.id, .accepted = plan.accepted, .change = plan.change, .threshold_m = planner_.computer_model().threshold_m};
+      std::snprintf(p.reason, sizeof p.reason, "%s", plan.reason.c_str());
+      std::snprintf(p.model, sizeof p.model, "%s", planner_.computer_model().name.c_str());
+      // never full: no more requests are in flight than it holds
+      planned_.try_push(p);
+    }
+  }
+}
+
+void ParamPort::submit(std::uint64_t id) {
+  const std::string name = request_.name().substr(prefix_.size());
+  PlanRequest r{.id = id, .value_case = request_.value_case(), .number = request_.number(), .flag = request_.flag()};
+  if (name.size() >= sizeof r.name) return refuse(id, request_.name(), "unknown parameter '" + name + "'\n  fix: see enact param list");
+  if (request_.text().size() > kMaxText) return refuse(id, request_.name(), "a text of at most " + std::to_string(kMaxText) + " characters");
+  std::snprintf(r.name, sizeof r.name, "%s", name.c_str());
+  std::snprintf(r.text, sizeof r.text, "%s", request_.text().c_str());
+  in_flight_[id].request = request_;
+  to_plan_.try_push(r);  // never full: no more requests are in flight than it holds
+  wake_.release();
 }
 
 std::optional<sim::ParamChange> ParamPort::next() {
@@ -73,33 +115,43 @@ std::optional<sim::ParamChange> ParamPort::next() {
       acks_.publish(a);
       repeated = true;
     }
-    if (repeated) continue;
-    const sim::ParamPlan plan = planner_.plan(request_.name().substr(prefix_.size()), value_of(request_), id);
-    if (!plan.accepted) {
-      refuse(id, plan.reason);
-      continue;
-    }
-    // the ack names the value applied
-    InFlight& f = in_flight_[id];
-    f.model = plan.change.kind == sim::ParamKind::model ? planner_.computer_model().name : "";
-    f.threshold_m = planner_.computer_model().threshold_m;
-    f.ack.set_request_id(id);
-    f.ack.set_applied(true);
-    f.ack.set_name(request_.name());
-    switch (plan.change.kind) {
-      case sim::ParamKind::threshold:
-      case sim::ParamKind::stiffness:
-      case sim::ParamKind::damping:
-      case sim::ParamKind::change_ramp: f.ack.set_number(plan.change.value); break;
-      case sim::ParamKind::model: f.ack.set_text(request_.text()); break;
-      case sim::ParamKind::trial_start: f.ack.set_text("start"); break;
-      case sim::ParamKind::trial_stop: f.ack.set_text("stop"); break;
-      case sim::ParamKind::reset:
-      case sim::ParamKind::reposition: break;
-    }
-    return plan.change;
+    if (!repeated) submit(id);
+  }
+  Plan plan;
+  while (planned_.try_pop(plan)) {
+    if (auto change = take(plan)) return change;
   }
   return std::nullopt;
+}
+
+std::optional<sim::ParamChange> ParamPort::take(const Plan& plan) {
+  const auto it = in_flight_.find(plan.id);
+  if (it == in_flight_.end()) return std::nullopt;
+  InFlight& f = it->second;
+  if (!plan.accepted) {
+    const std::string name = f.request.name();
+    in_flight_.erase(it);
+    refuse(plan.id, name, plan.reason);
+    return std::nullopt;
+  }
+  // the ack names the value applied
+  f.model = plan.change.kind == sim::ParamKind::model ? plan.model : "";
+  f.threshold_m = plan.threshold_m;
+  f.ack.set_request_id(plan.id);
+  f.ack.set_applied(true);
+  f.ack.set_name(f.request.name());
+  switch (plan.change.kind) {
+    case sim::ParamKind::threshold:
+    case sim::ParamKind::stiffness:
+    case sim::ParamKind::damping:
+    case sim::ParamKind::change_ramp: f.ack.set_number(plan.change.value); break;
+    case sim::ParamKind::model: f.ack.set_text(f.request.text()); break;
+    case sim::ParamKind::trial_start: f.ack.set_text("start"); break;
+    case sim::ParamKind::trial_stop: f.ack.set_text("stop"); break;
+    case sim::ParamKind::reset:
+    case sim::ParamKind::reposition: break;
+  }
+  return plan.change;
 }
 
 void ParamPort::applied(const sim::ParamApplied& a) {
@@ -166,12 +218,12 @@ void ParamPort::stepped(std::uint64_t step, std::uint64_t state_seq, std::int64_
   }
 }
 
-void ParamPort::refuse(std::uint64_t request_id, const std::string& reason) {
+void ParamPort::refuse(std::uint64_t request_id, const std::string& name, const std::string& reason) {
   msgs::ParamAck a;
   a.set_request_id(request_id);
   a.set_applied(false);
   a.set_reason(reason);
-  a.set_name(request_.name());
+  a.set_name(name);
   publish(std::move(a));
 }
 

@@ -1,15 +1,19 @@
 #pragma once
 // param/set and param/ack on the bus (README, "Live viewer"). The simulator's end, ParamPort,
 // is the same for enact-sim and enact-rt: requests in (from the attach point's inbound
-// publisher), checked by a sim::ParamPlanner, changes out to whoever applies them between
-// steps, acks and task events back. The sender's end, ParamClient, is the viewer's and
+// publisher), checked by a sim::ParamPlanner on a thread of the port's own (planning may read
+// a computer model's YAML file and copies the model: never on a loop thread), changes out to
+// whoever applies them between steps, acks and task events back. The sender's end, ParamClient, is the viewer's and
 // `enact param set`'s: a request goes up through the attach point and is sent again until
 // its ParamAck comes (the sim answers a repeated request without applying it twice).
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <map>
 #include <optional>
+#include <semaphore>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -17,6 +21,7 @@
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
 #include "core/graph/param_board.h"
+#include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
 #include "core/sim/simulator.h"
 #include "msgs/param_update.pb.h"
@@ -42,11 +47,15 @@ class ParamPort {
   // in force of its live parameters there (all must outlive the port).
   ParamPort(const sim::Simulator& simulator, std::string prefix, bus::BytePublisher& out, bus::Publisher<msgs::TaskEvent>& events,
             ParamBoard* board = nullptr);
+  ~ParamPort();
+  ParamPort(const ParamPort&) = delete;
+  ParamPort& operator=(const ParamPort&) = delete;
 
-  // the next accepted change to apply (non-blocking; nullopt when none is waiting, or when
+  // the next accepted change to apply (non-blocking; nullopt when none is planned yet, or when
   // sim::kMaxParamsInFlight changes are not applied yet: a loop's queue of that capacity never
-  // overflows). Refused requests are acked here (applied ones by stepped()); a repeated request (same request_id) is
-  // not planned again: its ack is sent again once known.
+  // overflows). New requests go to the planning thread here; refused ones are acked here
+  // (applied ones by stepped()); a repeated request (same request_id) is not planned again:
+  // its ack is sent again once known. Reads no file, whatever the request.
   std::optional<sim::ParamChange> next();
 
   // the loop applied `a`: its ack and task event wait for the step that first uses it
@@ -67,9 +76,30 @@ class ParamPort {
   const bus::ByteSubscriber& subscriber() const { return in_bytes_; }
 
  private:
-  void refuse(std::uint64_t request_id, const std::string& reason);
+  // a request for the planning thread, and its plan back (trivially copyable: SPSC queues)
+  static constexpr std::size_t kMaxText = 1023;
+  struct PlanRequest {
+    std::uint64_t id = 0;
+    char name[64] = {};  // without the prefix
+    msgs::ParamUpdate::ValueCase value_case = msgs::ParamUpdate::VALUE_NOT_SET;
+    double number = 0.0;
+    bool flag = false;
+    char text[kMaxText + 1] = {};
+  };
+  struct Plan {
+    std::uint64_t id = 0;
+    bool accepted = false;
+    sim::ParamChange change;
+    char reason[512] = {};                    // refused
+    char model[sim::kMaxModelName + 1] = {};  // accepted: the computer model's name after it
+    double threshold_m = 0.0;                 // and its threshold
+  };
+  void submit(std::uint64_t id);  // request_ to the planning thread (or refused at once)
+  void plan_all();                // the planning thread
+  std::optional<sim::ParamChange> take(const Plan& plan);
+  void refuse(std::uint64_t request_id, const std::string& name, const std::string& reason);
 
-  sim::ParamPlanner planner_;
+  sim::ParamPlanner planner_;  // the planning thread's once it runs
   std::string prefix_;
   bus::ByteSubscriber in_bytes_;
   bus::Subscriber<msgs::ParamUpdate> in_;
@@ -79,6 +109,7 @@ class ParamPort {
   std::deque<std::pair<std::int64_t, std::string>> names_;  // the model's name from a time on
   ParamBoard* board_;
   struct InFlight {
+    msgs::ParamUpdate request;
     std::string model;     // the model name it sets ("" if none)
     double threshold_m = 0.0;  // the threshold it sets (a model's)
     msgs::ParamAck ack;    // its ack, but for the step
@@ -89,6 +120,11 @@ class ParamPort {
 
   std::map<std::uint64_t, InFlight> in_flight_;  // by request id
   std::deque<msgs::ParamAck> answered_;          // the last answers, for repeated requests
+  rt::SpscQueue<PlanRequest, sim::kMaxParamsInFlight> to_plan_;
+  rt::SpscQueue<Plan, sim::kMaxParamsInFlight> planned_;
+  std::counting_semaphore<> wake_{0};
+  std::atomic<bool> stopping_{false};
+  std::thread planning_;  // last: starts once everything above is made
 };
 
 // the answer to one request, as the sender sees it

@@ -119,18 +119,21 @@ int run(int argc, char** argv) {
   std::uint64_t steps = 0;
   // observers asked for (a logger recording a replay from its first step) listen first
   graph::wait_for_subscribers(out, graph::kForceCommand, observers, args.name, "observer (logger)");
-  simulator.activate(0);
-  reengage.interrupt();
-  graph::report_ready();
-  // a new simulator: physics and task start over, said now and recorded (a task event, once
-  // the attach point has subscribed again, or after a second without)
+  // a new simulator: physics and task start over, said now and recorded. The attach point
+  // reconnects to its endpoint within its reconnect interval: the first answer waits for it
+  // (a second at most; the driver holds the force at zero meanwhile), or the recording and
+  // every observer would miss the new stream's start
   const int respawn = respawn_count();
   bool restart_event_due = respawn > 0;
   const std::int64_t restart_ns = rt::now_ns();
+  if (restart_event_due) graph::await_subscribers(out, graph::kForceCommand, local_hop ? 1 : 2, restart_ns + 1'000'000'000);
+  simulator.activate(0);
+  reengage.interrupt();
+  graph::report_ready();
   const std::string restart_detail = "simulator restarted (respawn " + std::to_string(respawn) + "): physics and task start over";
   if (restart_event_due) graph::say(args.name, restart_detail);
   auto publish_restart = [&] {
-    if (!restart_event_due || (out.subscriber_count(graph::kTaskEvent) == 0 && rt::now_ns() < restart_ns + 1'000'000'000)) return;
+    if (!restart_event_due) return;
     restart_event_due = false;
     event.set_kind(msgs::TaskEvent::TRIAL_START);
     event.set_time_ns(restart_ns);

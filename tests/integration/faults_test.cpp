@@ -333,6 +333,9 @@ TEST(Faults, RespawnedSimulatorSaysSoAndItsForceStartsFromZero) {
   std::printf("[ measure ] respawned simulator: first answer %.3f N (seq %llu), largest rise over its next 1000 answers %.3f N\n", first_n,
               static_cast<unsigned long long>(seen.forces[first_new].header().seq()), largest_rise_n);
   EXPECT_LT(first_n, 1.0);
+  // the new simulator waited for the attach point to reconnect: observers (and a recording)
+  // see its stream from the first answer
+  EXPECT_EQ(seen.forces[first_new].header().seq(), 1u);
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
 }
 
