@@ -1,0 +1,364 @@
+#include "core/node/container.h"
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#include "core/bus/typed.h"
+#include "core/config/yaml.h"
+#include "core/graph/colocated.h"
+#include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_bus.h"
+#include "core/graph/param_table.h"
+#include "core/graph/task_state.h"
+#include "core/graph/topics.h"
+#include "core/graph/watchdog_log.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+#include "core/rt/probe.h"
+#include "core/rt/profile.h"
+#include "core/rt/spsc_queue.h"
+
+namespace enact::node {
+
+namespace {
+
+// the --help text after the container's parameters: each plugin's
+std::string plugin_help() {
+  std::string out =
+      "component parameters (--param COMPONENT.NAME=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml; live:\n"
+      "enact param set COMPONENT.NAME VALUE while it runs):\n";
+  for (const char* plugin : {"sim", "ffd", "tactile"}) out += std::string(" plugin ") + plugin + ":\n" + graph::help_lines(*graph::component_table(plugin), std::string(plugin) + ".");
+  return out;
+}
+
+// the one component of `plugin` the container was given
+std::string find_component(const graph::NodeArgs& args, const std::string& plugin) {
+  std::string name;
+  for (const auto& [n, p] : args.components) {
+    if (p != "sim" && p != "ffd" && p != "tactile") throw config::Error(args.name + ": unknown plugin '" + p + "'\n  fix: use sim, ffd or tactile");
+    if (p != plugin) continue;
+    if (!name.empty()) throw config::Error(args.name + ": two " + plugin + " components\n  fix: one sim, one ffd and one tactile");
+    name = n;
+  }
+  if (name.empty()) throw config::Error(args.name + ": no " + plugin + " component\n  fix: add --component=" + plugin + ":" + plugin);
+  return name;
+}
+
+// what the hand felt, accumulated by the non-real-time thread
+struct Felt {
+  std::uint64_t ticks = 0, frames = 0, dropped = 0, device_faults = 0, sim_faults = 0;
+  double force_sum_n = 0.0, force_max_n = 0.0, pins_sum = 0.0;
+  std::uint64_t on_top = 0;
+  int falls = 0;
+  bool completed = false;
+  double progress = 0.0;
+
+  void add(const graph::Observation& o) {
+    const double f = math::norm(o.step.force_n);
+    ticks += 1;
+    force_sum_n += f;
+    force_max_n = std::max(force_max_n, f);
+    pins_sum += __builtin_popcount(o.step.pins);
+    frames += o.step.frame_due;
+    on_top += o.step.on_top;
+    device_faults += o.sample.faults != 0;
+    sim_faults += o.step.fault;
+    falls += o.step.event.kind == task::TaskEventKind::fall_start;
+    completed = completed || o.step.event.kind == task::TaskEventKind::completed;
+    progress = std::max(progress, o.step.on_top ? o.step.progress : 0.0);
+  }
+};
+
+struct Shown {
+  std::int64_t time_ns;
+  float level[32];
+};
+struct Scene {
+  std::int64_t tick_ns;  // the tick it was taken at (names its computer model)
+  graph::SceneSnapshot snap;
+};
+
+}  // namespace
+
+const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] --component=NAME:PLUGIN... --param NAME=VALUE...
+
+The co-located real-time container: components sim, ffd and tactile (one of each) in one
+process and one real-time thread, ticking at rate_hz: read the device, step the model,
+write the force, write the pins (down-sampled), in the same tick. A non-real-time thread,
+fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
+tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
+at scene_rate_hz, tactile/shown at shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
+param/set (SIM.model, SIM.stiffness_n_per_m, ...: README "Live viewer"; SIM is the sim
+component's name) are checked on that thread, handed to the real-time thread through a
+lock-free queue, applied at the top of a tick, and answered on param/ack.
+
+container parameters (--param NAME=VALUE; rate_hz is the simulator's rate too):
+)", .plugins = true, .more_help = plugin_help};
+
+struct Container::Io {
+  Io(Container& c)
+      : out(c.host_.out()),
+        state_pub(out, graph::kDeviceState),
+        force_pub(out, graph::kForceCommand),
+        frame_pub(out, graph::kTactileFrame),
+        shown_pub(out, graph::kTactileShown),
+        scene_pub(out, graph::kSceneState),
+        event_pub(out, graph::kTaskEvent),
+        status_pub(out, graph::kNodeStatus),
+        params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
+        task_state(out),
+        loop(c.simulator_, *c.force_, *c.tactile_, &rt::now_ns, c.reengage_s_),
+        cuts(c.host_.name(), "force path cut (a late tick or a device error): body re-synchronised, force back from zero"),
+        rows(c.tactile_->rows()),
+        cols(c.tactile_->cols()) {}
+  bus::BytePublisher& out;
+  bus::Publisher<msgs::DeviceState> state_pub;
+  bus::Publisher<msgs::ForceCommand> force_pub;
+  bus::Publisher<msgs::TactileFrame> frame_pub;
+  bus::Publisher<msgs::TactileShown> shown_pub;
+  bus::Publisher<msgs::SceneState> scene_pub;
+  bus::Publisher<msgs::TaskEvent> event_pub;
+  bus::Publisher<msgs::NodeStatus> status_pub;
+  graph::ParamPort params;
+  graph::TaskStateTracker task_state;
+  graph::ColocatedLoop loop;
+  // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
+  rt::SpscQueue<graph::Observation, 16384> queue;
+  rt::SpscQueue<Scene, 64> scenes;
+  rt::SpscQueue<Shown, 64> shown_queue;
+  rt::SpscQueue<rt::LoopSummary, 8> summaries;
+  graph::ParamQueue changes;
+  graph::AppliedQueue applied;
+  rt::LoopStats stats;
+  std::atomic<std::uint64_t> dropped{0};
+  rt::RtReport report;
+  // each cut of the force path (a late tick, a device error) said once, counted
+  graph::WatchdogLog cuts;
+  const int rows, cols;
+  // the publisher thread's
+  msgs::DeviceState state_msg;
+  msgs::ForceCommand force_msg;
+  msgs::TactileFrame frame_msg;
+  msgs::TactileShown shown_msg;
+  msgs::SceneState scene_msg;
+  msgs::TaskEvent event_msg;
+  msgs::NodeStatus status_msg;
+  std::uint64_t frame_seq = 0;
+  sim::ParamApplied done;
+  Felt felt;
+  graph::Observation o;
+  Scene scene;
+  Shown levels;
+  rt::LoopSummary summary;
+};
+
+Container::Container(Host& host) : host_(host) {
+  const graph::NodeArgs& args = host.args();
+  graph::Params& p = host.params();
+  sim_name_ = find_component(args, "sim");
+  ffd_name_ = find_component(args, "ffd");
+  tac_name_ = find_component(args, "tactile");
+  sim_p_ = p.scoped(sim_name_);
+  ffd_p_ = p.scoped(ffd_name_);
+  tac_p_ = p.scoped(tac_name_);
+  p.refuse_unknown();
+  sched_.rate_hz = p.number("rate_hz");
+  sched_.validate();
+  duration_s_ = p.number("duration_s");
+  rtp_.lock_memory = p.flag("lock_memory");
+  rtp_.fifo_priority = p.integer("fifo_priority");
+  if (p.has("cpus")) rtp_.cpus.push_back(p.integer("cpus"));
+  // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
+  // process: the publisher thread and the bus stay with the observers
+  if (const char* profile = std::getenv(rt::kProfileEnv)) {
+    const rt::NodeProfile np = rt::NodeProfile::from_env(profile);
+    if (!np.cpus.empty()) rtp_.cpus = np.cpus;
+    if (np.fifo_priority > 0) rtp_.fifo_priority = np.fifo_priority;
+  }
+  // how the loop waits, from this machine's probe: a period shorter than twice its wake-up
+  // lateness is spun whole, on the loop's own CPU under normal scheduling (a FIFO thread that
+  // never sleeps is throttled by the kernel); otherwise it sleeps and spins the lateness
+  const bool own_cpu = !rtp_.cpus.empty() && std::thread::hardware_concurrency() >= 2;
+  const rt::WaitPlan wait = rt::loop_wait(p.number("spin_us"), rt::PeriodicScheduler(sched_).period_ns(), rtp_.fifo_priority > 0, false, own_cpu);
+  if (!wait.fifo) rtp_.fifo_priority = 0;
+  if (wait.spin_whole_period) rtp_.nice = -20;
+  sched_.spin_ns = wait.spin_ns;
+  wait_why_ = wait.why;
+  // components, configured (bad input is refused here, before anything moves)
+  sim::SimParams sp = graph::sim_params(sim_p_);
+  reengage_s_ = sim_p_.number("reengage_s");
+  sp.rate_hz = sched_.rate_hz;
+  simulator_.configure(sp);
+  force_ = graph::make_force_device(ffd_p_);
+  tactile_ = graph::make_tactile_device(tac_p_);
+  sim_p_.refuse_unknown();
+  ffd_p_.refuse_unknown();
+  tac_p_.refuse_unknown();
+  scene_rate_hz_ = p.number("scene_rate_hz");
+  shown_rate_hz_ = p.number("shown_rate_hz");
+  observers_ = p.integer("observers");
+}
+
+Container::~Container() = default;
+
+// the real-time thread: set up, then tick on absolute deadlines
+void Container::rt_main() {
+  Io& io = *io_;
+  io.report = rt::apply_rt_setup(rtp_);
+  rt::prefault_stack();
+  // under SCHED_FIFO the loop sleeps every tick, or the kernel throttles it (~50 ms a second)
+  rt::SchedulerParams tick = sched_;
+  tick.sleep_every_tick = io.report.fifo;
+  rt::PeriodicScheduler scheduler(tick);
+  const std::int64_t start = rt::now_ns() + 1'000'000;
+  const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / scene_rate_hz_));
+  const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / shown_rate_hz_));
+  const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz));
+  Scene scene{};
+  Shown levels{};
+  io.loop.activate();
+  scheduler.start(start);
+  const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
+    const std::int64_t woke = scheduler.wait();
+    if (woke >= end) break;
+    const graph::Observation& o = io.loop.tick(woke);
+    io.stats.latency.record(o.force_ns - o.sample.time_ns);
+    if (!io.queue.try_push(o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
+    if (n % scene_every == 0) {
+      scene.tick_ns = woke;
+      graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
+      io.scenes.try_push(scene);
+    }
+    if (n % shown_every == 0) {
+      levels.time_ns = woke;
+      tactile_->shown(woke, levels.level, io.rows * io.cols);
+      io.shown_queue.try_push(levels);
+    }
+    if (n % status_every == status_every - 1) {
+      rt::take_timing(scheduler, io.stats);
+      io.summaries.try_push(rt::summarize(io.stats, sched_.rate_hz));
+    }
+  }
+  io.loop.deactivate();
+  rt::take_timing(scheduler, io.stats);
+  rt_done_.store(true);
+}
+
+// what the real-time thread applied, before anything it did after: a tick's messages name
+// the computer model in force at that tick
+void Container::take_applied() {
+  Io& io = *io_;
+  while (io.applied.try_pop(io.done)) {
+    io.params.applied(io.done);
+    io.task_state.applied(io.done.kind);
+  }
+}
+
+// one tick (io.o) for observers
+void Container::publish_tick() {
+  Io& io = *io_;
+  const graph::Observation& o = io.o;
+  graph::fill(io.state_msg, o.sample);
+  io.state_pub.publish(io.state_msg);
+  io.params.stepped(o.seq, io.state_msg.header().seq(), io.state_msg.header().stamp_ns());
+  graph::fill(io.force_msg, io.state_msg.header().seq(), o.step.force_n, o.step.fault);
+  io.force_msg.mutable_header()->set_stamp_ns(o.force_ns);
+  io.force_pub.publish(io.force_msg);
+  if (o.step.frame_due) {
+    graph::fill(io.frame_msg, io.rows, io.cols, o.step.frame);
+    io.frame_msg.mutable_header()->set_stamp_ns(o.sample.time_ns);
+    io.frame_pub.publish(io.frame_msg);
+    io.frame_seq = io.frame_msg.header().seq();
+  }
+  if (graph::fill(io.event_msg, o.step.event, io.params.model_name_at(o.sample.time_ns))) io.event_pub.publish(io.event_msg);
+}
+
+void Container::publish_status() {
+  Io& io = *io_;
+  graph::fill(io.status_msg, host_.name(), io.summary, io.felt.device_faults + io.felt.sim_faults, "");
+  io.cuts.fill(io.status_msg);
+  graph::fill_verdict(io.status_msg, sched_.rate_hz, io.summary.ticks, io.summary.overruns, io.cuts);
+  graph::add_counters(io.status_msg, io.out, &io.params.subscriber());
+  io.status_pub.publish(io.status_msg);
+}
+
+// the publisher thread's round: parameter changes to the real-time thread (never more than
+// the queue holds), and every topic for observers
+void Container::drain() {
+  Io& io = *io_;
+  while (const auto change = io.params.next()) io.changes.try_push(*change);
+  while (io.queue.try_pop(io.o)) {
+    take_applied();
+    io.felt.add(io.o);
+    if (io.o.cut != io.cuts.tripped()) io.cuts.update(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
+    io.task_state.step(io.o.sample.time_ns, io.o.step);
+    publish_tick();
+  }
+  io.task_state.publish_due(rt::now_ns(), io.params.model_name());
+  while (io.scenes.try_pop(io.scene)) {
+    take_applied();
+    graph::fill(io.scene_msg, io.scene.snap, io.params.model_name_at(io.scene.tick_ns));
+    io.scene_pub.publish(io.scene_msg);
+  }
+  take_applied();
+  while (io.shown_queue.try_pop(io.levels)) {
+    graph::fill(io.shown_msg, io.rows, io.cols, io.levels.level, io.frame_seq);
+    io.shown_msg.mutable_header()->set_stamp_ns(io.levels.time_ns);
+    io.shown_pub.publish(io.shown_msg);
+  }
+  while (io.summaries.try_pop(io.summary)) publish_status();
+}
+
+void Container::print_summary() {
+  Io& io = *io_;
+  const char* name = host_.name().c_str();
+  const Felt& felt = io.felt;
+  std::printf("%s: %s\n", name, io.report.summary().c_str());
+  std::printf("%s: %s\n", name, rt::format(rt::summarize(io.stats, sched_.rate_hz)).c_str());
+  const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
+  std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
+              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu; %s\n",
+              name, felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
+              static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
+              static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
+              static_cast<unsigned long long>(io.dropped.load()), io.cuts.summary().c_str());
+  const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
+  std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
+  std::fflush(stdout);
+}
+
+int Container::run() {
+  host_.open(10000);
+  graph::ParamBoard& board = host_.board();
+  board.add(sim_p_, sim_name_, sim_name_ + ".");
+  board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
+  board.add(tac_p_, tac_name_, tac_name_ + ".");
+  // the parameter port copies the simulator's model: before the real-time thread starts
+  io_ = std::make_unique<Io>(*this);
+  host_.announce();
+  io_->loop.connect_params(io_->changes, io_->applied);
+  // a recording from the first tick needs its logger subscribed first
+  graph::wait_for_subscribers(io_->out, graph::kDeviceState, observers_, host_.name(), "observer (logger)");
+  std::thread rt_thread([this] { rt_main(); });
+  graph::say(host_.name(), "the loop " + wait_why_);
+  graph::report_ready();
+  while (!rt_done_.load()) {
+    drain();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  rt_thread.join();
+  drain();
+  print_summary();
+  return 0;
+}
+
+}  // namespace enact::node

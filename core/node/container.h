@@ -1,0 +1,52 @@
+#pragma once
+// The co-located real-time container (enact-rt). The simulator and both device drivers run
+// in one process and one real-time thread (read device, step, write force, write pins, in
+// the same tick: graph::ColocatedLoop); observers are fed from lock-free queues by a
+// non-real-time thread, which also plans live parameter changes and hands them to the loop.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "core/devices/device.h"
+#include "core/graph/params.h"
+#include "core/node/host.h"
+#include "core/rt/rt_setup.h"
+#include "core/rt/scheduler.h"
+#include "core/sim/simulator.h"
+
+namespace enact::node {
+
+extern const NodeKind kContainer;
+
+class Container {
+ public:
+  explicit Container(Host& host);  // components configured: bad input refused here
+  ~Container();
+  int run();
+
+ private:
+  struct Io;  // publishers, queues, the loop: made by run()
+  void rt_main();
+  void drain();
+  void publish_tick();
+  void take_applied();
+  void publish_status();
+  void print_summary();
+
+  Host& host_;
+  std::string sim_name_, ffd_name_, tac_name_;
+  graph::Params sim_p_, ffd_p_, tac_p_;
+  rt::SchedulerParams sched_;
+  rt::RtParams rtp_;
+  std::string wait_why_;
+  double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
+  int observers_;
+  sim::Simulator simulator_;
+  std::unique_ptr<devices::ForceDevice> force_;
+  std::unique_ptr<devices::TactileDevice> tactile_;
+  std::unique_ptr<Io> io_;
+  std::atomic<bool> rt_done_{false};
+};
+
+}  // namespace enact::node

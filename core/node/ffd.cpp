@@ -1,0 +1,243 @@
+#include "core/node/ffd.h"
+
+#include <algorithm>
+#include <climits>
+
+#include "core/bus/loop_link.h"
+#include "core/bus/typed.h"
+#include "core/devices/hand.h"
+#include "core/devices/safety.h"
+#include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/topics.h"
+#include "core/graph/watchdog_log.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+#include "core/rt/probe.h"
+#include "core/rt/profile.h"
+#include "core/rt/round_trip.h"
+
+namespace enact::node {
+
+const NodeKind kFfd{.executable = "enact-ffd", .default_name = "ffd", .help = R"(usage: enact-ffd [--name NAME] --param NAME=VALUE...
+
+The force-feedback device driver and clock master of a distributed graph: publishes
+ffd/state at rate_hz, applies the ffd/force answering each sample, publishes node/status
+at 1 Hz (sample-to-force latency percentiles, jitter, drops).
+
+Stops on SIGINT/SIGTERM: zero force first.
+
+parameters (--param NAME=VALUE):
+)", .loop = true};
+
+namespace {
+
+// what the safety layer did, and the force it left the device with
+std::string safety_summary(devices::ForceDevice& device) {
+  const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(&device);
+  if (!safe) return "no safety layer";
+  const bool zero = safe->sent_force_n() == math::Vec3{};
+  return "force steps held to the profile's limit: " + std::to_string(safe->slew_limited()) + ", re-engagements: " +
+         std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
+}
+
+}  // namespace
+
+struct Ffd::Io {
+  Io(Ffd& f)
+      : out(f.host_.out()),
+        state_pub(out, graph::kDeviceState),
+        status_pub(out, graph::kNodeStatus),
+        commands(in, graph::kForceCommand),
+        shown(conflated(shown_in), graph::kTactileShown),
+        hand(f.device_->simulated_hand()),
+        feels_pins(hand && hand->feels_pins()),
+        watchdog(f.host_.name(), "no force answer: force ramped to zero") {}
+  static bus::ByteSubscriber& conflated(bus::ByteSubscriber& s) {
+    s.set_conflate(true);
+    return s;
+  }
+  bus::BytePublisher& out;
+  bus::Publisher<msgs::DeviceState> state_pub;
+  bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::ByteSubscriber in;
+  bus::Subscriber<msgs::ForceCommand> commands;
+  // the hop to the simulator: the same-host link (the bus still carries every state to the
+  // observers), or the bus itself
+  bus::LoopLink link;
+  char answer[bus::LoopLink::kMaxMessage];
+  msgs::ForceCommand command;
+  // a virtual subject's fingertip: the latest pins the tactile driver shows
+  bus::ByteSubscriber shown_in;
+  bus::Subscriber<msgs::TactileShown> shown;
+  msgs::TactileShown shown_msg;
+  devices::HandSource* hand;
+  const bool feels_pins;
+  float levels[32] = {};
+  std::uint64_t pins_felt = 0;
+  std::unique_ptr<rt::PeriodicScheduler> scheduler;
+  rt::LoopStats stats;
+  devices::ForceSample sample;
+  msgs::DeviceState state;
+  msgs::NodeStatus status;
+  // each sample and the answer that carries its seq: unanswered samples, late (stale) answers
+  rt::RoundTrip answers;
+  graph::WatchdogLog watchdog;
+  std::int64_t next_status = 0;
+};
+
+Ffd::Ffd(Host& host)
+    : host_(host),
+      spin_us_(host.params().number("spin_us")),
+      sim_node_(host.params().text("sim_node")),
+      tactile_node_(host.params().text("tactile_node")),
+      duration_s_(host.params().number("duration_s")),
+      observers_(host.params().integer("observers")),
+      local_hop_(host.params().text("loop_transport") != "zeromq") {
+  graph::Params& p = host.params();
+  sched_.rate_hz = p.number("rate_hz");
+  sched_.validate();
+  rtp_.lock_memory = p.flag("lock_memory");
+  rtp_.fifo_priority = p.integer("fifo_priority");
+  device_ = graph::make_force_device(p);
+}
+
+Ffd::~Ffd() = default;
+
+// the hop to the simulator, and its peers: wait until the simulator (and the observers asked
+// for) listen: ZeroMQ drops what it sends before that
+void Ffd::open_hop() {
+  Io& io = *io_;
+  const std::string& name = host_.name();
+  if (local_hop_) {
+    io.link = bus::LoopLink::listen(bus::loop_link_path(graph::graph_dir(), name));
+    io.state_pub.also_over(&io.link);
+  } else {
+    io.in.connect(graph::node_endpoint(sim_node_));
+  }
+  if (io.feels_pins) io.shown_in.connect(graph::node_endpoint(tactile_node_));
+  if (local_hop_) {
+    graph::wait_for_loop_peer(io.link, name, sim_node_);
+    graph::wait_for_subscribers(io.out, graph::kDeviceState, observers_, name, "observer");
+  } else {
+    graph::wait_for_subscribers(io.out, graph::kDeviceState, 1 + observers_, name, "subscriber (the simulator, then observers)");
+  }
+  graph::say(name, local_hop_ ? "loop hop to " + sim_node_ + ": local (Unix link " + io.link.path() + ", read by the loop thread)"
+                              : "loop hop to " + sim_node_ + ": ZeroMQ (loop_transport=zeromq)");
+}
+
+// how to wait, from this machine's probe: the spin window covers its wake-up lateness; a
+// period shorter than twice the lateness is spun whole on the loop's CPU, under normal
+// scheduling (the simulator, woken by each state, still gets the CPU it needs)
+void Ffd::plan_wait() {
+  const rt::RtReport report = rt::apply_rt_setup(rtp_);
+  graph::say(host_.name(), report.summary());
+  const bool fifo = rt::running_fifo();
+  const rt::WaitPlan wait = rt::loop_wait(spin_us_, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_pinned());
+  if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
+  sched_.spin_ns = wait.spin_ns;
+  sched_.sleep_every_tick = !wait.spin_whole_period;
+  graph::say(host_.name(), "the loop " + wait.why);
+  io_->scheduler = std::make_unique<rt::PeriodicScheduler>(sched_);
+}
+
+// the next answer from the simulator until deadline_ns, into io.command: false when none came
+bool Ffd::next_answer(std::int64_t deadline_ns) {
+  Io& io = *io_;
+  if (!local_hop_) {
+    while (graph::wait_readable(io.in.socket(), deadline_ns)) {
+      if (io.commands.receive(io.command, 0)) return true;
+    }
+    return false;
+  }
+  for (long n; (n = io.link.receive(io.answer, sizeof io.answer, deadline_ns)) > 0;) {
+    if (io.commands.accept_payload(io.answer, static_cast<std::size_t>(n), io.command)) return true;
+  }
+  return false;
+}
+
+void Ffd::feel_pins() {
+  Io& io = *io_;
+  if (!io.feels_pins || !io.shown.receive(io.shown_msg, 0)) return;
+  const int n = std::min(io.shown_msg.level_size(), 32);
+  for (int i = 0; i < n; ++i) io.levels[i] = io.shown_msg.level(i);
+  io.hand->feel_pins(io.levels, static_cast<int>(io.shown_msg.rows()), static_cast<int>(io.shown_msg.cols()));
+  ++io.pins_felt;
+}
+
+// one tick: the sample out, its answer in until just before the next tick (an answer to an
+// older sample is too late to apply: counted stale), the force written
+void Ffd::tick(std::int64_t now) {
+  Io& io = *io_;
+  feel_pins();
+  device_->read(now, io.sample);
+  io.watchdog.update(devices::has(io.sample.faults, devices::DeviceFault::watchdog), now);
+  io.state.mutable_header()->set_stamp_ns(0);
+  graph::fill(io.state, io.sample);
+  if (local_hop_ && !io.link.connected()) io.link.accept_peer();  // a respawned simulator
+  io.state_pub.publish(io.state);
+  io.answers.sent(io.state.header().seq(), now);
+  const std::int64_t answer_by = io.scheduler->next_deadline_ns() - io.scheduler->spin_ns();
+  while (next_answer(answer_by)) {
+    if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) continue;
+    device_->write(rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
+    io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
+    break;
+  }
+  io.answers.close();
+  if (now >= io.next_status) publish_status();
+}
+
+void Ffd::publish_status() {
+  Io& io = *io_;
+  io.next_status += 1'000'000'000;
+  rt::take_timing(*io.scheduler, io.stats);
+  graph::fill(io.status, host_.name(), rt::summarize(io.stats, sched_.rate_hz), io.answers.unanswered(),
+              io.answers.unanswered() ? "samples without a force answer in time" : "");
+  graph::add_counters(io.status, io.out, &io.in);
+  io.watchdog.fill(io.status);
+  // every deadline: a sample taken and answered in time, or not (a skipped tick is missed)
+  graph::fill_verdict(io.status, sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
+                      io.answers.unanswered() + io.scheduler->skipped(), io.watchdog);
+  io.status.mutable_header()->set_stamp_ns(0);
+  io.status_pub.publish(io.status);
+}
+
+void Ffd::say_summary() {
+  Io& io = *io_;
+  const std::string& name = host_.name();
+  rt::take_timing(*io.scheduler, io.stats);
+  graph::say(name, rt::format(rt::summarize(io.stats, sched_.rate_hz)) + " Samples without an answer in time: " +
+                       std::to_string(io.answers.unanswered()) + " of " + std::to_string(io.answers.requests()) +
+                       ", late answers: " + std::to_string(io.answers.stale()) +
+                       ", lost answers (seq gaps): " + std::to_string(io.commands.counters().lost) + ".");
+  graph::say(name, io.watchdog.summary() + "; " + safety_summary(*device_));
+  graph::say(name, "verdict: " + graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
+                                                     io.answers.unanswered() + io.scheduler->skipped(), io.watchdog));
+  if (io.feels_pins) graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + tactile_node_ + " (tactile/shown).");
+}
+
+int Ffd::run() {
+  host_.open(1000);
+  io_ = std::make_unique<Io>(*this);
+  host_.announce();
+  open_hop();
+  plan_wait();
+  device_->activate();
+  const std::int64_t start = rt::now_ns() + 1'000'000;
+  const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  io_->next_status = start + 1'000'000'000;
+  io_->scheduler->start(start);
+  graph::report_ready();
+  while (!graph::stop_requested()) {
+    const std::int64_t now = io_->scheduler->wait();
+    if (now >= end) break;
+    tick(now);
+  }
+  device_->deactivate();  // zero force first
+  say_summary();
+  return 0;
+}
+
+}  // namespace enact::node

@@ -1,0 +1,48 @@
+#include "core/node/host.h"
+
+#include <cstdio>
+#include <exception>
+
+#include "core/graph/node.h"
+#include "core/graph/node_params.h"
+#include "core/graph/param_table.h"
+
+namespace enact::node {
+
+Host::Host(const NodeKind& kind, graph::NodeArgs args) : args_(std::move(args)) {
+  args_.params.declare(*graph::node_table(kind.executable));
+  if (!kind.plugins) args_.params.refuse_unknown();
+}
+
+Host::~Host() = default;
+
+void Host::open(int send_hwm) {
+  graph::install_stop_handlers();
+  if (send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = send_hwm});
+  board_ = std::make_unique<graph::ParamBoard>(args_.name);
+  board_->add(args_.params, args_.name);
+}
+
+void Host::announce() {
+  if (out_) graph::announce_topics(*out_);
+  board_->start();
+}
+
+int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body) {
+  try {
+    graph::NodeArgs args = graph::parse_node_args(argc, argv, kind.default_name);
+    if (args.help) {
+      const std::string more = kind.more_help ? kind.more_help() : "";
+      std::fputs((kind.help + graph::help_lines(*graph::node_table(kind.executable)) + more).c_str(), stdout);
+      return 0;
+    }
+    if (kind.loop) graph::apply_rt_profile(args.name);
+    Host host(kind, std::move(args));
+    return body(host);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", kind.executable, e.what());
+    return 1;
+  }
+}
+
+}  // namespace enact::node

@@ -1,0 +1,72 @@
+#pragma once
+// The node host: what every node process of a graph does around its component. It reads
+// the command line (--name, --param, --component, --help, --check), gives --help from the
+// node's parameter table, applies the launcher's real-time profile to a loop process before
+// any socket, declares the table and refuses unknown parameters; then the component reads
+// its parameters (the launcher's --check stops there, binding nothing); then the host
+// installs the stop handlers, binds the node's publisher and its parameter board, and the
+// component runs until a stop request. Errors reach stderr as "enact-x: error: ...", exit 1.
+//
+//   int main(int argc, char** argv) { return enact::node::host_main<enact::node::Tactile>(enact::node::kTactile, argc, argv); }
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "core/bus/bytes.h"
+#include "core/graph/param_board.h"
+#include "core/graph/params.h"
+
+namespace enact::node {
+
+// what a node executable is
+struct NodeKind {
+  const char* executable;    // its name, and the key of its parameter table (graph::node_table)
+  const char* default_name;  // the node's name without --name
+  const char* help;          // usage and what it does; the parameter list follows
+  bool loop = false;         // a loop process: the launcher's real-time profile applies
+  bool plugins = false;      // it hosts components (--component): it checks their parameters itself
+  std::string (*more_help)() = nullptr;  // after the parameter list (a container's components)
+};
+
+class Host {
+ public:
+  Host(const NodeKind& kind, graph::NodeArgs args);
+  Host(const Host&) = delete;
+  Host& operator=(const Host&) = delete;
+  ~Host();
+
+  const std::string& name() const { return args_.name; }
+  graph::Params& params() { return args_.params; }
+  const graph::NodeArgs& args() const { return args_; }
+  // only checking the parameters (--check): the component is made, then nothing runs
+  bool checking() const { return args_.check; }
+
+  // the node's publisher and parameter board (its own parameters added), bound by open()
+  bus::BytePublisher& out() { return *out_; }
+  graph::ParamBoard& board() { return *board_; }
+  // stop handlers, publisher (`send_hwm` messages queued per subscriber; 0: a node that
+  // publishes nothing of its own has none), parameter board
+  void open(int send_hwm);
+  // every typed publisher made: the launcher is told the topics, the board starts
+  void announce();
+
+ private:
+  graph::NodeArgs args_;
+  std::unique_ptr<bus::BytePublisher> out_;
+  std::unique_ptr<graph::ParamBoard> board_;
+};
+
+// runs `body` as node `kind` (see above); its result is the exit code
+int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body);
+
+// a node process running component C: C(Host&) reads and checks its parameters, C::run()
+// opens the host and runs until a stop request (its result is the exit code)
+template <class C>
+int host_main(const NodeKind& kind, int argc, char** argv) {
+  return run_node(kind, argc, argv, [](Host& host) {
+    C component(host);
+    return host.checking() ? 0 : component.run();
+  });
+}
+
+}  // namespace enact::node

@@ -1,0 +1,232 @@
+#include "core/node/sim.h"
+
+#include <climits>
+#include <cstdlib>
+
+#include "core/bus/loop_link.h"
+#include "core/bus/typed.h"
+#include "core/graph/components.h"
+#include "core/graph/messages.h"
+#include "core/graph/node.h"
+#include "core/graph/param_bus.h"
+#include "core/graph/task_state.h"
+#include "core/graph/topics.h"
+#include "core/rt/clock.h"
+#include "core/rt/loop_stats.h"
+
+namespace enact::node {
+
+const NodeKind kSim{.executable = "enact-sim", .default_name = "sim", .help = R"(usage: enact-sim [--name NAME] --param NAME=VALUE...
+
+The simulator of a distributed graph: for every ffd/state it steps the model and answers
+on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
+sim/scene (scene_rate_hz), task/event, task/state (10 Hz and on change) and node/status
+(1 Hz). Parameter changes on
+param/set (NAME.model, NAME.stiffness_n_per_m, ...: README "Live viewer") are applied
+between two DeviceStates and answered on param/ack.
+
+parameters (--param NAME=VALUE; live: enact param set NAME.PARAM VALUE while it runs):
+)", .loop = true};
+
+namespace {
+
+// how often parameter requests are looked for while states flow
+constexpr std::int64_t kParamPoll_ns = 10'000'000;
+
+// the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
+int respawn_count() {
+  const char* n = std::getenv("ENACT_RESPAWN");
+  return n ? std::atoi(n) : 0;
+}
+
+}  // namespace
+
+struct Sim::Io {
+  explicit Io(Sim& s)
+      : out(s.host_.out()),
+        force_pub(out, graph::kForceCommand),
+        frame_pub(out, graph::kTactileFrame),
+        scene_pub(out, graph::kSceneState),
+        event_pub(out, graph::kTaskEvent),
+        status_pub(out, graph::kNodeStatus),
+        states(in, graph::kDeviceState),
+        ffd_endpoint(graph::node_endpoint(s.ffd_node_)),
+        link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.ffd_node_) : ""),
+        params(s.simulator_, s.host_.name(), out, event_pub, &s.host_.board()),
+        task_state(out) {
+    force_pub.also_over(&link);
+    in.connect(ffd_endpoint);
+  }
+  bus::BytePublisher& out;
+  bus::Publisher<msgs::ForceCommand> force_pub;
+  bus::Publisher<msgs::TactileFrame> frame_pub;
+  bus::Publisher<msgs::SceneState> scene_pub;
+  bus::Publisher<msgs::TaskEvent> event_pub;
+  bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::ByteSubscriber in;
+  bus::Subscriber<msgs::DeviceState> states;
+  // the hop from the FFD driver: its same-host link once it listens (tried each time no
+  // state came for a while, so again after it restarts), the bus until then and whenever the
+  // node feeding the simulator has no link (`enact play` of a recording, a remote driver)
+  const std::string ffd_endpoint, link_path;
+  bus::LoopLink link;
+  char sample[bus::LoopLink::kMaxMessage];
+  graph::ParamPort params;
+  graph::TaskStateTracker task_state;
+  msgs::ForceCommand command;
+  msgs::TactileFrame frame;
+  msgs::SceneState scene;
+  graph::SceneSnapshot snap;
+  msgs::TaskEvent event;
+  msgs::NodeStatus status;
+  rt::LoopStats stats;
+};
+
+Sim::Sim(Host& host)
+    : host_(host),
+      ffd_node_(host.params().text("ffd_node")),
+      scene_rate_hz_(host.params().number("scene_rate_hz")),
+      observers_(host.params().integer("observers")),
+      reengage_(host.params().number("reengage_s")),
+      local_hop_(host.params().text("loop_transport") != "zeromq") {
+  simulator_.configure(graph::sim_params(host.params()));
+}
+
+Sim::~Sim() = default;
+
+// the next state within timeout_ns, into state_: false when none came
+bool Sim::next_state(std::int64_t timeout_ns) {
+  Io& io = *io_;
+  const std::int64_t deadline = rt::now_ns() + timeout_ns;
+  if (local_hop_ && !io.link.connected() && rt::now_ns() >= next_link_try_ns_) {
+    next_link_try_ns_ = rt::now_ns() + 100'000'000;  // tried every 100 ms while there is none
+    io.link = bus::LoopLink::connect(io.link_path, 0);
+    // the states come over the link alone now (the bus would deliver each twice)
+    if (io.link.connected()) io.in.disconnect(io.ffd_endpoint);
+  }
+  if (!io.link.connected()) return io.states.receive(state_, static_cast<int>(timeout_ns / 1'000'000));
+  for (long n; (n = io.link.receive(io.sample, sizeof io.sample, deadline)) > 0;) {
+    if (io.states.accept_payload(io.sample, static_cast<std::size_t>(n), state_)) return true;
+  }
+  if (!io.link.connected()) io.in.connect(io.ffd_endpoint);  // the driver left: back to the bus
+  return false;
+}
+
+// step on state_ and answer it at once; after an interruption (the driver's watchdog or a
+// device error cut the force) from a body re-synchronised with the device
+void Sim::answer(std::int64_t received_ns) {
+  Io& io = *io_;
+  if (first_ns_ < 0) {
+    first_ns_ = state_.header().stamp_ns();
+    next_scene_ = next_status_ = received_ns;
+  }
+  if (graph::force_path_cut(state_.faults())) reengage_.interrupt();
+  const std::int64_t step_ns = state_.header().stamp_ns() - first_ns_;
+  const sim::StepOutput& o = simulator_.step(step_ns, reengage_.position(simulator_, step_ns, graph::get(state_.position())));
+  graph::fill(io.command, state_.header().seq(), o.force_n, o.fault);
+  io.force_pub.publish(io.command);
+  io.stats.latency.record(rt::now_ns() - received_ns);
+  io.params.stepped(simulator_.steps(), state_.header().seq(), state_.header().stamp_ns());
+  ++steps_;
+  io.task_state.step(step_ns, o);
+  publish_outputs(o, received_ns);
+}
+
+// what observers see of a step: its frame, task event, the scene and status when due
+void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
+  Io& io = *io_;
+  const physics::Proxy& body = simulator_.model().proxies[0];
+  if (o.frame_due) {
+    graph::fill(io.frame, body.rows, body.cols, o.frame);
+    io.frame_pub.publish(io.frame);
+  }
+  task::TaskEvent when = o.event;
+  when.time_ns += first_ns_;  // back on the device's clock
+  if (graph::fill(io.event, when, simulator_.computer_model().name)) io.event_pub.publish(io.event);
+  if (received_ns >= next_scene_) {
+    next_scene_ = received_ns + scene_period_ns_;
+    graph::snapshot(simulator_, o.pins, o.force_n, io.snap);
+    graph::fill(io.scene, io.snap, simulator_.computer_model().name);
+    io.scene_pub.publish(io.scene);
+  }
+  if (received_ns >= next_status_) {
+    next_status_ = received_ns + 1'000'000'000;
+    io.stats.ticks = steps_;
+    graph::fill(io.status, host_.name(), rt::summarize(io.stats, simulator_.model().rate_hz), simulator_.state().faults,
+                physics::to_string(simulator_.state().last_fault));
+    graph::add_counters(io.status, io.out, &io.in);
+    io.status_pub.publish(io.status);
+  }
+}
+
+// parameter changes (planned on the port's thread), between two steps
+void Sim::apply_params() {
+  Io& io = *io_;
+  while (const auto change = io.params.next()) {
+    const sim::ParamApplied done = simulator_.apply(*change, rt::now_ns());
+    io.params.applied(done);
+    io.task_state.applied(done.kind);
+  }
+  // a new simulator's trial start, recorded once the attach point listens
+  if (!restart_event_due_) return;
+  restart_event_due_ = false;
+  io.event.set_kind(msgs::TaskEvent::TRIAL_START);
+  io.event.set_time_ns(restart_ns_);
+  io.event.set_condition(simulator_.computer_model().name);
+  io.event.set_detail("simulator restarted (respawn " + std::to_string(respawn_) + "): physics and task start over");
+  io.event_pub.publish(io.event);
+}
+
+// a new simulator: physics and task start over, said now and recorded. The attach point
+// reconnects to its endpoint within its reconnect interval: the first answer waits for it
+// (a second at most; the driver holds the force at zero meanwhile), or the recording and
+// every observer would miss the new stream's start
+void Sim::restart_begins() {
+  respawn_ = respawn_count();
+  restart_event_due_ = respawn_ > 0;
+  restart_ns_ = rt::now_ns();
+  if (!restart_event_due_) return;
+  graph::await_subscribers(io_->out, graph::kForceCommand, local_hop_ ? 1 : 2, restart_ns_ + 1'000'000'000);
+  graph::say(host_.name(), "simulator restarted (respawn " + std::to_string(respawn_) + "): physics and task start over");
+}
+
+std::string Sim::summary() const {
+  const task::Metrics m = simulator_.metrics();
+  return std::to_string(steps_) + " steps; receive-to-answer " + rt::format(rt::summarize(io_->stats, simulator_.model().rate_hz)) +
+         " Task: falls " + std::to_string(m.falls) + ", progress " + std::to_string(m.progress) + (m.completed ? " (completed)" : "") +
+         "; device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + "; re-synchronised with the device " +
+         std::to_string(reengage_.count()) + " times (largest offset " + std::to_string(reengage_.largest_offset_m() * 1e3) + " mm).";
+}
+
+int Sim::run() {
+  host_.open(1000);
+  io_ = std::make_unique<Io>(*this);
+  host_.announce();
+  scene_period_ns_ = scene_rate_hz_ > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz_) : INT64_MAX;
+  // observers asked for (a logger recording a replay from its first step) listen first
+  graph::wait_for_subscribers(io_->out, graph::kForceCommand, observers_, host_.name(), "observer (logger)");
+  restart_begins();
+  simulator_.activate(0);
+  reengage_.interrupt();
+  graph::report_ready();
+  while (!graph::stop_requested()) {
+    io_->task_state.publish_due(rt::now_ns(), simulator_.computer_model().name);
+    if (!next_state(100'000'000)) {
+      apply_params();
+      continue;
+    }
+    const std::int64_t received = rt::now_ns();
+    answer(received);
+    // answered and every output of this step sent: now is between two steps (a change
+    // applied earlier would alter this step's tactile frame, which replay would not see)
+    if (received >= next_params_) {
+      next_params_ = received + kParamPoll_ns;
+      apply_params();
+    }
+  }
+  simulator_.deactivate();
+  graph::say(host_.name(), summary());
+  return 0;
+}
+
+}  // namespace enact::node

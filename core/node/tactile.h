@@ -1,0 +1,29 @@
+#pragma once
+// The tactile display driver of a distributed graph (enact-tactile). It applies each
+// TactileFrame to the pins and publishes what they physically show (after the cells' rise
+// time) on tactile/shown. On stop it lowers every pin, and when frames stop coming for
+// longer than watchdog_s (the simulator hangs or died) too, until they come again.
+#include <memory>
+#include <string>
+
+#include "core/devices/device.h"
+#include "core/node/host.h"
+
+namespace enact::node {
+
+extern const NodeKind kTactile;
+
+class Tactile {
+ public:
+  explicit Tactile(Host& host);  // the device made from its parameters
+  int run();
+
+ private:
+  Host& host_;
+  std::unique_ptr<devices::TactileDevice> device_;
+  std::string sim_node_;
+  double shown_rate_hz_;
+  double watchdog_s_;
+};
+
+}  // namespace enact::node
