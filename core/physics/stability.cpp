@@ -48,6 +48,10 @@ std::vector<Element> elements_on(const Model& m, int i) {
       if (o != c && !objects_overlap(m, m.objects[c->object], m.objects[o->object])) continue;
       group.push_back({"contact of '" + m.points[i].name + "' with '" + m.objects[o->object].name + "'", o->stiffness_n_per_m, o->damping_n_s_per_m});
       demand += o->stiffness_n_per_m + 2.0 * o->damping_n_s_per_m / m.dt_s;
+      // friction's anchor spring acts across the normal: counted as if along it (an upper bound)
+      if (!o->friction.enabled()) continue;
+      group.push_back({"friction of '" + m.points[i].name + "' with '" + m.objects[o->object].name + "'", o->friction.stiffness_n_per_m, 0.0});
+      demand += o->friction.stiffness_n_per_m;
     }
     if (demand > best_demand) {
       best_demand = demand;

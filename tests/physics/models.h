@@ -106,7 +106,7 @@ inline int add_plane(Model& m, const std::string& name, Vec3 point_m, Vec3 norma
   return static_cast<int>(m.objects.size()) - 1;
 }
 
-inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0}); }
+inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0, 0, false, {}}); }
 
 // the bridge scene at `rate_hz` with a computer model applied
 inline Model bridge(double rate_hz, const std::string& computer_model = "CM1") {
