@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/physics/stability.h"
 #include "tests/physics/models.h"
 #include "tests/support/refusal.h"
 
@@ -276,6 +277,26 @@ TEST(FrictionOff, ZeroedFrictionGivesTheForcesOfTheSceneWithoutIt) {
   const std::vector<Vec3> motion = models::scripted_motion(kRate_hz);
   EXPECT_EQ(differing_steps(without, zeroed, motion), 0);
   EXPECT_GT(differing_steps(without, with, motion), static_cast<long>(motion.size()) / 10) << "friction acts on the scripted path";
+}
+
+// --- stability: a pair is as stiff as the stiffer of its contact and anchor springs ---
+
+// a 10 g mass at 1 kHz (explicit bound 4M = 40000 N/m) on a 20000 N/m plane: an anchor spring
+// softer than the contact adds nothing, a stiffer one counts as itself, past the bound refused
+TEST(FrictionStability, APairCountsAsTheStifferOfItsTwoSprings) {
+  for (const double anchor_n_per_m : {10000.0, 30000.0, 45000.0}) {
+    Model m;
+    m.source = "s.yaml";
+    m.set_rate(1000.0);
+    const int mass = models::add_point(m, "ball", PointKind::dynamic, {}, 0.01);
+    models::add_contact(m, mass, models::add_plane(m, "floor", {}, {0, 0, 1}), 20000.0, 0.0);
+    m.contacts[0].friction = {kStatic, kDynamic, anchor_n_per_m};
+    const StabilityReport r = analyze_stability(m);
+    EXPECT_EQ(r.masses[0].stiffness_n_per_m, std::max(20000.0, anchor_n_per_m)) << anchor_n_per_m;
+    EXPECT_EQ(r.stable(), anchor_n_per_m < 40000.0) << anchor_n_per_m;
+    const std::string message = instability_message(m, r);
+    EXPECT_EQ(message.find("lower the stiffness of friction of 'ball' with 'floor'") != std::string::npos, !r.stable()) << message;
+  }
 }
 
 // --- the scene key ---
