@@ -43,9 +43,10 @@ struct Block {
 };
 
 // the block rests at its static depth in the plane; the hand (proxy 0) holds the pull spring
-Block block_on_plane(double rate_hz) {
+Block block_on_plane(Integrator integrator, double rate_hz) {
   Block b;
   Model& m = b.model;
+  m.integrator = integrator;
   m.set_rate(rate_hz);
   m.gravity_m_per_s2 = {0, 0, -kGravity_m_per_s2};
   const Vec3 rest{0, 0, -kLoad_n / kPlaneStiffness_n_per_m};
@@ -76,11 +77,18 @@ BlockForces block_forces(const Block& b, const State& s) {
   return {pull.x, contact.z, contact.x, at.x, s.v[b.block].x};
 }
 
-class BlockPulled : public ::testing::TestWithParam<double> {};
+struct BlockCase {
+  Integrator integrator;
+  double rate_hz;
+};
+
+// (implicit_euler is left out: its per-mass stiffness acts in every direction, so the plane's
+// stiffness drags the sliding block by dt k and it creeps along instead of coming to rest)
+class BlockPulled : public ::testing::TestWithParam<BlockCase> {};
 
 TEST_P(BlockPulled, SticksUntilStaticThenSlidesAgainstDynamic) {
-  const double rate_hz = GetParam();
-  const Block b = block_on_plane(rate_hz);
+  const double rate_hz = GetParam().rate_hz;
+  const Block b = block_on_plane(GetParam().integrator, rate_hz);
   State s = make_state(b.model);
   const double stuck_m = kStatic * kLoad_n / kFrictionStiffness_n_per_m;  // the stiction spring's compliance
   const long steps = std::lround(7.0 * rate_hz);
@@ -111,8 +119,10 @@ TEST_P(BlockPulled, SticksUntilStaticThenSlidesAgainstDynamic) {
   EXPECT_GT(sliding_steps, static_cast<int>(0.05 * rate_hz)) << "it slid for at least 50 ms";
 }
 
-INSTANTIATE_TEST_SUITE_P(Rates, BlockPulled, ::testing::Values(1000.0, 5000.0, 44000.0),
-                         [](const auto& p) { return std::to_string(static_cast<int>(p.param)) + "Hz"; });
+INSTANTIATE_TEST_SUITE_P(Rates, BlockPulled,
+                         ::testing::Values(BlockCase{Integrator::cordis, 1000.0}, BlockCase{Integrator::cordis, 5000.0},
+                                           BlockCase{Integrator::cordis, 44000.0}, BlockCase{Integrator::symplectic_euler, 1000.0}),
+                         [](const auto& p) { return std::string(to_string(p.param.integrator)) + "_" + std::to_string(static_cast<int>(p.param.rate_hz)); });
 
 // --- a device body pressed into a plane and slid along it, then back ---
 
