@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -141,7 +140,7 @@ Model body_on_plane(double rate_hz) {
   return m;
 }
 
-// the tangential force on grid point i along `along`, and each point feels the same
+// the force on the first grid point along `along`; every grid point feels the same
 double point_friction_n(const Model& m, const State& s, const Vec3& along) {
   const Proxy& p = m.proxies[0];
   const double first = dot(s.f[p.first_body], along);
