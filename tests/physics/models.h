@@ -174,7 +174,6 @@ inline bool state_finite(const State& s) {
   return true;
 }
 
-
 // a body wandering over [low, high]: smooth random accelerations, now and then a burst of
 // speed (up to ~0.5 m/s) or a stop, bouncing off the region's walls
 class Walk {
