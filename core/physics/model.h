@@ -101,6 +101,16 @@ struct Object {
   int line = 0;
 };
 
+// Coulomb friction with stiction on a contact pair (scene key friction:): a tangential spring
+// ties the point to an anchor that slides once the spring pulls harder than the limit
+// (step.cpp, friction_force; ContactState::anchor_m)
+struct Friction {
+  double static_coeff = 0.0;       // the most the spring holds while stuck, per newton of normal force
+  double dynamic_coeff = 0.0;      // what it pulls with while sliding, per newton of normal force (<= static)
+  double stiffness_n_per_m = 0.0;  // the anchor spring's; 0: no friction (the default)
+  bool enabled() const { return stiffness_n_per_m > 0.0; }
+};
+
 // a point against a rigid object: unilateral visco-elastic contact
 struct ContactPair {
   int point = -1;
@@ -112,6 +122,7 @@ struct ContactPair {
   // energy-consistent (scene key passive: true): the spring never returns more energy than it
   // absorbed, and returns what it holds on the step the point leaves (ContactState::ledger_j)
   bool passive = false;
+  Friction friction;  // none by default: the normal force alone, as without the key
 };
 
 // a device proxy: a point whose position the device imposes, with an exploratory body of

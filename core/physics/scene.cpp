@@ -242,9 +242,28 @@ struct Loader {
     return out;
   }
 
+  // friction: {static: 0.6, dynamic: 0.4, stiffness_n_per_m: 2000}; absent: none
+  Friction friction(const Map& contact) {
+    if (!contact.has("friction")) return {};
+    Map m(contact.get("friction"), file, "contact.friction", {"static", "dynamic", "stiffness_n_per_m"});
+    const char* example = "write e.g. friction: {static: 0.6, dynamic: 0.4, stiffness_n_per_m: 2000}";
+    for (const char* key : {"static", "dynamic", "stiffness_n_per_m"}) {
+      if (!m.has(key)) m.fail(key, std::string("contact.friction needs ") + key, example);
+    }
+    Friction f;
+    f.static_coeff = m.positive("static", 0.0, true);
+    f.dynamic_coeff = m.positive("dynamic", 0.0, true);
+    f.stiffness_n_per_m = m.positive("stiffness_n_per_m");
+    if (f.dynamic_coeff > f.static_coeff) {
+      m.fail("dynamic", "contact.friction.dynamic (" + m.get("dynamic").Scalar() + ") is above static (" + m.get("static").Scalar() + ")",
+             "make dynamic <= static: a contact never slides against more friction than it sticks with");
+    }
+    return f;
+  }
+
   void contacts(const Map& scene) {
     for (const auto& n : scene.list("contacts")) {
-      Map m(n, file, "contact", {"masses", "objects", "stiffness_n_per_m", "damping_n_s_per_m", "edge_skin_m", "passive"});
+      Map m(n, file, "contact", {"masses", "objects", "stiffness_n_per_m", "damping_n_s_per_m", "edge_skin_m", "passive", "friction"});
       const std::vector<int> pts = contact_points(m);
       const YAML::Node objs = m.get("objects");
       if (!objs.IsSequence()) m.fail("objects", "objects must be a list of object names", "write e.g. objects: [bridge, floor]");
@@ -252,11 +271,12 @@ struct Loader {
       const double z = m.positive("damping_n_s_per_m", 0.0, true);
       const double skin = m.positive("edge_skin_m", 0.001, true);
       const bool passive = m.flag("passive", false);
+      const Friction fr = friction(m);
       for (const auto& o : objs) {
         const std::string name = config::scalar(file, o, "an object in contacts");
         const int oi = model.find_object(name);
         if (oi < 0) config::fail(file, o, "unknown object '" + name + "'", "name an object defined under objects:");
-        for (int p : pts) model.contacts.push_back({p, oi, k, z, skin, m.line(), passive});
+        for (int p : pts) model.contacts.push_back({p, oi, k, z, skin, m.line(), passive, fr});
       }
     }
   }

@@ -48,6 +48,14 @@ std::vector<Element> elements_on(const Model& m, int i) {
       if (o != c && !objects_overlap(m, m.objects[c->object], m.objects[o->object])) continue;
       group.push_back({"contact of '" + m.points[i].name + "' with '" + m.objects[o->object].name + "'", o->stiffness_n_per_m, o->damping_n_s_per_m});
       demand += o->stiffness_n_per_m + 2.0 * o->damping_n_s_per_m / m.dt_s;
+      // friction's anchor spring acts across the normal, the contact's spring along it: the pair
+      // is at most as stiff as the stiffer of the two in any direction (and stiffest directions
+      // of several pairs add up to no more than their sum), so only what the anchor spring
+      // has beyond the contact's stiffness counts
+      const double beyond = o->friction.stiffness_n_per_m - o->stiffness_n_per_m;
+      if (beyond <= 0.0) continue;
+      group.push_back({"friction of '" + m.points[i].name + "' with '" + m.objects[o->object].name + "'", beyond, 0.0});
+      demand += beyond;
     }
     if (demand > best_demand) {
       best_demand = demand;

@@ -3,7 +3,8 @@
 //  - Per dynamic mass, the discrete stability bound of the integrator at the model's rate.
 //    Explicit schemes (cordis, symplectic_euler; the same recurrence): K + 2Z < 4M with
 //    K = sum of stiffness, Z = sum of damping / dt, M = m / dt^2, summed over every link and
-//    contact that can act on the mass at once, a link between two masses twice (Gershgorin:
+//    contact (with its friction's anchor spring, across the normal: the stiffer of the two)
+//    that can act on the mass at once, a link between two masses twice (Gershgorin:
 //    two masses moving against each other load it twice; von Neumann analysis of
 //    x(n+1) = 2x(n) - x(n-1) - (K x(n) + Z (x(n) - x(n-1))) / M).
 //    implicit_euler takes each mass's own stiffness and damping at the new state: its

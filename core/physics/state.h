@@ -42,6 +42,12 @@ struct ContactState {
   double spring_n = 0.0;
   double damper_n = 0.0;
   Vec3 work_from_m;
+  // friction (ContactPair::friction): the anchor the point is tied to by the tangential spring,
+  // on the tangent plane through the point; set on the first step the contact pushes, released
+  // on the first it does not. sliding: it slipped last step (the dynamic limit holds until it sticks)
+  Vec3 anchor_m;
+  bool anchored = false;
+  bool sliding = false;
 };
 
 // the contact pairs of one device body against one object: each step, when a sphere around

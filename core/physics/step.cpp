@@ -13,6 +13,9 @@ constexpr double kMinDirection_m = 1e-12;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // added to a pair group's sphere: far above the rounding of a body point's position (m)
 constexpr double kCullMargin_m = 1e-6;
+// friction: a sliding point keeps sliding while its spring's pull grows by more than this
+// fraction per step (far above the rounding of anchor positions, far below a step's slip)
+constexpr double kSlideTolerance = 1e-9;
 
 // the implicit integrator's per-point stiffness and damping (not needed by the explicit ones)
 void add_stiffness(const Model& m, State& s, int i, double k, double z) {
@@ -92,20 +95,58 @@ void observe(const State& s, int point, ContactState& cs) {
   cs.spring_n = 0.0;
 }
 
+// Coulomb friction with stiction on a contact pushing with normal_n. The point is tied to an
+// anchor on its tangent plane by a spring: the adhesion point of Hayward & Armstrong (2000), "A
+// new computational model of friction applied to haptic rendering", which stays put while the
+// spring holds and is dragged behind the point once it does not (no velocity is needed, and a
+// point at rest does not drift). The spring holds up to static_coeff * normal_n; past that the
+// anchor slides so that the spring pulls with dynamic_coeff * normal_n against the slip, and
+// the dynamic limit holds until the point stops sliding (the stick/slip switch of Karnopp
+// (1985), "Computer simulation of stick-slip friction in mechanical dynamic systems", taken on
+// the spring's stretch instead of a band of velocity)
+void friction_force(const Model& m, const ContactPair& c, State& s, ContactState& cs, double normal_n) {
+  const Friction& fr = c.friction;
+  const Vec3 x = s.x[c.point];
+  if (!cs.anchored) {
+    cs.anchor_m = x;
+    cs.anchored = true;
+    cs.sliding = false;
+  }
+  // the spring's stretch across the normal
+  const Vec3 d = x - cs.anchor_m;
+  Vec3 stretch = d - cs.normal * dot(cs.normal, d);
+  const double k = fr.stiffness_n_per_m;
+  const double pull_n = k * norm(stretch);
+  // a sliding point that stopped (within rounding) sticks
+  const double limit_n = cs.sliding ? fr.dynamic_coeff * normal_n * (1.0 + kSlideTolerance) : fr.static_coeff * normal_n;
+  cs.sliding = pull_n > limit_n;
+  if (cs.sliding) {
+    stretch = stretch * (fr.dynamic_coeff * normal_n / pull_n);
+  } else {
+    add_stiffness(m, s, c.point, k, 0.0);
+  }
+  cs.anchor_m = x - stretch;
+  s.f[c.point] -= stretch * k;
+}
+
 // unilateral visco-elastic contact of a point against a rigid object
 void contact_force(const Model& m, const ContactPair& c, State& s) {
   ContactState& cs = s.contacts[&c - m.contacts.data()];
   if (c.passive) observe(s, c.point, cs);
   const double depth = update_contact(m, m.objects[c.object], s.x_prev[c.point], s.x[c.point], c.edge_skin_m, cs, s.hold);
+  const double felt = depth - m.points[c.point].contact_threshold_m;
+  // friction only while the contact pushes: a new push anchors afresh
+  if (depth <= 0.0 || felt <= 0.0) cs.anchored = false;
   if (depth <= 0.0) return;
   s.in_contact[c.point] = 1;
-  const double felt = depth - m.points[c.point].contact_threshold_m;
   if (felt <= 0.0) return;
   // push only: damping may slow the separation but never pulls the point in
   const double spring = c.stiffness_n_per_m * felt;
   const double damper = c.damping_n_s_per_m * dot(s.v[c.point], cs.normal);
-  s.f[c.point] += cs.normal * std::max(0.0, spring - damper);
+  const double push = std::max(0.0, spring - damper);
+  s.f[c.point] += cs.normal * push;
   add_stiffness(m, s, c.point, c.stiffness_n_per_m, c.damping_n_s_per_m);
+  if (c.friction.enabled()) friction_force(m, c, s, cs, push);
   if (!c.passive) return;
   cs.spring_n = spring;
   cs.damper_n = damper;
@@ -238,6 +279,7 @@ void accumulate_forces(const Model& m, State& s) {
       // what update_contact would find: the point is in no box and above every plane
       s.contacts[k].active = false;
       s.contacts[k].depth_m = 0.0;
+      s.contacts[k].anchored = false;
     }
   }
 }

@@ -70,7 +70,7 @@ Model bounce(Integrator integrator, double rate_hz, bool passive) {
   floor.type = physics::ObjectType::plane;
   floor.plane_normal = {0.0, 0.0, 1.0};
   m.objects = {floor};
-  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m, .passive = passive}};
+  m.contacts = {{.point = 0, .object = 0, .stiffness_n_per_m = kContactStiffness_n_per_m, .passive = passive, .friction = {}}};
   m.set_rate(rate_hz);
   return m;
 }

@@ -1,8 +1,10 @@
 // The step allocates nothing: on the bridge with the body entering and leaving contact and
-// crossing the corner of a turn, and on a model with every link type under every integrator.
+// crossing the corner of a turn (with friction and without), and on a model with every link
+// type under every integrator.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "tests/physics/models.h"
@@ -26,13 +28,12 @@ TEST(NoAllocation, TheGuardCountsAllocations) {
 }
 
 // the body traces a rose around the first turn's corner (through the corner ten times) while
-// bobbing from above the top to 2 mm into it
-TEST(NoAllocation, BridgeStepWithTheBodyCrossingContactsAndACorner) {
-  const Model m = models::bridge(5000.0, "CM1");
+// bobbing from above the top to 2 mm into it; with friction, its pairs stick and slide
+void bridge_rose(const Model& m) {
   const Vec3 corner = m.objects[m.find_object("bridge")].path.centerline_m[1];
   const Proxy& p = m.proxies[0];
   State s = make_state(m);
-  int entered = 0, left = 0, near_corner_in_contact = 0;
+  int entered = 0, left = 0, near_corner_in_contact = 0, sliding = 0;
   std::size_t allocations = 0;
   {
     enact::test::AllocGuard guard;
@@ -45,6 +46,7 @@ TEST(NoAllocation, BridgeStepWithTheBodyCrossingContactsAndACorner) {
       entered += !was && s.in_contact[p.first_body];
       left += was && !s.in_contact[p.first_body];
       near_corner_in_contact += std::abs(r) < 0.001 && norm(s.proxy_force_n[0]) > 0.0;
+      for (const ContactState& c : s.contacts) sliding += c.sliding;
     }
     allocations = guard.allocations();
   }
@@ -52,7 +54,16 @@ TEST(NoAllocation, BridgeStepWithTheBodyCrossingContactsAndACorner) {
   EXPECT_GT(entered, 0);
   EXPECT_GT(left, 0);
   EXPECT_GT(near_corner_in_contact, 0);
+  EXPECT_EQ(sliding > 0, m.contacts.front().friction.enabled());
   EXPECT_EQ(s.faults, 0u);
+}
+
+TEST(NoAllocation, BridgeStepWithTheBodyCrossingContactsAndACorner) { bridge_rose(models::bridge(5000.0, "CM1")); }
+
+TEST(NoAllocation, FrictionalBridgeStep) {
+  Model m = models::bridge(5000.0, "CM1");
+  models::add_friction(m, {0.6, 0.4, 2000.0});
+  bridge_rose(m);
 }
 
 // masses chained by every link type, driven by a moving proxy, against a box and a plane
@@ -94,26 +105,33 @@ Model every_link_type() {
   return m;
 }
 
+// driven for kSteps by the hand, with friction on every contact pair of the masses or without
+void drive(Integrator integrator, bool friction) {
+  SCOPED_TRACE(std::string(to_string(integrator)) + (friction ? " with friction" : ""));
+  Model m = every_link_type();
+  m.integrator = integrator;
+  if (friction) models::add_friction(m, {0.6, 0.4, 500.0});
+  State s = make_state(m);
+  int contacts = 0;
+  std::size_t allocations = 0;
+  {
+    enact::test::AllocGuard guard;
+    for (int n = 0; n < kSteps; ++n) {
+      s.proxy_position_m[0] = {0.01 + 0.01 * std::sin(2.0 * models::kPi * n / 2000.0), 0, 0.02};
+      step(m, s);
+      for (const std::uint8_t c : s.in_contact) contacts += c;
+    }
+    allocations = guard.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(contacts, 0);
+  EXPECT_EQ(s.faults, 0u);
+}
+
 TEST(NoAllocation, EveryLinkTypeUnderEveryIntegrator) {
   for (const Integrator integrator : {Integrator::cordis, Integrator::symplectic_euler, Integrator::implicit_euler}) {
-    SCOPED_TRACE(to_string(integrator));
-    Model m = every_link_type();
-    m.integrator = integrator;
-    State s = make_state(m);
-    int contacts = 0;
-    std::size_t allocations = 0;
-    {
-      enact::test::AllocGuard guard;
-      for (int n = 0; n < kSteps; ++n) {
-        s.proxy_position_m[0] = {0.01 + 0.01 * std::sin(2.0 * models::kPi * n / 2000.0), 0, 0.02};
-        step(m, s);
-        for (const std::uint8_t c : s.in_contact) contacts += c;
-      }
-      allocations = guard.allocations();
-    }
-    EXPECT_EQ(allocations, 0u);
-    EXPECT_GT(contacts, 0);
-    EXPECT_EQ(s.faults, 0u);
+    drive(integrator, false);
+    drive(integrator, true);
   }
 }
 

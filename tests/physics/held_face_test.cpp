@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cstdio>
 #include <random>
 
@@ -15,38 +14,7 @@
 namespace enact::physics {
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool same_bits(const Vec3& a, const Vec3& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
-
-// a body wandering over [low, high]: smooth random accelerations, now and then a burst of
-// speed (up to ~0.5 m/s) or a stop, bouncing off the region's walls
-class Walk {
- public:
-  Walk(Vec3 low, Vec3 high, unsigned seed) : low_(low), high_(high), random_(seed) { x_ = (low + high) * 0.5; }
-
-  Vec3 next(double dt_s) {
-    std::normal_distribution<double> noise(0.0, 1.0);
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
-    const double scale = uniform(random_) < 1e-3 ? 20.0 : 1.0;  // a burst
-    v_ += Vec3{noise(random_), noise(random_), 0.5 * noise(random_)} * (2.0 * scale * dt_s);
-    if (uniform(random_) < 2e-4) v_ = {};  // a stop: the hand rests
-    const double speed = norm(v_);
-    if (speed > 0.5) v_ = v_ * (0.5 / speed);
-    x_ += v_ * dt_s;
-    bounce(x_.x, v_.x, low_.x, high_.x);
-    bounce(x_.y, v_.y, low_.y, high_.y);
-    bounce(x_.z, v_.z, low_.z, high_.z);
-    return x_;
-  }
-
- private:
-  static void bounce(double& x, double& v, double low, double high) {
-    if (x < low) x = low, v = std::abs(v);
-    if (x > high) x = high, v = -std::abs(v);
-  }
-  Vec3 low_, high_, x_, v_;
-  std::mt19937 random_;
-};
+using models::same_bits;
 
 struct Coverage {
   long contact_steps = 0;  // active contacts with boxes over all steps
@@ -56,7 +24,7 @@ struct Coverage {
 
 // the walk through two states of `m`, with and without the held face; the first difference
 // fails the test
-Coverage compare(const Model& m, Walk walk, long steps) {
+Coverage compare(const Model& m, models::Walk walk, long steps) {
   State fast = make_state(m);
   State full = make_state(m);
   full.hold = false;
@@ -106,7 +74,7 @@ TEST(HeldFace, TheBridgeUnderRandomWalksMatchesTheFullTest) {
     const auto& line = m.objects[m.find_object("bridge")].path.centerline_m;
     // the whole bridge from 4 mm into it to 2 mm above it, off its sides onto the floor too
     const Vec3 low{line[0].x - 0.012, line[0].y, 0.008}, high{line[3].x + 0.012, line[3].y, 0.014};
-    const Coverage c = compare(m, Walk(low, high, 7), 400000);
+    const Coverage c = compare(m, models::Walk(low, high, 7), 400000);
     // the walk exercised the hold, and the coplanar tops at the turns
     EXPECT_GT(c.held, c.contact_steps / 4) << rate_hz << " Hz";
     EXPECT_GT(c.tied, c.contact_steps / 20) << rate_hz << " Hz";
@@ -144,7 +112,7 @@ TEST(HeldFace, ATiltedUnionWithCoplanarTopsMatchesTheFullTest) {
   for (double skin_m : {0.001, 0.003}) {
     Model with_skin = m;
     touch_all(with_skin, 0, skin_m);
-    const Coverage c = compare(with_skin, Walk({-0.012, -0.012, 0.004}, {0.012, 0.012, 0.016}, 3), 400000);
+    const Coverage c = compare(with_skin, models::Walk({-0.012, -0.012, 0.004}, {0.012, 0.012, 0.016}, 3), 400000);
     EXPECT_GT(c.held, c.contact_steps / 10) << skin_m;
     EXPECT_GT(c.tied, c.contact_steps / 20) << skin_m;
   }
@@ -167,7 +135,7 @@ TEST(HeldFace, AFloorOfMoreThan64TilesMatchesTheFullTest) {
   ASSERT_GT(m.objects[floor].box_count, 64);
   m.index_boxes();
   touch_all(m, floor);
-  const Coverage c = compare(m, Walk({-0.014, -0.012, 0.007}, {0.014, 0.012, 0.013}, 5), 150000);
+  const Coverage c = compare(m, models::Walk({-0.014, -0.012, 0.007}, {0.014, 0.012, 0.013}, 5), 150000);
   EXPECT_GT(c.held, c.contact_steps / 5);
   EXPECT_GT(c.tied, c.contact_steps / 20);
 }

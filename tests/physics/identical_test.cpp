@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/sim/offline.h"
 #include "tests/physics/models.h"
 
 namespace enact::physics {
@@ -32,19 +31,6 @@ struct Checksum {
     add(v.z);
   }
 };
-
-// the scripted path sampled at `rate_hz`
-std::vector<Vec3> scripted_motion(double rate_hz) {
-  sim::SimParams p;
-  p.scene = enact::test::source_path("launch/scenes/bridge.yaml");
-  p.rate_hz = rate_hz;
-  sim::Simulator simulator;
-  simulator.configure(p);
-  const task::Trajectory tr = sim::scripted_path(simulator);
-  std::vector<Vec3> motion(static_cast<std::size_t>(std::lround((tr.end_s() - tr.start_s()) * rate_hz)));
-  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / rate_hz);
-  return motion;
-}
 
 // every step's force, contact flags and active contacts' normals and depths; `cull`: skip
 // the pairs whose bounding volumes are apart (false: the unoptimised reference)
@@ -78,7 +64,7 @@ class Identical : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Identical, ForcesAlongTheScriptedPath) {
   const Case c = GetParam();
-  EXPECT_EQ(run(models::bridge(c.rate_hz, c.computer_model), scripted_motion(c.rate_hz)), c.checksum);
+  EXPECT_EQ(run(models::bridge(c.rate_hz, c.computer_model), models::scripted_motion(c.rate_hz)), c.checksum);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bridge, Identical,

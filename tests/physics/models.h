@@ -1,13 +1,16 @@
 #pragma once
-// Models built in code for the physics tests (one place for each layout), and the bridge
-// scene with a computer model applied.
+// Models built in code for the physics tests (one place for each layout), the bridge
+// scene with a computer model applied, and the hand motions and measures they share.
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "core/haptics/computer_model.h"
 #include "core/physics/scene.h"
 #include "core/physics/state.h"
+#include "core/sim/offline.h"
 #include "tests/support/test_util.h"
 
 namespace enact::physics::models {
@@ -106,17 +109,26 @@ inline int add_plane(Model& m, const std::string& name, Vec3 point_m, Vec3 norma
   return static_cast<int>(m.objects.size()) - 1;
 }
 
-inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0}); }
+inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0, 0, false, {}}); }
 
-// the bridge scene at `rate_hz` with a computer model applied
-inline Model bridge(double rate_hz, const std::string& computer_model = "CM1") {
-  Model m = load_scene(enact::test::source_path("launch/scenes/bridge.yaml"));
+// friction on every contact pair of a model
+inline void add_friction(Model& m, Friction friction) {
+  for (ContactPair& c : m.contacts) c.friction = friction;
+}
+
+// the bridge scene at `rate_hz` with a computer model applied (`scene`: a variant of it)
+inline Model bridge(double rate_hz, const std::string& computer_model = "CM1",
+                    const std::string& scene = enact::test::source_path("launch/scenes/bridge.yaml")) {
+  Model m = load_scene(scene);
   m.set_rate(rate_hz);
   haptics::apply(*haptics::preset(computer_model), m);
   return m;
 }
 
 inline Vec3 unit(const Vec3& v) { return v * (1.0 / norm(v)); }
+
+inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+inline bool same_bits(const Vec3& a, const Vec3& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
 
 // a segment of the bridge's centreline: its middle (at the top), direction and horizontal normal
 struct Segment {
@@ -160,6 +172,62 @@ inline bool state_finite(const State& s) {
     if (!finite(f)) return false;
   }
   return true;
+}
+
+// a body wandering over [low, high]: smooth random accelerations, now and then a burst of
+// speed (up to ~0.5 m/s) or a stop, bouncing off the region's walls
+class Walk {
+ public:
+  Walk(Vec3 low, Vec3 high, unsigned seed) : low_(low), high_(high), random_(seed) { x_ = (low + high) * 0.5; }
+
+  Vec3 next(double dt_s) {
+    std::normal_distribution<double> noise(0.0, 1.0);
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    const double scale = uniform(random_) < 1e-3 ? 20.0 : 1.0;  // a burst
+    v_ += Vec3{noise(random_), noise(random_), 0.5 * noise(random_)} * (2.0 * scale * dt_s);
+    if (uniform(random_) < 2e-4) v_ = {};  // a stop: the hand rests
+    const double speed = norm(v_);
+    if (speed > 0.5) v_ = v_ * (0.5 / speed);
+    x_ += v_ * dt_s;
+    bounce(x_.x, v_.x, low_.x, high_.x);
+    bounce(x_.y, v_.y, low_.y, high_.y);
+    bounce(x_.z, v_.z, low_.z, high_.z);
+    return x_;
+  }
+
+ private:
+  static void bounce(double& x, double& v, double low, double high) {
+    if (x < low) x = low, v = std::abs(v);
+    if (x > high) x = high, v = -std::abs(v);
+  }
+  Vec3 low_, high_, x_, v_;
+  std::mt19937 random_;
+};
+
+// the scripted hand path of the bridge scene (sim::scripted_path) sampled at `rate_hz`
+inline std::vector<Vec3> scripted_motion(double rate_hz) {
+  sim::SimParams p;
+  p.scene = enact::test::source_path("launch/scenes/bridge.yaml");
+  p.rate_hz = rate_hz;
+  sim::Simulator simulator;
+  simulator.configure(p);
+  const task::Trajectory tr = sim::scripted_path(simulator);
+  std::vector<Vec3> motion(static_cast<std::size_t>(std::lround((tr.end_s() - tr.start_s()) * rate_hz)));
+  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / rate_hz);
+  return motion;
+}
+
+// the work the contact forces do on device 0 moved along `path` (stepping `s`), the discrete
+// work the integrators do: sum of F(n) . (x(n+1) - x(n-1)) / 2, with x(-1) = x(0). Positive: the
+// model gave the device energy
+inline double device_work_j(const Model& m, State& s, const std::vector<Vec3>& path) {
+  double work = 0.0;
+  for (std::size_t n = 0; n + 1 < path.size(); ++n) {
+    s.proxy_position_m[0] = path[n];
+    step(m, s);
+    work += 0.5 * dot(s.proxy_force_n[0], path[n + 1] - path[n == 0 ? 0 : n - 1]);
+  }
+  return work;
 }
 
 }  // namespace enact::physics::models

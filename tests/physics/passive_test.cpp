@@ -102,16 +102,10 @@ double device_work_j(bool passive, double phase) {
   models::add_contact(m, hand, models::add_plane(m, "floor", {}, {0, 0, 1}), kStiffness_n_per_m, 0.0);
   m.contacts[0].passive = passive;
   State s = make_state(m);
-  std::vector<double> z{start_m + phase * in_m};
-  while (z.back() > -depth_m) z.push_back(z.back() - in_m);
-  while (z.back() < start_m) z.push_back(z.back() + out_m);
-  double work = 0.0;
-  for (std::size_t n = 0; n + 1 < z.size(); ++n) {
-    s.proxy_position_m[0] = {0, 0, z[n]};
-    step(m, s);
-    work += 0.5 * s.proxy_force_n[0].z * (z[n + 1] - z[n == 0 ? 0 : n - 1]);
-  }
-  return work;
+  std::vector<Vec3> path{{0, 0, start_m + phase * in_m}};
+  while (path.back().z > -depth_m) path.push_back(path.back() - Vec3{0, 0, in_m});
+  while (path.back().z < start_m) path.push_back(path.back() + Vec3{0, 0, out_m});
+  return models::device_work_j(m, s, path);
 }
 
 TEST(Passive, DeviceNeverGetsBackMoreThanItPutIn) {
