@@ -4,7 +4,7 @@
     attach_example.py [--graph NAME | --attach ENDPOINT] [TOPIC ...] [--count N] [--timeout S]
                       [--key FILE.key --server-key FILE.pub]
 
-Finds the graph like every enact tool (README, "Graphs by name"): --graph NAME in this
+Finds the graph like every enact tool (docs/concepts.md, "Graphs by name"): --graph NAME in this
 user's registry of running graphs, --attach ENDPOINT as printed by the graph (e.g.
 tcp://127.0.0.1:40123; a first positional argument with "://" is taken as one too), or the
 only graph running (several: they are listed, exit 2; none: it waits for one). It prints

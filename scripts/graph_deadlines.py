@@ -4,7 +4,7 @@
 usage: graph_deadlines.py [--runs N] [--duration S] [--enact PATH] [LAUNCH_FILE] [-- --arg NAME=VALUE ...]
 
 Runs `enact launch LAUNCH_FILE --duration S` N times (default: launch/bridge.yaml, 3 runs
-of 10 s, no other argument: the README's measurement), reads the loop's last report of each
+of 10 s, no other argument: the measurement in docs/performance.md), reads the loop's last report of each
 run (the FFD driver's, or the co-located container's: its verdict, deadlines missed, tick
 latency percentiles, watchdog episodes) and prints each run and the median of the runs, with
 the machine: its CPU, load, and the probe's floor (how late a sleeping thread wakes, the pipe

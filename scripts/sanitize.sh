@@ -3,7 +3,7 @@
 # UndefinedBehaviorSanitizer (folder build-asan: -O0, no LTO: the quickest build; the
 # instrumentation is the same) and run them: every suite but
 # those of whole graphs of processes, the viewer and the experiments (they run in the normal
-# build; README, "Reliability"). Exits non-zero on any failure or sanitizer report.
+# build; docs/building.md, "Reliability"). Exits non-zero on any failure or sanitizer report.
 # Usage: scripts/sanitize.sh [ctest label regex]   (default: every suite below)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

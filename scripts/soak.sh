@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A soak of the distributed graph (README, "Reliability"): launch/bridge.yaml with a logger
+# A soak of the distributed graph (docs/building.md, "Reliability"; figures: docs/performance.md): launch/bridge.yaml with a logger
 # (enact record, from the first tick), two observers attaching and detaching all along
 # (enact topic hz / echo), a viewer (SDL's offscreen driver), and a live parameter change
 # every 10 s (enact param set). Every process's RSS is sampled every 5 s. At the end:

@@ -98,7 +98,7 @@ YAML::Node load_file(const std::string& path) {
   if (!in) throw Error(path + ": cannot open the file\n  fix: check the path (relative paths start from the current directory)");
   try {
     YAML::Node root = YAML::Load(in);
-    if (!root.IsMap()) fail(path, root, "the file must be a YAML mapping (key: value lines)", "see the format in README.md");
+    if (!root.IsMap()) fail(path, root, "the file must be a YAML mapping (key: value lines)", "see the format of that file in docs/");
     std::set<std::size_t> seen;
     refuse_duplicate_keys(path, root, seen);
     return root;
@@ -115,7 +115,7 @@ YAML::Node load_file(const std::string& path) {
 
 Map::Map(const YAML::Node& node, std::string file, std::string what, std::initializer_list<const char*> keys)
     : node_(node), file_(std::move(file)), what_(std::move(what)) {
-  if (!node_.IsMap()) config::fail(file_, node_, what_ + " must be a mapping (key: value)", "see the format in README.md");
+  if (!node_.IsMap()) config::fail(file_, node_, what_ + " must be a mapping (key: value)", "see the format of that file in docs/");
   std::vector<std::string> allowed(keys.begin(), keys.end());
   for (const auto& kv : node_) {
     const std::string key = scalar(file_, kv.first, "a key in " + what_);

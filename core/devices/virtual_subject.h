@@ -74,7 +74,7 @@ struct SubjectParams {
   double between_subjects = 0.15;
 };
 
-// read a subject file (YAML, README.md "Virtual subjects"); unknown keys and bad values
+// read a subject file (YAML, docs/experiments.md "Virtual subjects"); unknown keys and bad values
 // throw config::Error with file:line and the fix
 SubjectParams load_subject(const std::string& path);
 // the same checks on params built in code; `source` names them in messages

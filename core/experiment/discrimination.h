@@ -1,5 +1,5 @@
 #pragma once
-// A discrimination experiment (README.md, "Discrimination experiments"): every subject,
+// A discrimination experiment (docs/experiments.md, "Discrimination experiments"): every subject,
 // in every condition (computer model), answers two-interval trials "which interval was
 // larger?" about a live parameter of the simulator (e.g. stiffness_n_per_m): one interval at
 // the reference, the other at reference + level, the reference's interval drawn at random

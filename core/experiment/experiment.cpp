@@ -106,7 +106,7 @@ ExperimentSpec load_experiment(const std::string& path) {
   const config::Map m(root, path, "experiment",
                       {"name", "description", "kind", "seed", "subjects", "virtual_subject", "conditions", "order", "limit_s",
                        "familiarisation_s", "practice_s", "graph", "launch_args"});
-  if (m.text("kind", "bridge") != "bridge") m.fail("kind", "a bridge experiment's kind is bridge", "write kind: bridge, or kind: discrimination with its own keys (README.md, \"Discrimination experiments\")");
+  if (m.text("kind", "bridge") != "bridge") m.fail("kind", "a bridge experiment's kind is bridge", "write kind: bridge, or kind: discrimination with its own keys (docs/experiments.md, \"Discrimination experiments\")");
   ExperimentSpec s;
   s.file = fs::absolute(path).lexically_normal().string();
   s.name = m.text("name", fs::path(path).stem().string());

@@ -1,5 +1,5 @@
 #pragma once
-// An experiment file (YAML, README.md "Experiments") and the plan of trials it makes: which
+// An experiment file (YAML, docs/experiments.md) and the plan of trials it makes: which
 // subject does which condition in which order, with optional familiarisation and practice
 // trials. The plan is a pure function of the file (and its seed): a resumed run makes the
 // same plan and skips the trials already done.

@@ -1,5 +1,5 @@
 #pragma once
-// A node's parameters as they stand, for the graph's observers (README, "Parameters"): every
+// A node's parameters as they stand, for the graph's observers (docs/parameters.md): every
 // parameter it declares (its components' included) with the value in force, on
 // param/values/<node> (msgs/param_update.proto, ParamValues). Its own thread publishes from
 // its own endpoint, node_endpoint(node + kParamBoardSuffix), once a second and at once after

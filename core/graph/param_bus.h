@@ -1,5 +1,5 @@
 #pragma once
-// param/set and param/ack on the bus (README, "Live viewer"). The simulator's end, ParamPort,
+// param/set and param/ack on the bus (docs/parameters.md). The simulator's end, ParamPort,
 // is the same for enact-sim and enact-rt: requests in (from the attach point's inbound
 // publisher), checked by a sim::ParamPlanner on a thread of the port's own (planning may read
 // a computer model's YAML file and copies the model: never on a loop thread), changes out to

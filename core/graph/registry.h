@@ -1,5 +1,5 @@
 #pragma once
-// The per-user registry of running graphs (README, "Graphs by name"): one small file per
+// The per-user registry of running graphs (docs/concepts.md, "Graphs by name"): one small file per
 // running graph in /tmp/enact-<uid>/graphs/, written by the process that runs it (enact
 // launch, an experiment's trial, enact play) and removed when it ends. An entry whose
 // process is gone (kill -9) is stale: listing the registry removes it, and the temporary

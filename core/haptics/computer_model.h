@@ -36,7 +36,7 @@ inline constexpr double kMaxThreshold_m = 0.05;
 std::optional<ComputerModel> preset(const std::string& name, int masses = 16);
 std::vector<std::string> preset_names();
 
-// a preset name, or a YAML file defining one model (format: README.md, "Computer models");
+// a preset name, or a YAML file defining one model (format: docs/scenes-and-models.md, "Computer models");
 // throws config::Error naming the file and line, or listing the presets
 ComputerModel resolve_computer_model(const std::string& name_or_path, int masses = 16);
 

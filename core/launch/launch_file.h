@@ -1,6 +1,6 @@
 #pragma once
 // Launch files: a graph of nodes described in YAML, in the spirit of ROS 2's YAML launch
-// files (format: README.md, "Launch files"). Loading resolves every substitution, include
+// files (format: docs/launch-files.md). Loading resolves every substitution, include
 // and executable, and refuses unknown keys, wrong types and missing executables with
 // file:line and the fix, before anything starts.
 #include <functional>

@@ -96,7 +96,7 @@ write the force, write the pins (down-sampled), in the same tick. A non-real-tim
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
 at scene_rate_hz, tactile/shown at shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
-param/set (SIM.model, SIM.stiffness_n_per_m, ...: README "Live viewer"; SIM is the sim
+param/set (SIM.model, SIM.stiffness_n_per_m, ...: docs/parameters.md; SIM is the sim
 component's name) are checked on that thread, handed to the real-time thread through a
 lock-free queue, applied at the top of a tick, and answered on param/ack.
 

@@ -13,7 +13,7 @@ const NodeKind kLogger{.executable = "enact-logger", .default_name = "logger", .
 Records the graph's traffic to an MCAP file (enact record is the same from the shell).
 
 To record a graph from its first tick, list the logger before the drivers in the launch
-file and give the clock master `observers: 1` (README, "Recording and replay").
+file and give the clock master `observers: 1` (docs/recording-and-replay.md).
 
 parameters (--param NAME=VALUE):
 )"};

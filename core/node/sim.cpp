@@ -22,7 +22,7 @@ The simulator of a distributed graph: for every ffd/state it steps the model and
 on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
 sim/scene (scene_rate_hz), task/event, task/state (10 Hz and on change) and node/status
 (1 Hz). Parameter changes on
-param/set (NAME.model, NAME.stiffness_n_per_m, ...: README "Live viewer") are applied
+param/set (NAME.model, NAME.stiffness_n_per_m, ...: docs/parameters.md) are applied
 between two DeviceStates and answered on param/ack.
 
 parameters (--param NAME=VALUE; live: enact param set NAME.PARAM VALUE while it runs):

@@ -1,5 +1,5 @@
 #pragma once
-// Loading a scene from YAML (format: README.md, "Scene files"). Every error names the
+// Loading a scene from YAML (format: docs/scenes-and-models.md, "Scene files"). Every error names the
 // file, the line and the fix, and is thrown as config::Error before anything runs.
 #include <string>
 

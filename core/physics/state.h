@@ -10,7 +10,7 @@ namespace enact::physics {
 
 // one contact pair. A point inside an object is pushed out through the shallowest face
 // of the object's surface, except the face opposite the one it entered through: it is
-// never pushed on towards the far side, however fast it came in (README, "Contact guarantees").
+// never pushed on towards the far side, however fast it came in (docs/physics.md, "Contact guarantees").
 struct ContactState {
   bool active = false;
   Vec3 entry_normal;      // outward normal of the face the point entered through

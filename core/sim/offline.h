@@ -13,7 +13,7 @@
 namespace enact::sim {
 
 
-// a scripted hand along the task path of the scene (README, "The scripted path"): it presses
+// a scripted hand along the task path of the scene (docs/scenes-and-models.md, "The scripted path"): it presses
 // press_m into the top (a kinematic device: 0.05 mm; a hand target behind a spring: deeper), wobbles, slides off the edge once briefly (under 1 s: not a fall) and once for
 // about 2 s (a fall), climbs back, and reaches the end
 task::Trajectory scripted_path(const Simulator& simulator, double press_m = 0.00005);

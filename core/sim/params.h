@@ -1,5 +1,5 @@
 #pragma once
-// Parameter changes of a running simulator (topic param/set, README "Live viewer"): a
+// Parameter changes of a running simulator (topic param/set, docs/parameters.md): a
 // ParamPlanner checks each request off the loop, against a mirror of the simulator's model
 // (stiffness and damping against the stability analysis), and turns an accepted one into a
 // trivially copyable ParamChange; Simulator::apply then applies it between two steps without

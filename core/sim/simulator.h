@@ -59,7 +59,7 @@ class Simulator {
   // between steps: apply a change checked by a ParamPlanner (params.h); the next step is the
   // first to use it (a trial started or reset now begins at that step's time); `now_ns` is
   // copied into the result. A change of the force law (model, threshold, stiffness, damping,
-  // reset, reposition) never jolts (README, "Live changes never jolt"): each mass in contact
+  // reset, reposition) never jolts (docs/parameters.md, "Live changes never jolt"): each mass in contact
   // keeps the force it had and feels the new law only for what it moves from there, and the
   // rest blends away over change_ramp_s. Allocates nothing, never throws.
   ParamApplied apply(const ParamChange& change, std::int64_t now_ns);

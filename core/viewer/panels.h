@@ -25,7 +25,7 @@ void status_window(const Rect& r, const ViewModel& model, std::int64_t now_ns);
 // |F| and the contact count over the last ViewModel::kHistory scenes
 void plot_window(const Rect& r, const ViewModel& model);
 
-// keyboard shortcuts of the controls (README "Live viewer")
+// keyboard shortcuts of the controls (docs/viewer.md, "Keys")
 enum class KeyAction : std::uint8_t { cm0, cm1, cm2, cm3, reset, reposition, trial_toggle, stiffer, softer, threshold_up, threshold_down };
 std::optional<KeyAction> key_action(char key);
 

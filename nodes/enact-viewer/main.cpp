@@ -1,5 +1,5 @@
 // enact-viewer: watch a running graph from this machine or another one, change its
-// parameters, or take a snapshot (README, "Live viewer").
+// parameters, or take a snapshot (docs/viewer.md).
 #include <cstdio>
 #include <exception>
 
@@ -44,8 +44,8 @@ options:
   --snapshot OUT.png render, write OUT.png, print what it shows, exit
   --after SECONDS    when to take the snapshot, from the start (default 2)
   --key FILE.key     your secret key, for a graph launched with --access (default $ENACT_KEY)
-  --server-key FILE.pub  the graph's public key (default $ENACT_SERVER_KEY; README,
-                     "Remote access")
+  --server-key FILE.pub  the graph's public key (default $ENACT_SERVER_KEY;
+                     docs/remote-access.md)
   --size WxH         window size in pixels (default 1280x800)
   --fps N            frames drawn per second at most (default 60; the scene comes at 60 Hz;
                      with software OpenGL a lower rate saves processor time)

@@ -1,5 +1,5 @@
 #pragma once
-// Which running graph a tool attaches to (README, "Graphs by name"): --graph NAME, --attach
+// Which running graph a tool attaches to (docs/concepts.md, "Graphs by name"): --graph NAME, --attach
 // ENDPOINT, or the only graph running, and the keys for it (--key, --server-key); shared by
 // enact topic, param, record, node and foxglove.
 #include <initializer_list>
@@ -23,7 +23,7 @@ inline constexpr const char* kAttachOptionsHelp =
     "                     machine's graph launched with --allow-remote --access)\n"
     "  --wait S           give up when no such graph runs after S s (default: wait)\n"
     "  --key FILE.key     your secret key, for a graph launched with --access (default:\n"
-    "                     $ENACT_KEY; README, \"Remote access\")\n"
+    "                     $ENACT_KEY; docs/remote-access.md)\n"
     "  --server-key FILE.pub  the graph's public key (default: $ENACT_SERVER_KEY)\n";
 
 // the options every attaching tool accepts (graph, attach, wait, key, server-key) and `own`

@@ -22,7 +22,7 @@ namespace {
 
 constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--plan]
 
-Run the experiment of FILE (format: README.md, "Experiments"): every subject through every
+Run the experiment of FILE (format: docs/experiments.md): every subject through every
 condition in a seeded random or balanced order, with optional familiarisation and practice
 trials. Each trial runs in its own graph, started from the experiment's trial launch file
 (co-located or distributed: the same nodes as `enact launch`), and is recorded to
@@ -40,7 +40,7 @@ last trial the subject's ranking of the conditions is asked (DIR/ranking.csv).
 
 Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
 
-A file with `kind: discrimination` (README.md, "Discrimination experiments") runs two-interval
+A file with `kind: discrimination` (docs/experiments.md, "Discrimination experiments") runs two-interval
 discrimination trials about a live parameter (e.g. stiffness_n_per_m) under constant
 stimuli, staircases or QUEST, answered by virtual observers, into DIR/trials.csv (one row
 per trial, at once) and DIR/summary.csv (per subject and condition: the fitted JND, its

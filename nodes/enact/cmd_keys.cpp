@@ -10,7 +10,7 @@ namespace {
 constexpr const char* kHelp = R"(usage: enact keys new NAME [--dir DIR]
        enact keys show FILE
 
-Keys for remote access (README, "Remote access"): a graph launched with --access lets in
+Keys for remote access (docs/remote-access.md): a graph launched with --access lets in
 only the clients its access file lists, each by its public key, over encrypted connections
 (ZeroMQ CURVE).
   new    make a key pair: DIR/NAME.key, the secret key (file mode 0600: keep it on this

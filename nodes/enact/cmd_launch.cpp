@@ -22,7 +22,7 @@ namespace {
 constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
                          [--check] [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
 
-Run a graph from a YAML launch file (format: README.md, "Launch files"): start its nodes
+Run a graph from a YAML launch file (format: docs/launch-files.md): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
 reverse order on Ctrl-C / SIGTERM, after --duration, or when a required process exits.
 The whole file is checked first (unknown keys, wrong types, missing executables: file:line
@@ -44,14 +44,14 @@ options:
                      always does before anything starts), start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
                      port; printed, and kept in the graph's registry entry)
-  --access FILE      who may attach (README, "Remote access"; launch/access.example.yaml):
+  --access FILE      who may attach (docs/remote-access.md; launch/access.example.yaml):
                      the attach point then takes only the listed keys, encrypted (CURVE),
                      and param/set only from operate keys, each at its rate limit
   --allow-remote     allow an --attach endpoint other machines can reach (needs --access)
 
 A launch file's realtime: entry (every shipped graph has one) pins the loop's processes
 together, holds the CPU latency request and orders SCHED_FIFO before anything starts; what
-is refused is said once and the graph runs anyway (README, "Real-time profile").
+is refused is said once and the graph runs anyway (docs/concepts.md, "Real-time profile").
 The nodes' sockets live in a fresh folder /tmp/enact-graph-XXXXXX ($ENACT_GRAPH_DIR),
 removed at the end (or by the next launch, if this one was killed).
 When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops cleanly. A node

@@ -26,7 +26,7 @@ constexpr const char* kHelp = R"(usage: enact play FILE [--rate R] [--loop] [--t
                   [--remap FROM:=TO]... [--paused] [--name NODE] [--wait S]
 
 Republish a recording's messages with their recorded timing, so any node consumes them as
-if live (README, "Recording and replay"). Each message goes out, byte for byte, from the
+if live (docs/recording-and-replay.md). Each message goes out, byte for byte, from the
 endpoint of the node that published it (ipc://$ENACT_GRAPH_DIR/<node>.pub), or from NODE's
 with --name (as `enact launch` passes to a node). Run alone, it is a graph of its own named
 play:FILE (a session: its own folder, an attach point, a registry entry), which observers

@@ -64,7 +64,7 @@ int resim(int argc, char** argv) {
               static_cast<unsigned long long>(res.forces_compared), static_cast<unsigned long long>(res.frames_compared));
   if (res.first_state_seq > 1) {
     std::printf("  note: the recording starts at ffd/state seq %llu, not at the graph's first tick: the simulator's history before it is\n"
-                "  unknown, so the replay may differ (record from the start: README, \"Recording and replay\")\n",
+                "  unknown, so the replay may differ (record from the start: docs/recording-and-replay.md)\n",
                 static_cast<unsigned long long>(res.first_state_seq));
   }
   if (res.changes) std::printf("  %llu live parameter changes re-applied where they took effect (param/ack)\n", static_cast<unsigned long long>(res.changes));

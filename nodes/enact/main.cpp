@@ -40,7 +40,7 @@ commands:
   experiment FILE   run an experiment's trials (virtual subjects or people), resumable
   metrics FILE      a trial's metrics recomputed from its recording
 
-Files: scenes and computer models are YAML, paths are CSV (README.md).
+Files: scenes and computer models are YAML, paths are CSV (docs/scenes-and-models.md).
 )";
 
 // the commands, by name

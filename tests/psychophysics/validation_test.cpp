@@ -8,7 +8,7 @@
 // - the fitted JND's 95 % interval covers the true JND in 92-98 % of 200 observers with
 //   known Weber fractions, for the 1-up-2-down staircase and QUEST (issue 28): the
 //   profile-likelihood interval; the bootstrap's coverage is printed beside it (it is lower:
-//   see README.md, "Discrimination experiments").
+//   see docs/experiments.md, "Discrimination experiments").
 #include <gtest/gtest.h>
 
 #include <cmath>

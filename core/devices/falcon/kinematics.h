@@ -15,7 +15,7 @@
 // Inverse: per leg in closed form (t3 from v; t1 from a quadratic in tan(t1/2); t2 from
 // atan2). Forward: Newton's method on the three t1 with the analytic Jacobian.
 //
-// The enact frame (x right, y forward away from the user, z up; README) is the device frame
+// The enact frame (x right, y forward away from the user, z up; docs/devices.md) is the device frame
 // turned and shifted so that the Falcon's workspace centre, (0, 0, 0.11) in the device frame
 // (libnifalcon's sphere example centres its scene there), is the enact origin:
 //   enact = (x_d, 0.11 - z_d, y_d),   device = (x_e, z_e, 0.11 - y_e).

@@ -1,6 +1,6 @@
 #pragma once
 // The vendors' frames and units, turned into enact's (x right, y forward away from the user,
-// z up; metres, newtons; README). Each is a proper rotation (no mirror) about the device's
+// z up; metres, newtons; docs/devices.md). Each is a proper rotation (no mirror) about the device's
 // own origin; positions, velocities and forces turn alike.
 //
 // Force Dimension DHD (dhdGetPosition, dhdSetForce): metres and newtons; x towards the

@@ -38,7 +38,7 @@ void* SharedLibrary::address(const char* name) const {
   void* p = handle_ ? dlsym(handle_, name) : nullptr;
   if (p == nullptr) {
     refuse(device_, path_ + " has no function " + name + " (not the vendor's library, or an SDK too old)",
-           "install the vendor's SDK (see README, devices) and name its library file");
+           "install the vendor's SDK (see docs/devices.md) and name its library file");
   }
   return p;
 }
