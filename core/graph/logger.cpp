@@ -15,6 +15,7 @@
 #include "core/bus/endpoints.h"
 #include "core/bus/schema.h"
 #include "core/config/yaml.h"
+#include "core/graph/node.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 
@@ -22,14 +23,6 @@ namespace enact::graph {
 namespace {
 
 constexpr std::uint16_t kNoChannel = 0xFFFF;
-
-// the attach endpoint to use: given, else $ENACT_ATTACH (set by `enact launch` for its
-// nodes), else the last graph started on this machine
-std::string find_endpoint(const std::string& given) {
-  if (!given.empty()) return given;
-  if (const char* env = std::getenv("ENACT_ATTACH"); env && *env) return env;
-  throw config::Error("no attach endpoint given, and $ENACT_ATTACH is not set\n  fix: run it under `enact launch`, or give the attach endpoint (enact record --graph NAME)");
-}
 
 // the header of a stream message: field 1 (length-delimited) of the payload
 bool parse_header(const bus::RawMessage& m, msgs::Header& out) {
@@ -79,7 +72,7 @@ void Logger::attach() {
       throw config::Error(std::string(what) + " '" + *text + "' is not a regular expression: " + e.what() + "\n  fix: e.g. '^ffd/' or 'state$'");
     }
   }
-  endpoint_ = find_endpoint(options_.attach);
+  endpoint_ = attach_endpoint(options_.attach);
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
   sub_.set_receive_hwm(1'000'000);

@@ -13,6 +13,8 @@
 
 #include "core/bus/context.h"
 #include "core/bus/endpoints.h"
+#include "core/config/yaml.h"
+#include "core/launch/env.h"
 #include "core/rt/clock.h"
 #include "core/rt/profile.h"
 
@@ -28,7 +30,7 @@ void on_stop(int) {
 
 // one line to the launcher on the ready pipe, if there is one
 void tell_launcher(const std::string& line) {
-  const char* fd = std::getenv("ENACT_READY_FD");
+  const char* fd = std::getenv(launch::kReadyFdEnv);
   if (!fd) return;
   const std::string text = line + "\n";
   (void)!write(std::atoi(fd), text.data(), text.size());
@@ -41,7 +43,7 @@ void announce_topics(const bus::BytePublisher& out) {
 }
 
 std::string graph_dir() {
-  const char* dir = std::getenv("ENACT_GRAPH_DIR");
+  const char* dir = std::getenv(launch::kGraphDirEnv);
   std::string out = dir && *dir ? dir : "/tmp/enact-" + std::to_string(getuid());
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
@@ -49,6 +51,13 @@ std::string graph_dir() {
 }
 
 std::string node_endpoint(const std::string& name) { return bus::ipc_endpoint(graph_dir(), name); }
+
+std::string attach_endpoint(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv(launch::kAttachEnv); env && *env) return env;
+  throw config::Error("no attach endpoint given, and $" + std::string(launch::kAttachEnv) +
+                      " is not set\n  fix: run it under `enact launch`, or give the attach endpoint (attach=ENDPOINT, or enact record --graph NAME)");
+}
 
 void install_stop_handlers() {
   struct sigaction sa {};
@@ -78,12 +87,12 @@ bool await_subscribers(bus::BytePublisher& out, const char* topic, int count, st
   return out.subscriber_count(topic) >= count;
 }
 
-void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who) {
+void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who, bool before_ready) {
   if (count <= 0) return;
   // a short grace for subscribers already on their way, then the wait is announced
   if (await_subscribers(out, topic, count, rt::now_ns() + 200'000'000)) return;
-  tell_launcher("wait " + std::to_string(kObserversWait_s));
-  const char* attach = std::getenv("ENACT_ATTACH");
+  if (before_ready) tell_launcher("wait " + std::to_string(kObserversWait_s));
+  const char* attach = std::getenv(launch::kAttachEnv);
   say(node, "waiting up to " + std::to_string(static_cast<int>(kObserversWait_s)) + " s for " + std::to_string(count) + " " + who + " of " + topic +
                 (attach ? " (they attach at " + std::string(attach) + ")" : ""));
   const bool came = await_subscribers(out, topic, count, rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9));

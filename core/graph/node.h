@@ -16,6 +16,9 @@ namespace enact::graph {
 std::string graph_dir();
 // where node `name` publishes: ipc://<graph_dir>/<name>.pub
 std::string node_endpoint(const std::string& name);
+// the attach point an observer node uses: `given`, else $ENACT_ATTACH (set by `enact launch`
+// for its nodes); throws, with the fix, when there is neither
+std::string attach_endpoint(const std::string& given);
 
 // seconds a node may take to stop after the first SIGINT/SIGTERM before it is killed
 // (SIGALRM): a node stuck in its shutdown never outlives its launcher for long
@@ -38,10 +41,11 @@ inline constexpr double kObserversWait_s = 60.0;
 void announce_topics(const bus::BytePublisher& out);
 
 // waits up to kObserversWait_s (or a stop request) until `count` subscribers listen to
-// `topic` on `out`, saying so on stderr with the graph's attach endpoint, and telling the
-// launcher to wait that long more for "ready"; says so again, naming `who`, when they do
-// not come (the node then runs anyway)
-void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who);
+// `topic` on `out`, saying so on stderr with the graph's attach endpoint, and (before the
+// node said "ready": `before_ready`) telling the launcher to wait that long more for it;
+// says so again, naming `who`, when they do not come (the node then runs anyway)
+void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count, const std::string& node, const std::string& who,
+                          bool before_ready = true);
 // waits quietly until `count` subscribers listen to `topic` on `out`, until deadline_ns or a
 // stop request: whether they do
 bool await_subscribers(bus::BytePublisher& out, const char* topic, int count, std::int64_t deadline_ns);

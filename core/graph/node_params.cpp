@@ -73,7 +73,7 @@ ParamTable ffd_node_table() {
       loop_transport_decl(),
       {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its ffd/force)"},
       {.name = "tactile_node", .type = ParamType::text, .fallback = "tactile", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"},
-      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 10 s for this many observers of ffd/state besides the simulator"},
+      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state besides the simulator"},
   };
   return join({&loop, &own, &device});
 }

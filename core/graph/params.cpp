@@ -10,6 +10,7 @@
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
+#include "core/launch/env.h"
 
 namespace enact::graph {
 
@@ -141,7 +142,7 @@ NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name)
 }
 
 void report_ready() {
-  const char* fd = std::getenv("ENACT_READY_FD");
+  const char* fd = std::getenv(launch::kReadyFdEnv);
   if (!fd) return;
   const auto n = config::parse_integer(fd);
   if (!n || *n < 0 || *n > INT_MAX || write(static_cast<int>(*n), "ready\n", 6) != 6) return;

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/config/yaml.h"
+#include "core/launch/env.h"
 
 namespace enact::graph {
 namespace {
@@ -98,7 +99,7 @@ std::string names_of(const std::vector<GraphEntry>& graphs) {
 }  // namespace
 
 std::string registry_dir() {
-  if (const char* dir = std::getenv("ENACT_REGISTRY"); dir && *dir) return dir;
+  if (const char* dir = std::getenv(launch::kRegistryEnv); dir && *dir) return dir;
   return (fs::temp_directory_path() / ("enact-" + std::to_string(getuid())) / "graphs").string();
 }
 

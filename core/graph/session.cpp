@@ -8,6 +8,7 @@
 #include "core/bus/endpoints.h"
 #include "core/graph/logger.h"
 #include "core/graph/topics.h"
+#include "core/launch/env.h"
 #include "msgs/param_update.pb.h"
 
 namespace enact::graph {
@@ -58,7 +59,7 @@ GraphSession::~GraphSession() { attach_.stop(); }
 std::string GraphSession::node_endpoint(const std::string& node) const { return bus::ipc_endpoint(folder_.path(), node); }
 
 std::vector<launch::Param> GraphSession::environment() const {
-  std::vector<launch::Param> env{{"ENACT_GRAPH_DIR", folder_.path()}, {"ENACT_ATTACH", attach_.endpoint()}, {"ENACT_GRAPH", name()}};
+  std::vector<launch::Param> env{{launch::kGraphDirEnv, folder_.path()}, {launch::kAttachEnv, attach_.endpoint()}, {launch::kGraphEnv, name()}};
   if (!own_.key.empty()) {
     env.push_back({bus::kKeyEnv, own_.key});
     env.push_back({bus::kServerKeyEnv, own_.server_key});

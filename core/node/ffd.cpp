@@ -118,8 +118,9 @@ void Ffd::open_hop() {
   }
   if (io.feels_pins) io.shown_in.connect(graph::node_endpoint(tactile_node_));
   if (local_hop_) {
-    graph::wait_for_loop_peer(io.link, name, sim_node_);
+    // the observers first: the simulator, asked for them too, takes the link once they listen
     graph::wait_for_subscribers(io.out, graph::kDeviceState, observers_, name, "observer");
+    graph::wait_for_loop_peer(io.link, name, sim_node_);
   } else {
     graph::wait_for_subscribers(io.out, graph::kDeviceState, 1 + observers_, name, "subscriber (the simulator, then observers)");
   }

@@ -1,7 +1,5 @@
 #include "core/node/recorder.h"
 
-#include <cstdlib>
-
 #include "core/config/lists.h"
 #include "core/config/yaml.h"
 #include "core/graph/node.h"
@@ -61,13 +59,11 @@ Foxglove::Foxglove(Host& host) : host_(host) {
   options_.port = p.integer("port");
   options_.host = p.text("host");
   options_.max_rate_hz = p.number("max_rate_hz");
-  const char* env = std::getenv("ENACT_ATTACH");
-  options_.attach = p.has("attach") ? p.text("attach") : env ? env : "";
   options_.keys = bus::client_keys("", "");
 }
 
 int Foxglove::run() {
-  if (options_.attach.empty()) throw config::Error(host_.name() + ": no attach endpoint\n  fix: run it from `enact launch`, or give attach=ENDPOINT");
+  options_.attach = graph::attach_endpoint(host_.params().has("attach") ? host_.params().text("attach") : "");
   host_.open(0);
   host_.announce();
   foxglove::Bridge bridge(options_);

@@ -11,6 +11,7 @@
 #include "core/graph/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
+#include "core/launch/env.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 
@@ -35,7 +36,7 @@ constexpr std::int64_t kParamPoll_ns = 10'000'000;
 
 // the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
 int respawn_count() {
-  const char* n = std::getenv("ENACT_RESPAWN");
+  const char* n = std::getenv(launch::kRespawnEnv);
   return n ? std::atoi(n) : 0;
 }
 
@@ -203,12 +204,16 @@ int Sim::run() {
   io_ = std::make_unique<Io>(*this);
   host_.announce();
   scene_period_ns_ = scene_rate_hz_ > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz_) : INT64_MAX;
-  // observers asked for (a logger recording a replay from its first step) listen first
-  graph::wait_for_subscribers(io_->out, graph::kForceCommand, observers_, host_.name(), "observer (logger)");
   restart_begins();
   simulator_.activate(0);
   reengage_.interrupt();
   graph::report_ready();
+  // observers asked for (a logger recording a replay from its first step) listen before the
+  // first answer (on the bus hop the driver subscribes too). After "ready": the launcher
+  // starts the rest of the graph meanwhile; the driver waits for the simulator on the loop
+  // link, so its loop starts after this wait
+  const int subscribers = observers_ > 0 ? observers_ + (local_hop_ ? 0 : 1) : 0;
+  graph::wait_for_subscribers(io_->out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
   while (!graph::stop_requested()) {
     io_->task_state.publish_due(rt::now_ns(), simulator_.computer_model().name);
     if (!next_state(100'000'000)) {

@@ -14,6 +14,7 @@
 #include "core/graph/session.h"
 #include "core/graph/node.h"
 #include "core/graph/params.h"
+#include "core/launch/env.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
@@ -106,7 +107,7 @@ int play(int argc, char** argv) {
   graph::install_stop_handlers();
   std::map<std::string, std::unique_ptr<bus::BytePublisher>> pubs;
   std::unique_ptr<graph::GraphSession> session;
-  const bool standalone = std::getenv("ENACT_GRAPH_DIR") == nullptr;
+  const bool standalone = std::getenv(launch::kGraphDirEnv) == nullptr;
   if (standalone) {
     graph::SessionOptions so;
     so.supervised = false;

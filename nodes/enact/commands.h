@@ -11,7 +11,8 @@ namespace enact::cli {
 int check(int argc, char** argv);
 int simulate(int argc, char** argv);
 int path(int argc, char** argv);
-int bench(int argc, char** argv);
+int bench(int argc, char** argv);  // in enact-bench
+int run_bench(int argc, char** argv);  // enact bench: runs enact-bench
 int bench_loop(int argc, char** argv);
 int bench_record(int argc, char** argv);
 int launch(int argc, char** argv);

@@ -41,6 +41,16 @@ TEST(Cli, HelpExitsZero) {
 
 TEST(Cli, NoArgumentsIsAUsageError) { EXPECT_EQ(enact("").exit_code, 2); }
 
+// docs/cli.md is what the code generates: a command or parameter added, renamed or
+// re-documented without regenerating it fails here
+TEST(Cli, TheCheckedInReferenceIsWhatTheCodeGenerates) {
+  const RunResult r = enact("help --markdown");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("| `enact simulate SCENE` |"), std::string::npos);
+  EXPECT_NE(r.out.find("| `stiffness_n_per_m` |"), std::string::npos) << "the simulator's live parameters are listed";
+  EXPECT_EQ(r.out, read_file(source_path("docs/cli.md"))) << "docs/cli.md is out of date: regenerate it with `enact help --markdown > docs/cli.md`";
+}
+
 TEST(Cli, UnknownCommandExitsTwo) { EXPECT_EQ(enact("frobnicate").exit_code, 2); }
 
 TEST(Cli, UnknownOptionExitsTwo) {

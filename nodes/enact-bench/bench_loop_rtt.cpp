@@ -19,7 +19,7 @@
 #include "core/graph/node.h"
 #include "core/rt/clock.h"
 #include "core/rt/scheduler.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 
 namespace enact::cli::loop {
 namespace {

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "core/rt/profile.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 #include "nodes/enact/json.h"
 
 namespace enact::cli::loop {

@@ -10,7 +10,7 @@
 #include "core/rt/scheduler.h"
 #include "core/rt/probe.h"
 #include "core/rt/profile.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 
 namespace enact::cli::loop {
 namespace {

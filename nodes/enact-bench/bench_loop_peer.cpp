@@ -23,7 +23,7 @@
 #include "core/rt/profile.h"
 #include "core/sim/simulator.h"
 #include "nodes/enact/args.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 
 namespace enact::cli::loop {
 

@@ -14,7 +14,7 @@
 #include "core/graph/temp_folder.h"
 #include "core/rt/probe.h"
 #include "core/rt/profile.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {

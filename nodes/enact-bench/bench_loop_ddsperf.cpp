@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 #include "core/launch/launch_file.h"
-#include "nodes/enact/bench_loop.h"
+#include "nodes/enact-bench/bench_loop.h"
 
 namespace enact::cli::loop {
 namespace {
