@@ -4,6 +4,8 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${ENACT_BUILD_DIR:-$root/build}"
 if [[ ! -f "$build/build.ninja" ]]; then
-  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  # ENACT_LTO=OFF in the environment: no link-time optimisation (CI's tests: an LTO link
+  # generates the libraries' code again for each of some 50 executables)
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DENACT_LTO="${ENACT_LTO:-ON}" >/dev/null
 fi
 cmake --build "$build" --parallel "$(nproc)" ${1:+--target} "$@"
