@@ -23,7 +23,7 @@ std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, st
   }
   auto profile = std::make_unique<rt::LauncherProfile>(graph.realtime);
   for (NodeSpec& n : graph.nodes) {
-    if (profile->in_loop(n.name)) n.env.push_back({rt::kProfileEnv, profile->node(n.name).to_env()});
+    if (profile->in_loop(n.name)) n.env.push_back({rt::kProfileEnv, profile->node(n.name).to_env(), "the launch file's realtime: entry"});
   }
   log << "enact launch: " << profile->summary() << "\n";
   return profile;

@@ -74,7 +74,7 @@ int bench_loop(int argc, char** argv) {
   r.fifo_priority = fifo;
   // the graph's profile: this thread and the peer are the loop
   loop::Machine& machine = r.machine;
-  const rt::GraphProfile graph_profile{.enabled = !a.flag("no-profile"), .loop = {"bench", "peer"}, .fifo_priority = fifo, .cpu_latency = true};
+  const rt::GraphProfile graph_profile{.enabled = !a.flag("no-profile"), .loop = {"bench", "peer"}, .fifo_priority = fifo, .cpu_latency = true, .other_loops = {}};
   const rt::LauncherProfile profile(graph_profile);
   const rt::NodeProfileReport self = rt::apply_node_profile(profile.node("bench"));
   bus::set_io_threads({self.io_cpus, self.io_fifo_priority});

@@ -4,6 +4,7 @@
 // their fix, a lost connection, a safety event, and the zero force on deactivate.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <thread>
 
 #include "core/devices/inverse3/emulator.h"
@@ -144,8 +145,14 @@ TEST_F(Running, AnEmergencyBrakeEventStopsTheDevice) {
   ASSERT_TRUE(test::eventually([&] { return d.events() >= 1; }, 2.0));
   EXPECT_TRUE(d.read(rt::now_ns(), s) || test::eventually([&] { return d.read(rt::now_ns(), s); }));
   emu.emit("device-safety-triggered", "error", "ebrake_triggered", "emergency brake engaged");
-  ASSERT_TRUE(test::eventually([&] { return !d.read(rt::now_ns(), s); }, 2.0));
-  EXPECT_NE(d.fault().find("ebrake_triggered"), std::string::npos) << d.fault();
+  // (a read can fail for a moment on a busy machine, a stale sample: the brake is its fault)
+  ASSERT_TRUE(test::eventually([&] { return d.fault().find("ebrake_triggered") != std::string::npos; }, 2.0)) << d.fault();
+  // stopped for good, while the service goes on sending states
+  for (int i = 0; i < 50; ++i) {
+    EXPECT_FALSE(d.read(rt::now_ns(), s));
+    EXPECT_TRUE(has(s.faults, DeviceFault::device_error));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
 }
 
 TEST_F(Running, DeactivateSendsZeroAndASilentLoopGetsZero) {
