@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <optional>
@@ -293,13 +294,18 @@ class Observer {
 };
 
 // the scenes of a bridge run under CM1 checked against contact: every pin up exactly where
-// its mass is in contact, a force pushing up while on the top, no force without contact
+// its mass is in contact, a force pushing up while on the top, no force without contact. One
+// exception, counted apart: where the force path was cut (a device fault, a late tick), the
+// body is re-synchronised onto the surface it touches, with no force at all until the path is
+// whole again; a test bounds those scenes by the faults it saw.
 struct ContactCheck {
   int on_top = 0;         // scenes on the top surface
+  int resting = 0;        // of them, touching it with no force anywhere (a re-synchronised body)
   int bad = 0;            // scenes that break a rule
   std::string first_bad;  // the first of them, as text
 };
 inline ContactCheck check_follows_contact(const std::vector<msgs::SceneState>& scenes) {
+  const auto zero = [](const msgs::Vec3& v) { return v.x() == 0.0 && v.y() == 0.0 && v.z() == 0.0; };
   ContactCheck c;
   for (const auto& s : scenes) {
     bool any = false, ok = s.pin_level_size() == 16;
@@ -309,9 +315,11 @@ inline ContactCheck check_follows_contact(const std::vector<msgs::SceneState>& s
     }
     if (s.on_top()) {
       ++c.on_top;
-      ok = ok && s.resultant_force().z() > 0.0;
+      const bool no_force = zero(s.resultant_force()) && std::all_of(s.contact_force().begin(), s.contact_force().end(), zero);
+      if (no_force) ++c.resting;
+      ok = ok && (no_force || s.resultant_force().z() > 0.0);
     }
-    if (!any) ok = ok && s.resultant_force().x() == 0.0 && s.resultant_force().y() == 0.0 && s.resultant_force().z() == 0.0;
+    if (!any) ok = ok && zero(s.resultant_force());
     c.bad += !ok;
     if (!ok && c.first_bad.empty()) c.first_bad = s.ShortDebugString();
   }
