@@ -14,11 +14,11 @@
 #include "core/bus/context.h"
 #include "core/bus/keys.h"
 #include "core/config/yaml.h"
+#include "core/rt/clock.h"
 
 namespace enact::bus {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // ZAP (ZeroMQ RFC 27): libzmq asks the handler bound here about every peer of a socket that
 // has a security mechanism
@@ -26,7 +26,7 @@ constexpr const char* kZapEndpoint = "inproc://zeromq.zap.01";
 // how often the ZAP thread looks whether the process is ending
 constexpr int kZapPoll_ms = 100;
 // a refused key, or a client's dropped messages, are logged at most this often
-constexpr auto kLogPeriod = std::chrono::minutes(1);
+constexpr std::int64_t kLogPeriod_ns = 60'000'000'000;
 
 // a path of the access file: ~/ is the home folder, a relative one starts at the file's folder
 std::string resolve(const std::string& path, const std::string& access_file) {
@@ -73,7 +73,7 @@ AccessClient client_from(const YAML::Node& node, const std::string& file) {
 struct Domain {
   std::map<std::string, std::string> names;  // public key (32 bytes) -> client name
   LogFn log;
-  std::map<std::string, Clock::time_point> refused;
+  std::map<std::string, std::int64_t> refused;  // key -> when it was last said (ns)
 };
 
 // the process's ZAP handler: one thread, one REP socket, the domains of every CurveServer
@@ -148,9 +148,9 @@ class Zap {
     }
     char z85[41] = {};
     if (key.size() == 32) zmq_z85_encode(z85, reinterpret_cast<const std::uint8_t*>(key.data()), 32);
-    const auto now = Clock::now();
+    const std::int64_t now = rt::now_ns();
     auto [last, first] = d->second.refused.try_emplace(z85, now);
-    if (first || now - last->second >= kLogPeriod) {
+    if (first || now - last->second >= kLogPeriod_ns) {
       last->second = now;
       if (d->second.log) d->second.log("refused a client key " + fingerprint(z85) + "... from " + address + ": not in the access file (logged once a minute per key)");
     }
@@ -238,21 +238,22 @@ std::string with_sender_key(std::string_view payload, std::string_view key_name)
 
 InboundGate::InboundGate(const Access& access, LogFn log) : access_(access), log_(std::move(log)) {}
 
-Verdict InboundGate::check(std::string_view key_name, Clock::time_point now) {
+Verdict InboundGate::check(std::string_view key_name, std::int64_t now_ns) {
   const AccessClient* client = access_.find(key_name);
   if (!client) return {false, "no client key", false};
   // a token bucket per client: inbound_rate_per_s tokens a second, one second's worth at most
-  Bucket& b = buckets_.try_emplace(client->name, Bucket{access_.inbound_rate_per_s, now, {}}).first->second;
-  b.tokens = std::min(access_.inbound_rate_per_s, b.tokens + std::chrono::duration<double>(now - b.last).count() * access_.inbound_rate_per_s);
-  b.last = now;
+  Bucket& b = buckets_.try_emplace(client->name, Bucket{access_.inbound_rate_per_s, now_ns}).first->second;
+  b.tokens = std::min(access_.inbound_rate_per_s, b.tokens + static_cast<double>(now_ns - b.last_ns) * 1e-9 * access_.inbound_rate_per_s);
+  b.last_ns = now_ns;
   if (b.tokens < 1.0) {
     ++dropped_[client->name];
-    if (now - b.logged >= kLogPeriod) {
+    if (!b.said || now_ns - b.logged_ns >= kLogPeriod_ns) {
       if (log_) {
         log_("dropping inbound messages from key '" + client->name + "' beyond " + std::to_string(static_cast<int>(access_.inbound_rate_per_s)) + " per second: " +
              std::to_string(dropped_[client->name]) + " dropped so far (said again at most once a minute)");
       }
-      b.logged = now;
+      b.logged_ns = now_ns;
+      b.said = true;
     }
     return {false, "over the inbound rate limit", false};
   }

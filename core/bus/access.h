@@ -98,7 +98,7 @@ class InboundGate {
   InboundGate(const Access& access, LogFn log);
 
   // the verdict on a message from the key named `key_name` (sender_key) at `now`
-  Verdict check(std::string_view key_name, std::chrono::steady_clock::time_point now);
+  Verdict check(std::string_view key_name, std::int64_t now_ns);
 
   // messages dropped by the rate limit, per client name
   const std::map<std::string, std::uint64_t, std::less<>>& dropped() const { return dropped_; }
@@ -106,8 +106,9 @@ class InboundGate {
  private:
   struct Bucket {
     double tokens = 0.0;
-    std::chrono::steady_clock::time_point last{};
-    std::chrono::steady_clock::time_point logged{};
+    std::int64_t last_ns = 0;
+    std::int64_t logged_ns = 0;  // when a drop was last said
+    bool said = false;           // a drop said at all
   };
 
   const Access& access_;

@@ -14,13 +14,13 @@
 #include "core/bus/schema.h"
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
+#include "core/rt/clock.h"
 #include "msgs/graph.pb.h"
 #include "msgs/param_update.pb.h"
 
 namespace enact::bus {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // how long a caller waits for the forwarding thread to answer a command
 constexpr int kCommandTimeout_ms = 5000;
@@ -160,17 +160,16 @@ void AttachPoint::run() {
       const std::string subscribe = '\x01' + topic;
       (void)xsub_.send(zmq::const_buffer(subscribe.data(), subscribe.size()), zmq::send_flags::dontwait);
     }
-    auto next_graph = Clock::now();
+    std::int64_t next_graph_ns = rt::now_ns();
     for (;;) {
       // sleep until traffic, a command or the next GraphInfo
-      const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_graph - Clock::now());
       try {
-        zmq::poll(items, 3, std::max(wait, std::chrono::milliseconds(0)));
+        zmq::poll(items, 3, std::chrono::milliseconds(rt::ms_until(next_graph_ns)));
       } catch (const zmq::error_t& e) {
         if (e.num() != EINTR) throw;
         continue;
       }
-      bool graph_now = Clock::now() >= next_graph;
+      bool graph_now = rt::now_ns() >= next_graph_ns;
       if (items[0].revents & ZMQ_POLLIN) forward_data();
       if (items[1].revents & ZMQ_POLLIN) graph_now |= forward_from_observers();
       if (items[2].revents & ZMQ_POLLIN) {
@@ -179,7 +178,7 @@ void AttachPoint::run() {
       }
       if (graph_now) {
         publish_graph();
-        next_graph = Clock::now() + std::chrono::milliseconds(graph_period_ms_);
+        next_graph_ns = rt::now_ns() + std::int64_t{graph_period_ms_} * 1'000'000;
         // what the queues of a slow observer took goes back to the system once drained
         malloc_trim(0);
       }
@@ -274,7 +273,7 @@ void AttachPoint::relay_inbound(zmq::message_t& first) {
   // with keys: the sender's role and rate decide; what passes names its key (audit trail)
   const std::string key(sender_key(frames[0]));
   if (gate_) {
-    const Verdict v = gate_->check(key, Clock::now());
+    const Verdict v = gate_->check(key, rt::now_ns());
     if (!v.pass) {
       if (v.answer) refuse_inbound(frames, v.reason);
       return;

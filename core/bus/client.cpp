@@ -11,6 +11,7 @@
 #include "core/bus/endpoints.h"
 #include "core/bus/keys.h"
 #include "core/config/yaml.h"
+#include "core/rt/clock.h"
 
 namespace enact::bus {
 namespace {
@@ -84,9 +85,9 @@ void attach_connect(zmq::socket_t& socket, const std::string& endpoint, const Cl
   events.connect(monitor);
   socket.connect(endpoint);
   std::string failure;
-  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
+  const std::int64_t end_ns = rt::now_ns() + std::int64_t{wait_ms} * 1'000'000;
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()).count();
+    const int left = rt::ms_until(end_ns);
     if (left <= 0) break;
     events.set(zmq::sockopt::rcvtimeo, static_cast<int>(left));
     // an event: [uint16 event, uint32 value] then the endpoint

@@ -18,6 +18,7 @@
 
 #include "core/config/yaml.h"
 #include "core/launch/env.h"
+#include "core/rt/clock.h"
 
 namespace enact::graph {
 namespace {
@@ -198,7 +199,7 @@ Registration::~Registration() {
 }
 
 GraphEntry find_graph(const AttachChoice& choice, std::ostream& say, const std::function<bool()>& stop) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(std::max(choice.wait_s, 0.0)));
+  const std::int64_t give_up_ns = rt::now_ns() + static_cast<std::int64_t>(std::max(choice.wait_s, 0.0) * 1e9);
   bool said = false;
   while (true) {
     const std::vector<GraphEntry> graphs = list_graphs();
@@ -225,7 +226,7 @@ GraphEntry find_graph(const AttachChoice& choice, std::ostream& say, const std::
       const std::string what = !choice.graph.empty() ? "graph '" + choice.graph + "'" : !choice.prefix.empty() ? "a graph named " + choice.prefix + "..." : "a graph";
       say << "waiting for " << what << " to start (enact graph list shows the running ones; Ctrl-C gives up)" << std::endl;
     }
-    if ((choice.wait_s >= 0.0 && std::chrono::steady_clock::now() >= give_up) || stop()) {
+    if ((choice.wait_s >= 0.0 && rt::now_ns() >= give_up_ns) || stop()) {
       throw config::Error(std::string(choice.graph.empty() ? "no graph" : "no graph '" + choice.graph + "'") + " is running" +
                           (graphs.empty() ? "" : "; running:" + names_of(graphs)) + "\n  fix: start one with `enact launch FILE`, or name a running one with --graph NAME");
     }

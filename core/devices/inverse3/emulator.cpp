@@ -1,5 +1,7 @@
 #include "core/devices/inverse3/emulator.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <set>
 #include <thread>
@@ -27,6 +29,7 @@ struct Inverse3Emulator::Impl {
   std::int64_t tick_ns = 0;
   std::int64_t start_ns = 0;
   std::int64_t last_command_ns = 0;  // when the force acting now was commanded
+  std::atomic<std::int64_t> stalled_until_ns{0};
   std::uint32_t buttons = 0;
   std::uint64_t messages = 0, bad = 0, updates = 0;
   int session_id = 0;
@@ -82,22 +85,29 @@ struct Inverse3Emulator::Impl {
   }
 
   void received(foxglove::ClientId id, const std::string& text) {
-    // the device's next tick: one update per tick at most
+    // the device's next tick: one update per tick at most (later while the service stalls)
     const std::int64_t now = rt::now_ns();
-    const std::int64_t next_tick = start_ns + ((now - start_ns) / tick_ns + 1) * tick_ns;
-    std::lock_guard lock(mutex);
-    ++messages;
-    // a command acts for one tick: past it, the device idled
-    if (last_command_ns > 0 && now > last_command_ns + tick_ns) handle.write(last_command_ns + tick_ns, {});
-    math::Vec3 f;
-    if (command(text, f)) {
-      handle.write(now, f);
-      last_command_ns = now;
-    } else {
-      ++bad;
+    const std::int64_t next_tick = std::max(start_ns + ((now - start_ns) / tick_ns + 1) * tick_ns, stalled_until_ns.load());
+    {
+      std::lock_guard lock(mutex);
+      ++messages;
+      // a command acts for one tick: past it, the device idled
+      if (last_command_ns > 0 && now > last_command_ns + tick_ns) handle.write(last_command_ns + tick_ns, {});
+      math::Vec3 f;
+      if (command(text, f)) {
+        handle.write(now, f);
+        last_command_ns = now;
+      } else {
+        ++bad;
+      }
     }
     rt::sleep_until_ns(next_tick);
-    sim->send(id, state_message(next_tick, false), false);
+    std::string state;
+    {
+      std::lock_guard lock(mutex);
+      state = state_message(next_tick, false);
+    }
+    sim->send(id, state, false);
   }
 };
 
@@ -162,6 +172,8 @@ void Inverse3Emulator::disconnect() {
   for (const auto id : clients) impl_->sim->close(id);
   emit("device-disconnected", "warning", "", "device lost (emulated)");
 }
+
+void Inverse3Emulator::stall(double duration_s) { impl_->stalled_until_ns.store(rt::now_ns() + std::llround(duration_s * 1e9)); }
 
 math::Vec3 Inverse3Emulator::force_n() const {
   std::lock_guard lock(impl_->mutex);

@@ -55,6 +55,9 @@ class Inverse3Emulator {
   void emit(const std::string& name, const std::string& level, const std::string& safety_type, const std::string& message);
   // the device is lost: every simulation connection closed, device-disconnected emitted
   void disconnect();
+  // the service stops answering for duration_s (a hung service): the commands that come
+  // meanwhile are answered after it
+  void stall(double duration_s);
 
   // the force acting on the handle now (enact frame, N), the handle's true position (enact frame)
   math::Vec3 force_n() const;

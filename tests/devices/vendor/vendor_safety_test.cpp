@@ -59,6 +59,7 @@ Backend on_emulated_service() {
             inverse3::Inverse3Params p;
             p.port = emu->port();
             p.events_port = emu->events_port();
+            p.reply_timeout_s = 1.0;  // a sanitized build on a busy machine can hold the service longer than 0.1 s
             return Rig{std::make_unique<inverse3::Inverse3ForceDevice>(p), [emu] { return emu->force_n(); }, [emu] { return emu->connections() > 0; }};
           }};
 }
