@@ -19,7 +19,7 @@ namespace enact::graph {
 // one tick, for observers (pushed through an SPSC queue to the publisher thread)
 struct Observation {
   std::uint64_t seq = 0;        // tick number, from 1
-  std::int64_t force_ns = 0;    // force written (sample-to-force latency = force_ns - sample.time_ns)
+  std::int64_t force_ns = 0;    // force written (latency from the tick's deadline = force_ns - sample.time_ns)
   devices::ForceSample sample;  // what the device read (position, velocity, buttons, fault bits)
   sim::StepOutput step;         // what the model made of it: force, pins, frame, contacts, task
   // whether the force path is cut (the device's watchdog tripped, i.e. this tick came later

@@ -256,7 +256,7 @@ void Container::rt_main() {
   std::int64_t last_ns = start;  // the last tick's time
   for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
     // the tick's time is its deadline, on either clock: the model never reads the wall clock
-    scheduler.wait();
+    const std::int64_t woke = scheduler.wait();
     const std::int64_t tick_ns = scheduler.deadline_ns();
     if (tick_ns >= end) {
       limit_ns_.store(last_ns);
@@ -264,10 +264,10 @@ void Container::rt_main() {
     }
     last_ns = tick_ns;
     const graph::Observation& o = io.loop.tick(tick_ns);
-    io.stats.latency.record(o.force_ns - o.sample.time_ns);
+    io.stats.latency.record(o.force_ns - woke);  // from the device read to the force written
     if (!deliver(io.queue, o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
     // in simulated time nobody is there after the bridge is completed: the run ends with it
-    if (sched_.simulated && o.step.event.kind == task::TaskEventKind::completed) break;
+    if (clock_ == rt::GraphClock::simulated && o.step.event.kind == task::TaskEventKind::completed) break;
     if (n % scene_every == 0) {
       scene.tick_ns = tick_ns;
       graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
