@@ -252,6 +252,7 @@ void Container::rt_main() {
   Shown levels{};
   io.loop.activate();
   scheduler.start(start);
+  const std::int64_t began_ns = rt::now_ns();
   const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
   std::int64_t last_ns = start;  // the last tick's time
   for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
@@ -284,6 +285,7 @@ void Container::rt_main() {
     }
   }
   io.loop.deactivate();
+  run_ns_ = rt::now_ns() - began_ns;
   // the whole run's timing, in the last node/status (a recording's count of missed deadlines)
   rt::take_timing(scheduler, io.stats);
   deliver(io.summaries, rt::summarize(io.stats, sched_.rate_hz));
@@ -384,7 +386,13 @@ void Container::print_summary() {
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(io.dropped.load()), io.cuts.summary().c_str());
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
-  std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
+  if (clock_ == rt::GraphClock::simulated) {
+    const double model_s = static_cast<double>(whole.ticks) / sched_.rate_hz, wall_s = static_cast<double>(run_ns_) * 1e-9;
+    std::printf("%s: verdict: simulated time: %.3f s of the model in %.3f s, %.1f times real time, no deadline to miss\n", name, model_s, wall_s,
+                wall_s > 0.0 ? model_s / wall_s : 0.0);
+  } else {
+    std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
+  }
   std::fflush(stdout);
 }
 

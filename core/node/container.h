@@ -52,6 +52,7 @@ class Container {
   std::unique_ptr<devices::TactileDevice> tactile_;
   std::unique_ptr<Io> io_;
   std::atomic<bool> rt_done_{false};
+  std::int64_t run_ns_ = 0;  // the loop's wall-clock time (read after rt_done_)
   std::atomic<std::int64_t> limit_ns_{-1};  // the last tick's time, when duration_s ended the loop
 };
 
