@@ -312,6 +312,8 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
   const std::vector<Trial> plan = make_plan(spec);
   // plan.csv: written by the first run, the same for every resumed one
   keep_or_check(out + "/plan.csv", plan_text(plan), "experiment file, --subjects or --conditions differ");
+  // one clock per folder: a resumed run on another clock would mix them in results.csv
+  if (!plan.empty()) keep_or_check(out + "/clock.txt", std::string(rt::to_string(trial_graph(spec, plan.front(), "").clock)) + "\n", "--clock differs");
   std::error_code ec;
   fs::copy_file(spec.file, out + "/experiment.yaml", fs::copy_options::skip_existing, ec);
   RunSummary summary;

@@ -221,6 +221,10 @@ TEST(ExperimentCli, InterruptedRunResumesWithoutRunningCompletedTrials) {
   const RunResult other = enact("experiment " + file + " --conditions CM0,CM2 --out " + dir.file("out"));
   EXPECT_EQ(other.exit_code, 1);
   EXPECT_NE(other.err.find("plan.csv: this folder holds a run of another plan"), std::string::npos) << other.err;
+  // and so is the same plan on another clock
+  const RunResult simulated = enact("experiment " + file + " --clock simulated --out " + dir.file("out"));
+  EXPECT_EQ(simulated.exit_code, 1);
+  EXPECT_NE(simulated.err.find("clock.txt: this folder holds a run of another plan (--clock differs)"), std::string::npos) << simulated.err;
 }
 
 // one tick of a recording: the device state's stamp and position, and the force answering it
