@@ -22,6 +22,14 @@ Writes DIR/report.md (tables), DIR/stats.json (every statistic and p, keyed by m
 pair "A-B") and DIR/figure.png (one panel per measure, mean +- SD per condition, in the
 style of Fig. 4 of Khatchatourov et al. 2009). Prints the summary table.
 
+Censored trials: a trial that reached its time limit (completed = 0) has a time_total that
+is only a lower bound (the subject would have taken longer). They are counted per condition
+(report, summary, stats.json "censored"), and their time_total is ranked as a tie at the
+limit (the largest time_total in the file) for Friedman and Wilcoxon, and so described: a
+censored-censored pair is a zero difference, a censored trial is slower than every completed
+one. Means with censored trials are lower bounds; the figure marks each censored trial
+(a triangle at the limit). Falls and time out are counted up to the limit as they are.
+
 The ranking: a `ranking` column in RESULTS.csv, or RANKING.csv (subject,condition,rank),
 by default ranking.csv next to RESULTS.csv when it exists. Rank 1 is the preferred
 condition.
@@ -87,12 +95,18 @@ def number(path, line, row, column):
     return value
 
 
+# the measure whose censored values (completed = 0) are ranked as ties at the limit
+CENSORED_MEASURE = "time_total"
+
+
 def load(results_path, ranking_path):
-    """{measure: {subject: {condition: value}}}, the conditions in order, and notes"""
+    """{measure: {subject: {condition: value}}}, the conditions in order, the number of
+    trials and {subject: {condition: censored}} (completed = 0)"""
     rows = read_csv(results_path, COLUMNS, "results.csv")
     if not rows:
         raise InputError(results_path, "no trials", "run the experiment first (enact experiment)")
     data = {name: {} for name, _, _ in MEASURES}
+    censored = {}
     seen = {}
     conditions = []
     has_ranking_column = "ranking" in rows[0][1]
@@ -110,13 +124,14 @@ def load(results_path, ranking_path):
             conditions.append(condition)
         for name, column, _ in MEASURES:
             data[name].setdefault(subject, {})[condition] = number(results_path, line, row, column)
+        censored.setdefault(subject, {})[condition] = number(results_path, line, row, "completed") == 0
         if has_ranking_column and (row.get("ranking") or "").strip():
             data["ranking"].setdefault(subject, {})[condition] = number(results_path, line, row, "ranking")
     if ranking_path and not has_ranking_column:
         data["ranking"] = {}
         for line, row in read_csv(ranking_path, ("subject", "condition", "rank"), "ranking.csv"):
             data["ranking"].setdefault(row["subject"].strip(), {})[row["condition"].strip()] = number(ranking_path, line, row, "rank")
-    return data, sorted(conditions), len(rows)
+    return data, sorted(conditions), len(rows), censored
 
 
 # ---------------------------------------------------------------------------------------
@@ -191,16 +206,33 @@ def wilcoxon(a, b):
     return result
 
 
-def analyze(data, conditions):
-    """every statistic, keyed by measure and pair"""
+def at_the_limit(by_subject, censored):
+    """the values with every censored one replaced by the limit (the largest value), and
+    the limit; None when nothing is censored"""
+    flagged = [(s, c) for s, values in by_subject.items() for c in values if censored.get(s, {}).get(c)]
+    if not flagged:
+        return by_subject, None
+    limit = max(v for values in by_subject.values() for v in values.values())
+    tied = {s: dict(values) for s, values in by_subject.items()}
+    for s, c in flagged:
+        tied[s][c] = limit
+    return tied, limit
+
+
+def analyze(data, conditions, censored=None):
+    """every statistic, keyed by measure and pair; censored: {subject: {condition: bool}}"""
+    censored = censored or {}
     out = {"conditions": conditions, "measures": {}}
     for measure, by_subject in data.items():
         complete = sorted(s for s, values in by_subject.items() if all(c in values for c in conditions))
         dropped = sorted(s for s in by_subject if s not in complete)
-        entry = {"subjects": complete, "dropped_subjects": dropped, "conditions": {}, "friedman": None, "pairs": {}}
+        entry = {"subjects": complete, "dropped_subjects": dropped, "conditions": {}, "friedman": None, "pairs": {},
+                 "censored": {c: sum(bool(censored.get(s, {}).get(c)) for s in complete) for c in conditions}, "censored_at": None}
         out["measures"][measure] = entry
         if not complete:
             continue
+        if measure == CENSORED_MEASURE:
+            by_subject, entry["censored_at"] = at_the_limit({s: by_subject[s] for s in complete}, censored)
         columns = [[by_subject[s][c] for s in complete] for c in conditions]
         for c, column in zip(conditions, columns):
             entry["conditions"][c] = describe(column)
@@ -227,16 +259,28 @@ def fmt(value, digits=3):
     return f"{value:.{digits}f}"
 
 
+def censoring_note(entry):
+    """what was done with the censored trials of a measure, "" when none"""
+    if entry["censored_at"] is None:
+        return ""
+    counts = ", ".join(f"{c} {n}" for c, n in entry["censored"].items())
+    return (f"censored (not completed: time_total only a lower bound): {counts}; ranked as ties at the limit "
+            f"{fmt(entry['censored_at'])} s for Friedman and Wilcoxon; the means are lower bounds")
+
+
 def summary_table(result):
-    """one line per measure: mean (SD) per condition and Friedman's p"""
+    """one line per measure: mean (SD) per condition and Friedman's p; then the censoring"""
     conditions = result["conditions"]
     lines = [f"{'measure':<11}" + "".join(f"{c:>18}" for c in conditions) + f"{'Friedman p':>12}"]
+    notes = []
     for measure, entry in result["measures"].items():
         if not entry["conditions"]:
             continue
         cells = "".join(f"{fmt(entry['conditions'][c]['mean']) + ' (' + fmt(entry['conditions'][c]['sd']) + ')':>18}" for c in conditions)
         lines.append(f"{measure:<11}{cells}{fmt(entry['friedman']['p']):>12}")
-    return "\n".join(lines)
+        if censoring_note(entry):
+            notes.append(f"{measure}: {censoring_note(entry)}")
+    return "\n".join(lines + ([""] + notes if notes else []))
 
 
 def report(result, results_path, trials):
@@ -256,6 +300,8 @@ def report(result, results_path, trials):
         for c in conditions:
             d = entry["conditions"][c]
             md.append(f"| {c} | {d['n']} | {fmt(d['mean'])} | {fmt(d['sd'])} | {fmt(d['median'])} |")
+        if censoring_note(entry):
+            md += ["", censoring_note(entry).capitalize() + "."]
         f = entry["friedman"]
         md += ["", f"Friedman: chi2 = {fmt(f['statistic'])}, df = {f['df']}, p = {fmt(f['p'], 4)}, Kendall's W = {fmt(f['kendall_w'])}"
                + (f" ({f['note']})" if f["note"] else ""), "",
@@ -279,6 +325,13 @@ def figure(result, path):
         sds = [entry["conditions"][c]["sd"] or 0.0 for c in conditions]
         ax.bar(conditions, means, yerr=sds, capsize=4, color="0.75", edgecolor="black")
         ax.set_title(labels.get(measure, measure))
+        # each censored trial: an open triangle at the limit, the counts under the axis
+        if entry["censored_at"] is not None:
+            for i, c in enumerate(conditions):
+                n = entry["censored"][c]
+                ax.plot([i] * n, [entry["censored_at"]] * n, linestyle="none", marker="^", markerfacecolor="none", markeredgecolor="black")
+            ax.set_xticks(range(len(conditions)), [f"{c}\n({entry['censored'][c]} cens.)" for c in conditions], fontsize=8)
+            ax.set_title(f"{labels.get(measure, measure)}\n(\u25b3 not completed: at the limit)", fontsize=10)
         ax.set_ylim(bottom=0)
         p = entry["friedman"]["p"]
         ax.set_xlabel(f"Friedman p = {p:.3g}" if p is not None else "Friedman: -", fontsize=9)
@@ -299,11 +352,11 @@ def main(argv):
         beside = os.path.join(os.path.dirname(os.path.abspath(args.results)), "ranking.csv")
         ranking = beside if os.path.exists(beside) else None
     try:
-        data, conditions, trials = load(args.results, ranking)
+        data, conditions, trials, censored = load(args.results, ranking)
     except InputError as e:
         print(f"analyze.py: {e}", file=sys.stderr)
         return 1
-    result = analyze(data, conditions)
+    result = analyze(data, conditions, censored)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "stats.json"), "w", encoding="utf-8") as f:
         json.dump(result, f, indent=2, allow_nan=False)

@@ -71,6 +71,7 @@ AttachPoint::AttachPoint(std::string graph, AttachOptions options)
   }
   // observers' side: every subscription reaches us (so each new observer of graph/topics
   // gets a GraphInfo at once); lossy, so a slow observer never holds the publishers back
+  // (in real time: a graph in simulated time waits for its observers, see forward_data)
   xpub_.set(zmq::sockopt::xpub_verbose, true);
   // deep queues both ways (seconds of a 5 kHz graph's every topic), so an observer that
   // pauses (a logger compressing a chunk) loses nothing
@@ -125,11 +126,13 @@ void AttachPoint::set_graph_name(const std::string& graph) { request({"name", gr
 
 void AttachPoint::set_launch_info(const msgs::GraphInfo& launch) {
   const std::lock_guard lock(launch_mutex_);
-  launch_.set_launch_file(launch.launch_file());
-  launch_.set_launch_text(launch.launch_text());
-  *launch_.mutable_params() = launch.params();
-  *launch_.mutable_files() = launch.files();
-  launch_.set_loop_hop(launch.loop_hop());
+  // how the graph was started: every field but those the attach point fills itself
+  launch_ = launch;
+  launch_.clear_header();
+  launch_.clear_graph();
+  launch_.clear_topics();
+  launch_.clear_descriptor_set();
+  lossless_.store(launch.clock() == "simulated");
 }
 
 void AttachPoint::stop() {
@@ -214,6 +217,11 @@ bool AttachPoint::handle_command() {
 }
 
 void AttachPoint::forward_data() {
+  // in simulated time a full observer is waited for (and so, in turn, are the publishers)
+  if (lossless_.load() != nodrop_) {
+    nodrop_ = lossless_.load();
+    xpub_.set(zmq::sockopt::xpub_nodrop, nodrop_);
+  }
   // publishers -> observers, whole messages, a batch at a time; the last of a state topic kept
   for (int i = 0; i < kForwardBatch; ++i) {
     // the whole message first
@@ -233,7 +241,7 @@ void AttachPoint::forward_data() {
     for (std::size_t k = 0; k < n; ++k) {
       if (keep) keep->push_back(frames_[k].to_string());
       const auto flags = k + 1 < n ? zmq::send_flags::sndmore | zmq::send_flags::dontwait : zmq::send_flags::dontwait;
-      (void)xpub_.send(zmq::const_buffer(frames_[k].data(), frames_[k].size()), flags);
+      (void)send_frame(xpub_, frames_[k].data(), frames_[k].size(), flags, nodrop_);
     }
   }
 }
@@ -346,11 +354,7 @@ void AttachPoint::publish_graph() {
   info.set_descriptor_set(descriptor_set_);
   {
     const std::lock_guard lock(launch_mutex_);
-    info.set_launch_file(launch_.launch_file());
-    info.set_launch_text(launch_.launch_text());
-    *info.mutable_params() = launch_.params();
-    *info.mutable_files() = launch_.files();
-    info.set_loop_hop(launch_.loop_hop());
+    info.MergeFrom(launch_);
   }
   // skipped when nobody subscribed or the queue is full: the next one follows in a period
   publish_own(kGraphTopic, msgs::GraphInfo::descriptor()->full_name(), info.SerializeAsString());

@@ -10,7 +10,9 @@
 // (msgs/graph.proto, GraphInfo) every second and as soon as an observer subscribes to it.
 //
 // Observers are lossy: a slow observer loses messages at the attach point (it sees gaps,
-// and counts them by header.seq), and never slows the publishers. Each observer's queue
+// and counts them by header.seq), and never slows the publishers. Except in simulated time
+// (the launch info's clock): then the attach point waits for a full observer, as the nodes'
+// publishers wait for it (bus::PublisherOptions::wait_when_full), and nobody loses anything. Each observer's queue
 // holds at most kObserverQueue messages, and the nodes' messages in it at most
 // observer_queue_bytes: the message limit is those bytes over an assumed mean message cost
 // (kMeanCost_bytes, frames and their overhead; a 5 kHz graph's stream averages less), set
@@ -181,6 +183,9 @@ class AttachPoint {
   std::vector<Topic> topics_;
   std::mutex launch_mutex_;
   msgs::GraphInfo launch_;    // launch details, under launch_mutex_
+  // simulated time (launch_.clock()): observers lose nothing, the graph waits for them
+  std::atomic<bool> lossless_{false};
+  bool nodrop_ = false;       // the forwarding thread's: ZMQ_XPUB_NODROP set on xpub_
   std::string descriptor_set_;
   std::uint64_t graph_seq_ = 0;
   std::vector<zmq::message_t> frames_;  // the message being forwarded

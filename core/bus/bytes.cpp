@@ -32,6 +32,16 @@ std::vector<std::pair<std::string, TopicCounters>> list_counters(const Map& coun
 
 }  // namespace
 
+bool send_frame(zmq::socket_t& socket, const void* data, std::size_t size, zmq::send_flags flags, bool wait) {
+  if (socket.send(zmq::const_buffer(data, size), flags)) return true;
+  const std::int64_t give_up = wait ? rt::now_ns() + static_cast<std::int64_t>(kFullWait_s * 1e9) : 0;
+  while (rt::now_ns() < give_up) {
+    rt::sleep_until_ns(rt::now_ns() + 20'000);
+    if (socket.send(zmq::const_buffer(data, size), flags)) return true;
+  }
+  return false;
+}
+
 BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions options)
     : socket_(make_socket(zmq::socket_type::xpub)), node_(std::move(options.node)) {
   validate_endpoint(endpoint, "publisher endpoint");
@@ -43,7 +53,8 @@ BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions optio
   // queue is full loses the message alone (ZeroMQ's default XPUB behaviour, no
   // ZMQ_XPUB_NODROP); it sees the jump in header.seq and counts it as a gap
   socket_.set(zmq::sockopt::sndhwm, options.send_hwm);
-  socket_.set(zmq::sockopt::xpub_nodrop, options.refuse_when_full);
+  socket_.set(zmq::sockopt::xpub_nodrop, options.refuse_when_full || options.wait_when_full);
+  wait_when_full_ = options.wait_when_full;
   // every subscriber's subscribe and unsubscribe notice, not just the first and last: counted
   socket_.set(zmq::sockopt::xpub_verboser, true);
   try {
@@ -63,7 +74,7 @@ bool BytePublisher::send(std::string_view topic, std::string_view type, const vo
   // none of them (the high-water mark counts whole messages). Only a socket error refuses
   constexpr auto more = zmq::send_flags::dontwait | zmq::send_flags::sndmore;
   try {
-    if (!socket_.send(zmq::const_buffer(topic.data(), topic.size()), more)) {
+    if (!send_frame(socket_, topic.data(), topic.size(), more, wait_when_full_)) {
       ++c.dropped;
       return false;
     }

@@ -40,7 +40,19 @@ struct PublisherOptions {
   // any subscriber's queue is full, so one stopped subscriber stops every other
   // (ZMQ_XPUB_NODROP). Never for a graph's nodes: an observer could stall the loop.
   bool refuse_when_full = false;
+  // simulated time (the graph clock): refuse_when_full, and send() waits while refused (at
+  // most kFullWait_s, then drops), so the graph goes only as fast as its slowest subscriber
+  // takes its messages and no observer loses one to the clock's speed
+  bool wait_when_full = false;
 };
+
+// the longest a wait_when_full publisher waits for a full subscriber before it drops
+inline constexpr double kFullWait_s = 2.0;
+
+// sends one frame without blocking; while the socket refuses it (a full subscriber of an XPUB
+// socket with ZMQ_XPUB_NODROP) and `wait` is set, tries again every 20 us for at most
+// kFullWait_s. Whether it went; throws zmq::error_t as the socket does
+bool send_frame(zmq::socket_t& socket, const void* data, std::size_t size, zmq::send_flags flags, bool wait);
 
 // a publisher bound to one endpoint; any number of subscribers connect to it
 class BytePublisher {
@@ -90,6 +102,7 @@ class BytePublisher {
   zmq::socket_t socket_;
   std::string endpoint_;
   std::string node_;
+  bool wait_when_full_ = false;
   std::map<std::string, TopicCounters, std::less<>> counters_;
   std::multiset<std::string, std::less<>> subscriptions_;  // prefixes, once per subscriber asking
   std::vector<std::pair<std::string, std::string>> declared_;  // (topic, type)

@@ -4,8 +4,11 @@
 // trials. The plan is a pure function of the file (and its seed): a resumed run makes the
 // same plan and skips the trials already done.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "core/rt/clock.h"
 
 namespace enact::experiment {
 
@@ -36,6 +39,7 @@ struct ExperimentSpec {
   double practice_s = 0.0;          // 0: no practice trial before each condition
   std::string launch;               // the trial's launch file (absolute)
   std::vector<std::pair<std::string, std::string>> launch_args;  // more --arg NAME=VALUE for it
+  std::optional<rt::GraphClock> clock;  // --clock: the trial graphs' clock over their launch file's
 
   bool virtual_subjects() const { return !virtual_subject.empty(); }
 };

@@ -1,5 +1,6 @@
 #include "core/experiment/results.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -9,6 +10,7 @@
 #include "core/graph/topics.h"
 #include "core/record/reader.h"
 #include "msgs/device_state.pb.h"
+#include "msgs/node_status.pb.h"
 #include "msgs/task_event.pb.h"
 
 namespace enact::experiment {
@@ -54,8 +56,8 @@ void keep_or_check(const std::string& path, const std::string& text, const std::
   }
 }
 
-const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed";
-const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,kind";
+const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines";
+const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines,kind";
 
 RecordedTrial read_trial(const std::string& mcap_path) {
   record::Reader reader(mcap_path);
@@ -64,6 +66,7 @@ RecordedTrial read_trial(const std::string& mcap_path) {
   graph::SequenceCheck seq;
   msgs::DeviceState state;
   msgs::TaskEvent event;
+  msgs::NodeStatus status;
   std::vector<std::pair<std::string, msgs::TaskEvent>> events;  // with their publisher
   std::string sim;  // the simulator: the publisher of ffd/force
   reader.for_each([&](const record::Message& m) {
@@ -82,6 +85,8 @@ RecordedTrial read_trial(const std::string& mcap_path) {
       events.emplace_back(publisher, event);
     } else if (m.topic == graph::kForceCommand) {
       sim = publisher;
+    } else if (m.topic == graph::kNodeStatus && status.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      out.missed_deadlines = std::max<std::uint64_t>(out.missed_deadlines, status.deadlines_missed());
     }
     return true;
   });
@@ -126,9 +131,11 @@ std::string trial_key(const std::string& subject, const std::string& condition, 
   return subject + '\n' + condition + '\n' + to_string(kind);
 }
 
-void append_result(const std::string& path, const Trial& t, const task::Metrics& m) {
+void append_result(const std::string& path, const Trial& t, const RecordedTrial& recorded) {
+  const task::Metrics& m = recorded.metrics;
   std::string line = t.subject + ',' + t.condition.label + ',' + std::to_string(t.order) + ',' + std::to_string(m.falls) + ',' +
-                     number(m.time_total_s) + ',' + number(m.time_out_s) + ',' + number(m.ratio) + ',' + (m.completed ? "1" : "0");
+                     number(m.time_total_s) + ',' + number(m.time_out_s) + ',' + number(m.ratio) + ',' + (m.completed ? "1" : "0") + ',' +
+                     std::to_string(recorded.missed_deadlines);
   const bool measured = t.kind == TrialKind::measured;
   if (!measured) line += std::string(",") + to_string(t.kind);
   append_line(path, measured ? kResultsHeader : kPracticeHeader, line);
@@ -150,8 +157,8 @@ std::set<std::string> done_trials(const std::string& path) {
     }
     if (line.empty()) continue;
     const std::vector<std::string> c = cells(line);
-    if (c.size() < 8) throw config::Error(path + ":" + std::to_string(n) + ": a damaged row (" + line + ")\n  fix: delete the row: its trial runs again");
-    const TrialKind kind = c.size() > 8 ? (c[8] == "practice" ? TrialKind::practice : TrialKind::familiarisation) : TrialKind::measured;
+    if (c.size() < 9) throw config::Error(path + ":" + std::to_string(n) + ": a damaged row (" + line + ")\n  fix: delete the row: its trial runs again");
+    const TrialKind kind = c.size() > 9 ? (c[9] == "practice" ? TrialKind::practice : TrialKind::familiarisation) : TrialKind::measured;
     done.insert(trial_key(c[0], c[1], kind));
   }
   return done;

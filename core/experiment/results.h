@@ -21,6 +21,7 @@ struct RecordedTrial {
   std::uint64_t first_state_seq = 0;  // 1 when the recording holds the graph's first tick
   std::uint64_t state_gaps = 0;    // device states missing between the first and the last
   double duration_s = 0.0;         // from the first device state to the last
+  std::uint64_t missed_deadlines = 0;  // the loop's, as its last node/status said (0 in simulated time)
 };
 
 // the metrics of a trial from its recording: time 0 is the first device state (the
@@ -33,10 +34,10 @@ struct RecordedTrial {
 RecordedTrial read_trial(const std::string& mcap_path);
 
 // results.csv and practice.csv: a header, then one row per trial (numbers at 9 digits)
-extern const char* const kResultsHeader;  // subject,condition,order,falls,time_total_s,time_out_s,ratio,completed
+extern const char* const kResultsHeader;  // subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines
 extern const char* const kPracticeHeader; // the same and kind
 // appends a trial's row (the file and its header are created when missing), flushed
-void append_result(const std::string& path, const Trial& trial, const task::Metrics& metrics);
+void append_result(const std::string& path, const Trial& trial, const RecordedTrial& recorded);
 // the trials already in a results.csv or practice.csv, as (subject, condition label, kind)
 // keys; an absent file holds none. Throws config::Error (file:line) for a damaged file.
 std::set<std::string> done_trials(const std::string& path);

@@ -93,11 +93,18 @@ std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, c
   return a;
 }
 
+// a trial's graph, from the experiment's trial launch file, on the run's clock
+launch::LaunchDescription trial_graph(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {
+  launch::LaunchDescription graph = launch::load_launch(spec.launch, trial_arguments(spec, trial, recording));
+  if (spec.clock) launch::choose_clock(graph, *spec.clock);
+  return graph;
+}
+
 enum class Outcome : std::uint8_t { done, aborted, interrupted, failed };
 
 struct TrialResult {
   Outcome outcome = Outcome::failed;
-  task::Metrics metrics;
+  RecordedTrial recorded;
   std::string problem;
 };
 
@@ -133,7 +140,8 @@ class TrialRun {
   TrialResult run() {
     std::error_code ec;
     fs::remove(recording_, ec);  // an abandoned attempt
-    launch::LaunchDescription graph = launch::load_launch(spec_.launch, trial_arguments(spec_, trial_, recording_));
+    launch::LaunchDescription graph = trial_graph(spec_, trial_, recording_);
+    simulated_ = graph.clock == rt::GraphClock::simulated;
     // the real-time profile, before the trial's threads start (they inherit it); said in the
     // trial's log
     std::ostringstream realtime_said;
@@ -217,7 +225,8 @@ class TrialRun {
           stop_graph();
         }
       }
-      if (trial_s_ > trial_.limit_s + kDrain_s) stop_graph();
+      // the clock master ends the trial at its limit; in real time a stalled one is stopped
+      if (!simulated_ && trial_s_ > trial_.limit_s + kDrain_s) stop_graph();
       if (since(shown) >= 1.0) {
         shown = Clock::now();
         progress_.current = &trial_;
@@ -239,8 +248,12 @@ class TrialRun {
       if (!t.metrics.completed && t.duration_s < trial_.limit_s - kLimitSlack_s) {
         return {Outcome::failed, {}, "the graph stopped at " + config::number(t.duration_s) + " s of " + config::number(trial_.limit_s) + " s (see " + log_ + ")"};
       }
+      // simulated time waits for every observer: a gap is a fault, not the machine's speed
+      if (simulated_ && t.state_gaps > 0) {
+        return {Outcome::failed, {}, "the recording misses " + std::to_string(t.state_gaps) + " device states in simulated time (see " + log_ + ")"};
+      }
       r.outcome = Outcome::done;
-      r.metrics = t.metrics;
+      r.recorded = t;
     } catch (const std::exception& e) {
       const std::string error = first_error(log_);
       r.problem = error.empty() ? std::string("no usable recording: ") + e.what() + " (see " + log_ + ")" : "the graph failed: " + error + " (see " + log_ + ")";
@@ -265,6 +278,7 @@ class TrialRun {
   std::string recording_, log_;
   std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
   std::atomic<bool> aborted_{false};
+  bool simulated_ = false;  // the trial graph's clock
   std::atomic<double> trial_s_{0.0};
   graph::GraphSession* session_ = nullptr;  // while run() runs
 };
@@ -287,7 +301,7 @@ std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const st
   std::set<std::string> checked;
   for (const Trial& t : plan) {
     if (!checked.insert(t.condition.label + "/" + to_string(t.kind)).second) continue;
-    const launch::LaunchDescription graph = launch::load_launch(spec.launch, trial_arguments(spec, t, out + "/trials/" + t.file_stem + ".mcap"));
+    const launch::LaunchDescription graph = trial_graph(spec, t, out + "/trials/" + t.file_stem + ".mcap");
     for (const std::string& p : graph::check_graph(graph)) problems.push_back("condition " + t.condition.label + ": " + p);
   }
   return problems;
@@ -298,6 +312,8 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
   const std::vector<Trial> plan = make_plan(spec);
   // plan.csv: written by the first run, the same for every resumed one
   keep_or_check(out + "/plan.csv", plan_text(plan), "experiment file, --subjects or --conditions differ");
+  // one clock per folder: a resumed run on another clock would mix them in results.csv
+  if (!plan.empty()) keep_or_check(out + "/clock.txt", std::string(rt::to_string(trial_graph(spec, plan.front(), "").clock)) + "\n", "--clock differs");
   std::error_code ec;
   fs::copy_file(spec.file, out + "/experiment.yaml", fs::copy_options::skip_existing, ec);
   RunSummary summary;
@@ -336,15 +352,16 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
       const TrialResult r = run.run();
       outcome = r.outcome;
       if (outcome == Outcome::done) {
-        append_result(t.kind == TrialKind::measured ? summary.results : practice, t, r.metrics);
+        append_result(t.kind == TrialKind::measured ? summary.results : practice, t, r.recorded);
         done.insert(trial_key(t.subject, t.condition.label, t.kind));
         estimate.add(since(began), run.trial_s());
         ++summary.run;
         failures = 0;
         char line[256];
-        std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s", t.subject.c_str(),
-                      t.condition.label.c_str(), to_string(t.kind), t.order, r.metrics.falls, r.metrics.time_total_s, r.metrics.time_out_s,
-                      r.metrics.completed ? "" : ", not completed");
+        std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s%s", t.subject.c_str(),
+                      t.condition.label.c_str(), to_string(t.kind), t.order, r.recorded.metrics.falls, r.recorded.metrics.time_total_s, r.recorded.metrics.time_out_s,
+                      r.recorded.metrics.completed ? "" : ", not completed",
+                      r.recorded.missed_deadlines ? (", " + std::to_string(r.recorded.missed_deadlines) + " deadlines missed").c_str() : "");
         ui.note(line);
       } else if (outcome == Outcome::interrupted) {
         summary.interrupted = true;

@@ -4,8 +4,10 @@
 // logger node recording the trial to its own MCAP file from the first tick. A trial ends
 // when the simulator reports the bridge completed (the runner then stops the graph) or at
 // the time limit: the clock master stops itself (the launch file gives it limit_s and
-// does not require it), and the runner stops the rest a second later, when the logger has
-// the last messages. Its
+// does not require it; a co-located one says so with a TRIAL_END "stopped" and the runner
+// stops the graph then), and in real time the runner stops the rest a second after the
+// limit at the latest. The trial graphs run on their launch file's clock, or on
+// ExperimentSpec::clock (--clock): in simulated time a recording must hold every tick. Its
 // metrics come from the recording (read_trial) and go to results.csv (measured trials) or
 // practice.csv as soon as it ends, so an interrupted run resumes where it stopped and never
 // runs a completed trial again.

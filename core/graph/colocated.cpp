@@ -39,7 +39,7 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   const std::int64_t t_ns = now_ns - start_ns_;
   obs_.step = sim_.step(t_ns, reengage_.position(sim_, t_ns, obs_.sample.position_m));
   force_.write(now_ns, obs_.step.force_n);
-  obs_.force_ns = clock_();
+  obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow
   if (obs_.step.frame_due) tactile_.write(now_ns, obs_.step.frame);
   // a virtual subject's fingertip feels what the pins show

@@ -19,7 +19,7 @@ namespace enact::graph {
 // one tick, for observers (pushed through an SPSC queue to the publisher thread)
 struct Observation {
   std::uint64_t seq = 0;        // tick number, from 1
-  std::int64_t force_ns = 0;    // force written (sample-to-force latency = force_ns - sample.time_ns)
+  std::int64_t force_ns = 0;    // force written (latency from the tick's deadline = force_ns - sample.time_ns)
   devices::ForceSample sample;  // what the device read (position, velocity, buttons, fault bits)
   sim::StepOutput step;         // what the model made of it: force, pins, frame, contacts, task
   // whether the force path is cut (the device's watchdog tripped, i.e. this tick came later
@@ -29,7 +29,8 @@ struct Observation {
   std::int64_t cut_since_ns = 0;
 };
 
-// reads the monotonic clock (ns); a parameter so tests can drive time
+// reads the monotonic clock (ns) when the force is written (the tick's latency); a parameter
+// so tests can drive time; nullptr in simulated time: the force is written at the tick's time
 using Clock = rt::ClockFn;
 
 // parameter changes into the tick, and what it applied back out (a ParamPort never has
@@ -52,7 +53,8 @@ class ColocatedLoop {
   // and report them in `applied` (both outlive the loop; this thread pops `changes` and
   // pushes `applied`)
   void connect_params(ParamQueue& changes, AppliedQueue& applied);
-  // one tick of the zero-delay loop: parameter changes first, between two steps; after a cut
+  // one tick of the zero-delay loop at now_ns, the tick's time on the graph clock (its
+  // deadline: the model, the devices and a virtual subject take their time from it alone): parameter changes first, between two steps; after a cut
   // of the force path (the sample's watchdog or device error bit) the body is re-synchronised
   // with the device first, as enact-sim does, so the force comes back from zero
   const Observation& tick(std::int64_t now_ns);

@@ -133,6 +133,7 @@ void Logger::open_file() {
   writer_->add_metadata("enact.graph", {{"graph", graph_.graph()},
                                         {"attach", endpoint_},
                                         {"launch_file", graph_.launch_file()},
+                                        {"clock", graph_.clock().empty() ? "real" : graph_.clock()},
                                         {"launch_text", graph_.launch_text()},
                                         {"part", std::to_string(index)}});
   record::StringMap params;
@@ -188,6 +189,11 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
                  std::string_view(static_cast<const char*>(m.payload()), m.payload_size()));
 }
 
+// after a stop: take messages until none came for this long, at most kDrainMax_s (the
+// supervisor's SIGKILL comes 3 s after its SIGTERM)
+constexpr int kDrainQuiet_ms = 100;
+constexpr double kDrainMax_s = 2.0;
+
 void Logger::run(const std::function<bool()>& stop, const std::function<void(const LoggerProgress&)>& progress) {
   try {
     receive(stop, progress);
@@ -229,8 +235,10 @@ void Logger::receive(const std::function<bool()>& stop, const std::function<void
       progress(p);
     }
   }
-  // what is already queued still goes in
-  while (sub_.receive(m, 0)) take(m, rt::now_ns());
+  // what is already queued or on its way still goes in: the graph's nodes stop first, so the
+  // stream goes quiet soon (a logger behind a graph in simulated time may still have many)
+  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(kDrainMax_s * 1e9);
+  while (sub_.receive(m, kDrainQuiet_ms) && rt::now_ns() < give_up) take(m, rt::now_ns());
 }
 
 void Logger::close_file() {
@@ -307,6 +315,7 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
   std::stringstream text;
   text << in.rdbuf();
   info.set_launch_text(text.str());
+  info.set_clock(rt::to_string(graph.clock));
   auto add = [&](const std::string& name, const std::string& value) {
     auto& p = *info.add_params();
     p.set_name(name);

@@ -141,6 +141,14 @@ void apply_rt_profile(const std::string& node) {
 
 bool loop_pinned() { return g_loop_pinned; }
 
+rt::GraphClock graph_clock() {
+  const char* text = std::getenv(launch::kClockEnv);
+  if (!text) return rt::GraphClock::real;
+  const auto clock = rt::parse_clock(text);
+  if (!clock) throw config::Error(std::string(launch::kClockEnv) + "='" + text + "' names no clock\n  fix: real or simulated (the launcher sets it from the launch file's clock: entry or --clock)");
+  return *clock;
+}
+
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv) {
   try {
     return run(argc, argv);

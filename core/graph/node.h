@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "core/rt/clock.h"
+
 #include <zmq.hpp>
 
 #include "core/bus/bytes.h"
@@ -65,6 +67,10 @@ void apply_rt_profile(const std::string& node);
 // whether apply_rt_profile pinned this process to the loop's CPU (the graph's other processes
 // run elsewhere: the loop's CPU is its own and its hop peer's)
 bool loop_pinned();
+
+// the graph clock the launcher gave this node (ENACT_CLOCK; unset: real time); throws
+// config::Error for a value that names no clock
+rt::GraphClock graph_clock();
 
 // a node's main: runs `run`, and reports an exception as "<program>: error: ..." with exit 1
 int node_main(const char* program, int (*run)(int, char**), int argc, char** argv);

@@ -241,8 +241,38 @@ std::vector<std::string> check_params(const launch::LaunchDescription& graph) {
   return problems;
 }
 
+std::vector<std::string> check_clock(const launch::LaunchDescription& graph) {
+  std::vector<std::string> problems;
+  if (graph.clock != rt::GraphClock::simulated) return problems;
+  // a device other than the simulated ones, named by its `device` parameter
+  auto refuse_real = [&](const launch::NodeSpec& n, const std::string& who, const std::vector<launch::Param>& params) {
+    for (const launch::Param& p : params) {
+      if (p.name != "device" || p.value == "simulated") continue;
+      problems.push_back((p.source.empty() ? n.source : p.source) + ": node '" + n.name + "': " + who + " drives a real device (device=" + p.value +
+                         "), and the graph's clock is simulated (" + graph.clock_source +
+                         "): a person on a real device cannot be simulated\n  fix: run this graph in real time (clock: real, or leave out --clock "
+                         "simulated), or give it device=simulated with a virtual subject (subject=FILE)");
+    }
+  };
+  for (const launch::NodeSpec& n : graph.nodes) {
+    const std::string exec = std::filesystem::path(n.path).filename().string();
+    if (exec == "enact-ffd") {
+      problems.push_back(n.source + ": node '" + n.name + "': the distributed graph's clock master (enact-ffd) keeps real time only, and the graph's clock is simulated (" +
+                         graph.clock_source + ")\n  fix: run it in real time (clock: real, or leave out --clock simulated), or use the co-located graph "
+                         "(a container: launch/bridge_rt.yaml, launch/experiments/trial_rt.yaml)");
+    }
+    if (exec == "enact-ffd" || exec == "enact-tactile") refuse_real(n, exec.substr(6) + " driver", n.params);
+    for (const launch::ComponentSpec& c : n.components) {
+      if (c.plugin == "ffd" || c.plugin == "tactile") refuse_real(n, "component '" + c.name + "'", c.params);
+    }
+  }
+  return problems;
+}
+
 std::vector<std::string> check_graph(const launch::LaunchDescription& graph) {
-  std::vector<std::string> problems = check_params(graph);
+  std::vector<std::string> problems = check_clock(graph);
+  if (!problems.empty()) return problems;
+  problems = check_params(graph);
   return problems.empty() ? launch::check_nodes(graph) : problems;
 }
 

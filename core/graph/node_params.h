@@ -26,7 +26,11 @@ const ParamTable* node_table(const std::string& exec);
 // parameter, or of the --arg it came from); empty when all are declared and valid
 std::vector<std::string> check_params(const launch::LaunchDescription& graph);
 
-// check_params(), then, when it found nothing, every node's own --check
+// in simulated time (graph.clock), every force and tactile device of the graph is a
+// simulated one: each other is refused, naming its line and the fix; empty in real time
+std::vector<std::string> check_clock(const launch::LaunchDescription& graph);
+
+// check_clock(), then check_params(), then, when it found nothing, every node's own --check
 // (launch::check_nodes: files, models, device-dependent parameters): what `enact launch` and
 // `enact experiment` do before anything starts
 std::vector<std::string> check_graph(const launch::LaunchDescription& graph);

@@ -137,6 +137,8 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
                                    "  fix: give the scene: enact resim FILE --scene SCENE.yaml");
   }
   ResimResult out;
+  const record::StringMap graph = r.metadata("enact.graph");
+  if (graph.count("clock")) out.clock = graph.at("clock");
   out.scene = options.scene.empty() ? (recorded.count(src.prefix + "scene") ? recorded.at(src.prefix + "scene") : "") : options.scene;
   out.model = options.model.empty() ? (recorded.count(src.prefix + "model") ? recorded.at(src.prefix + "model") : "CM1") : options.model;
   sim::Simulator sim;

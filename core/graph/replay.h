@@ -31,6 +31,7 @@ struct Divergence {
 
 struct ResimResult {
   std::string scene, model;            // what the simulator ran (scene path as recorded)
+  std::string clock = "real";          // the graph clock that made the recording (rt::GraphClock)
   double rate_hz = 0.0;
   std::uint64_t steps = 0;             // device states replayed
   std::uint64_t first_state_seq = 0;   // 1 when the recording holds the graph's first tick

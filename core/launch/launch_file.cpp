@@ -211,6 +211,17 @@ struct Loader {
     realtime_at = at;
   }
 
+  // the graph clock: `clock: simulated` (or real)
+  void clock(const Scope& scope, const YAML::Node& y) {
+    const std::string at = source_of(scope, y);
+    if (!out.clock_source.empty()) config::fail(scope.file, y, "a second clock: entry (the first is at " + out.clock_source + ")", "keep one clock: entry per graph");
+    const std::string text = scalar(scope, y, "clock");
+    const auto parsed = rt::parse_clock(text);
+    if (!parsed) config::fail(scope.file, y, "clock must be real or simulated, got '" + text + "'", "write clock: real (the deadlines of rate_hz) or clock: simulated (as fast as the machine goes)");
+    out.clock = *parsed;
+    out.clock_source = at;
+  }
+
   // every loop process of the profile is a node of the graph
   void check_realtime() const {
     if (realtime_at.empty()) return;
@@ -243,7 +254,7 @@ struct Loader {
     std::set<std::string> declared;
     const std::vector<YAML::Node> actions = doc.list("launch");
     for (const auto& action : actions) {
-      if (!action.IsMap() || action.size() != 1) config::fail(path, action, "each launch entry is one of arg:, node:, container:, include:, realtime:", "write e.g. - node: {name: sim, exec: enact-sim}");
+      if (!action.IsMap() || action.size() != 1) config::fail(path, action, "each launch entry is one of arg:, node:, container:, include:, realtime:, clock:", "write e.g. - node: {name: sim, exec: enact-sim}");
       const std::string kind = action.begin()->first.Scalar();
       const YAML::Node body = action.begin()->second;
       if (kind == "arg") {
@@ -264,8 +275,10 @@ struct Loader {
         include(scope, body);
       } else if (kind == "realtime") {
         realtime(scope, body);
+      } else if (kind == "clock") {
+        clock(scope, body);
       } else {
-        config::fail(path, action.begin()->first, "unknown launch entry '" + kind + "'", "use arg, node, container, include or realtime");
+        config::fail(path, action.begin()->first, "unknown launch entry '" + kind + "'", "use arg, node, container, include, realtime or clock");
       }
     }
     for (const auto& [name, value] : given) {
@@ -292,6 +305,11 @@ std::vector<std::string> NodeSpec::argv() const {
     for (const Param& p : c.params) v.push_back("--param=" + c.name + "." + p.name + "=" + p.value);
   }
   return v;
+}
+
+void choose_clock(LaunchDescription& graph, rt::GraphClock clock) {
+  graph.clock = clock;
+  graph.clock_source = "--clock";
 }
 
 ExecResolver default_resolver() {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/rt/clock.h"
 #include "core/rt/profile.h"
 
 namespace enact::launch {
@@ -58,7 +59,12 @@ struct LaunchDescription {
   std::vector<ArgSpec> args;   // declared by the top file
   std::vector<NodeSpec> nodes; // in start order (includes expanded in place)
   rt::GraphProfile realtime;   // entry `realtime:` (off when there is none)
+  rt::GraphClock clock = rt::GraphClock::real;  // entry `clock:` (real when there is none)
+  std::string clock_source;    // where the clock was chosen: "FILE:LINE", "--clock" ("": the default)
 };
+
+// the graph's clock, chosen on the command line (`--clock`) over the launch file's entry
+void choose_clock(LaunchDescription& graph, rt::GraphClock clock);
 
 // finds an executable by name; returns "" when not found
 using ExecResolver = std::function<std::string(const std::string& exec)>;

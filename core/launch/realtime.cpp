@@ -3,11 +3,20 @@
 #include <cstdio>
 #include <ostream>
 
+#include "core/launch/env.h"
 #include "core/rt/probe.h"
 
 namespace enact::launch {
 
 std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, std::ostream& log) {
+  // simulated time: every node takes the graph clock from its environment; the loop ticks
+  // back to back and has no deadline to hold, so the profile is off (a SCHED_FIFO thread
+  // that never sleeps would starve the observers on its CPU)
+  if (graph.clock == rt::GraphClock::simulated) {
+    for (NodeSpec& n : graph.nodes) n.env.push_back({kClockEnv, rt::to_string(graph.clock), graph.clock_source});
+    graph.realtime.enabled = false;
+    log << "enact launch: clock simulated (" << graph.clock_source << "): the loop ticks as fast as the machine goes; no real-time profile\n";
+  }
   // the loop's I/O threads carry the loop only when its hop is forced onto ZeroMQ
   for (const NodeSpec& n : graph.nodes) {
     for (const Param& p : n.params) graph.realtime.io_with_loop |= p.name == "loop_transport" && p.value == "zeromq";

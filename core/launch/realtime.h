@@ -9,7 +9,9 @@
 
 namespace enact::launch {
 
-// applies graph.realtime in the calling (launcher) thread, gives each loop node its profile
+// in simulated time (graph.clock), gives every node the clock in its environment
+// (ENACT_CLOCK) and turns the real-time profile off. Then applies graph.realtime in the
+// calling (launcher) thread, gives each loop node its profile
 // in its environment (ENACT_RT_PROFILE), and says once on `log` what was applied and what
 // was refused. The CPU latency request lasts as long as the returned object.
 std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, std::ostream& log);

@@ -115,7 +115,7 @@ struct Container::Io {
         status_pub(out, graph::kNodeStatus),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
-        loop(c.simulator_, *c.force_, *c.tactile_, &rt::now_ns, c.reengage_s_),
+        loop(c.simulator_, *c.force_, *c.tactile_, c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
         cuts(c.host_.name(), "force path cut (a late tick or a device error): body re-synchronised, force back from zero"),
         rows(c.tactile_->rows()),
         cols(c.tactile_->cols()) {}
@@ -183,15 +183,17 @@ Container::Container(Host& host) : host_(host) {
     if (!np.cpus.empty()) rtp_.cpus = np.cpus;
     if (np.fifo_priority > 0) rtp_.fifo_priority = np.fifo_priority;
   }
-  // how the loop waits, from this machine's probe: a period shorter than twice its wake-up
-  // lateness is spun whole, on the loop's own CPU under normal scheduling (a FIFO thread that
-  // never sleeps is throttled by the kernel); otherwise it sleeps and spins the lateness
-  const bool own_cpu = !rtp_.cpus.empty() && std::thread::hardware_concurrency() >= 2;
-  const rt::WaitPlan wait = rt::loop_wait(p.number("spin_us"), rt::PeriodicScheduler(sched_).period_ns(), rtp_.fifo_priority > 0, false, own_cpu);
-  if (!wait.fifo) rtp_.fifo_priority = 0;
-  if (wait.spin_whole_period) rtp_.nice = -20;
-  sched_.spin_ns = wait.spin_ns;
-  wait_why_ = wait.why;
+  clock_ = graph::graph_clock();
+  if (clock_ == rt::GraphClock::simulated) {
+    // simulated time: the loop never waits, so it needs no CPU or priority of its own (a FIFO
+    // thread that never sleeps would starve the publisher thread)
+    sched_.simulated = true;
+    rtp_.fifo_priority = 0;
+    rtp_.cpus.clear();
+    wait_why_ = "ticks back to back: the graph's clock is simulated (a tick's time is its index over rate_hz)";
+  } else {
+    plan_wait(p.number("spin_us"));
+  }
   // components, configured (bad input is refused here, before anything moves)
   sim::SimParams sp = graph::sim_params(sim_p_);
   reengage_s_ = sim_p_.number("reengage_s");
@@ -208,6 +210,30 @@ Container::Container(Host& host) : host_(host) {
 }
 
 Container::~Container() = default;
+
+// how the loop waits in real time, from this machine's probe: a period shorter than twice its
+// wake-up lateness is spun whole, on the loop's own CPU under normal scheduling (a FIFO thread
+// that never sleeps is throttled by the kernel); otherwise it sleeps and spins the lateness
+void Container::plan_wait(double spin_us) {
+  const bool own_cpu = !rtp_.cpus.empty() && std::thread::hardware_concurrency() >= 2;
+  const rt::WaitPlan wait = rt::loop_wait(spin_us, rt::PeriodicScheduler(sched_).period_ns(), rtp_.fifo_priority > 0, false, own_cpu);
+  if (!wait.fifo) rtp_.fifo_priority = 0;
+  if (wait.spin_whole_period) rtp_.nice = -20;
+  sched_.spin_ns = wait.spin_ns;
+  wait_why_ = wait.why;
+}
+
+// into a queue to the publisher thread: in real time what does not fit is lost (counted by
+// the caller); in simulated time the loop waits for room, so observers see every tick
+template <typename Queue, typename Item>
+bool Container::deliver(Queue& queue, const Item& item) {
+  if (clock_ == rt::GraphClock::real) return queue.try_push(item);
+  while (!queue.try_push(item)) {
+    if (graph::stop_requested()) return false;
+    std::this_thread::yield();
+  }
+  return true;
+}
 
 // the real-time thread: set up, then tick on absolute deadlines
 void Container::rt_main() {
@@ -226,30 +252,43 @@ void Container::rt_main() {
   Shown levels{};
   io.loop.activate();
   scheduler.start(start);
+  const std::int64_t began_ns = rt::now_ns();
   const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  std::int64_t last_ns = start;  // the last tick's time
   for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
+    // the tick's time is its deadline, on either clock: the model never reads the wall clock
     const std::int64_t woke = scheduler.wait();
-    if (woke >= end) break;
-    const graph::Observation& o = io.loop.tick(woke);
-    io.stats.latency.record(o.force_ns - o.sample.time_ns);
-    if (!io.queue.try_push(o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
+    const std::int64_t tick_ns = scheduler.deadline_ns();
+    if (tick_ns >= end) {
+      limit_ns_.store(last_ns);
+      break;
+    }
+    last_ns = tick_ns;
+    const graph::Observation& o = io.loop.tick(tick_ns);
+    io.stats.latency.record(o.force_ns - woke);  // from the device read to the force written
+    if (!deliver(io.queue, o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
+    // in simulated time nobody is there after the bridge is completed: the run ends with it
+    if (clock_ == rt::GraphClock::simulated && o.step.event.kind == task::TaskEventKind::completed) break;
     if (n % scene_every == 0) {
-      scene.tick_ns = woke;
+      scene.tick_ns = tick_ns;
       graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
-      io.scenes.try_push(scene);
+      deliver(io.scenes, scene);
     }
     if (n % shown_every == 0) {
-      levels.time_ns = woke;
-      tactile_->shown(woke, levels.level, io.rows * io.cols);
-      io.shown_queue.try_push(levels);
+      levels.time_ns = tick_ns;
+      tactile_->shown(tick_ns, levels.level, io.rows * io.cols);
+      deliver(io.shown_queue, levels);
     }
     if (n % status_every == status_every - 1) {
       rt::take_timing(scheduler, io.stats);
-      io.summaries.try_push(rt::summarize(io.stats, sched_.rate_hz));
+      deliver(io.summaries, rt::summarize(io.stats, sched_.rate_hz));
     }
   }
   io.loop.deactivate();
+  run_ns_ = rt::now_ns() - began_ns;
+  // the whole run's timing, in the last node/status (a recording's count of missed deadlines)
   rt::take_timing(scheduler, io.stats);
+  deliver(io.summaries, rt::summarize(io.stats, sched_.rate_hz));
   rt_done_.store(true);
 }
 
@@ -292,11 +331,12 @@ void Container::publish_status() {
 }
 
 // the publisher thread's round: parameter changes to the real-time thread (never more than
-// the queue holds), and every topic for observers
-void Container::drain() {
+// the queue holds), and every topic for observers; the ticks it took
+std::size_t Container::drain() {
   Io& io = *io_;
+  std::size_t ticks = 0;
   while (const auto change = io.params.next()) io.changes.try_push(*change);
-  while (io.queue.try_pop(io.o)) {
+  for (; io.queue.try_pop(io.o); ++ticks) {
     take_applied();
     io.felt.add(io.o);
     if (io.o.cut != io.cuts.tripped()) io.cuts.update(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
@@ -316,6 +356,20 @@ void Container::drain() {
     io.shown_pub.publish(io.shown_msg);
   }
   while (io.summaries.try_pop(io.summary)) publish_status();
+  return ticks;
+}
+
+// the trial stopped at duration_s, said as a live `sim.trial stop` is (TRIAL_END "stopped",
+// at the last tick): whoever runs the trial stops the graph at once, on either clock
+void Container::publish_limit() {
+  Io& io = *io_;
+  io.event_msg.Clear();
+  io.event_msg.mutable_header()->set_stamp_ns(limit_ns_.load());
+  io.event_msg.set_kind(msgs::TaskEvent::TRIAL_END);
+  io.event_msg.set_time_ns(limit_ns_.load());
+  io.event_msg.set_detail("stopped");
+  io.event_msg.set_condition(io.params.model_name());
+  io.event_pub.publish(io.event_msg);
 }
 
 void Container::print_summary() {
@@ -332,7 +386,13 @@ void Container::print_summary() {
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(io.dropped.load()), io.cuts.summary().c_str());
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
-  std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
+  if (clock_ == rt::GraphClock::simulated) {
+    const double model_s = static_cast<double>(whole.ticks) / sched_.rate_hz, wall_s = static_cast<double>(run_ns_) * 1e-9;
+    std::printf("%s: verdict: simulated time: %.3f s of the model in %.3f s, %.1f times real time, no deadline to miss\n", name, model_s, wall_s,
+                wall_s > 0.0 ? model_s / wall_s : 0.0);
+  } else {
+    std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
+  }
   std::fflush(stdout);
 }
 
@@ -352,11 +412,12 @@ int Container::run() {
   graph::say(host_.name(), "the loop " + wait_why_);
   graph::report_ready();
   while (!rt_done_.load()) {
-    drain();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // in simulated time the loop waits for this thread: no pause while there is work
+    if (drain() == 0 || clock_ == rt::GraphClock::real) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   rt_thread.join();
   drain();
+  if (limit_ns_.load() >= 0) publish_limit();
   print_summary();
   return 0;
 }

@@ -28,11 +28,15 @@ class Container {
  private:
   struct Io;  // publishers, queues, the loop: made by run()
   void rt_main();
-  void drain();
+  std::size_t drain();
   void publish_tick();
   void take_applied();
   void publish_status();
   void print_summary();
+  void publish_limit();
+  void plan_wait(double spin_us);
+  template <typename Queue, typename Item>
+  bool deliver(Queue& queue, const Item& item);
 
   Host& host_;
   std::string sim_name_, ffd_name_, tac_name_;
@@ -40,6 +44,7 @@ class Container {
   rt::SchedulerParams sched_;
   rt::RtParams rtp_;
   std::string wait_why_;
+  rt::GraphClock clock_ = rt::GraphClock::real;
   double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
   int observers_;
   sim::Simulator simulator_;
@@ -47,6 +52,8 @@ class Container {
   std::unique_ptr<devices::TactileDevice> tactile_;
   std::unique_ptr<Io> io_;
   std::atomic<bool> rt_done_{false};
+  std::int64_t run_ns_ = 0;  // the loop's wall-clock time (read after rt_done_)
+  std::atomic<std::int64_t> limit_ns_{-1};  // the last tick's time, when duration_s ended the loop
 };
 
 }  // namespace enact::node

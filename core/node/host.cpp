@@ -18,7 +18,9 @@ Host::~Host() = default;
 
 void Host::open(int send_hwm) {
   graph::install_stop_handlers();
-  if (send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = send_hwm});
+  // in simulated time no observer loses a message: the node waits for it instead
+  const bool simulated = graph::graph_clock() == rt::GraphClock::simulated;
+  if (send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = send_hwm, .wait_when_full = simulated});
   board_ = std::make_unique<graph::ParamBoard>(args_.name);
   board_->add(args_.params, args_.name);
 }

@@ -45,7 +45,8 @@ class Host {
   bus::BytePublisher& out() { return *out_; }
   graph::ParamBoard& board() { return *board_; }
   // stop handlers, publisher (`send_hwm` messages queued per subscriber; 0: a node that
-  // publishes nothing of its own has none), parameter board
+  // publishes nothing of its own has none; in simulated time it waits for a full
+  // subscriber instead of dropping: bus::PublisherOptions::wait_when_full), parameter board
   void open(int send_hwm);
   // every typed publisher made: the launcher is told the topics, the board starts
   void announce();

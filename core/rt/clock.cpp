@@ -17,6 +17,14 @@ std::int64_t now_ns() noexcept {
   return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
 }
 
+const char* to_string(GraphClock clock) { return clock == GraphClock::simulated ? "simulated" : "real"; }
+
+std::optional<GraphClock> parse_clock(std::string_view text) {
+  if (text == "real") return GraphClock::real;
+  if (text == "simulated") return GraphClock::simulated;
+  return std::nullopt;
+}
+
 int ms_until(std::int64_t deadline_ns) noexcept {
   constexpr std::int64_t kNsPerMs = 1'000'000;
   const std::int64_t left = deadline_ns - now_ns();

@@ -2,6 +2,8 @@
 // The loop's time base: CLOCK_MONOTONIC in int64 nanoseconds (DESIGN.md, "times are int64
 // nanoseconds of a monotonic clock"), and an absolute sleep on that clock.
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 namespace enact::rt {
 
@@ -11,6 +13,17 @@ std::int64_t now_ns() noexcept;
 
 // a clock to read instead of now_ns (tests and emulators drive time with their own)
 using ClockFn = std::int64_t (*)();
+
+// the graph clock (launch entry `clock:`, option --clock), as ROS 2's use_sim_time: real
+// time, where the clock master ticks on the deadlines of rate_hz, or simulated time, where it
+// ticks as soon as the tick before is done (no sleeping, no deadline to miss). In both, a
+// tick's time is its deadline: tick n is at n / rate_hz from the first, so the model, the
+// simulated devices and a virtual subject see the same times in either clock.
+enum class GraphClock : std::uint8_t { real, simulated };
+// "real" or "simulated"
+const char* to_string(GraphClock clock);
+// the clock named "real" or "simulated"; nullopt for any other text
+std::optional<GraphClock> parse_clock(std::string_view text);
 
 // milliseconds from now until `deadline_ns`, rounded up (so a wait of that many ms never
 // ends before the deadline), 0 once it has passed. For APIs that take ms (zmq_poll).

@@ -79,6 +79,12 @@ std::int64_t PeriodicScheduler::wait() {
   if (!started_) start(now_ns());
   index_ = next_index_;
   deadline_ns_ = deadline_at(index_);
+  if (params_.simulated) {
+    jitter_.record(0);
+    ++ticks_;
+    next_index_ = index_ + 1;
+    return deadline_ns_;
+  }
   // sleep to just before the deadline, then spin on the clock to it
   const std::int64_t sleep_to = deadline_ns_ - spin_ns_;
   std::int64_t woke = now_ns();

@@ -11,6 +11,9 @@
 // or more), the deadlines already past are skipped: the next wait() waits for the first
 // deadline still ahead, it never runs missed ticks back to back. Every missed deadline is an
 // overrun: the late one and each one skipped (a 50 ms stall at 44 kHz is 2200 overruns).
+//
+// Simulated time (GraphClock::simulated): wait() returns the next deadline at once, without
+// reading the clock or sleeping: the deadlines are the tick's times, none is ever missed.
 #include <cstdint>
 
 #include "core/rt/histogram.h"
@@ -27,6 +30,8 @@ struct SchedulerParams {
   // spin at most half a period, so the thread sleeps every tick: a SCHED_FIFO thread that
   // never sleeps is throttled by the kernel (sched_rt_runtime_us: ~50 ms stalled each second)
   bool sleep_every_tick = false;
+  // simulated time: never wait, never late (see above)
+  bool simulated = false;
 
   // throws config::Error naming the parameter and the fix
   void validate() const;
@@ -40,7 +45,7 @@ class PeriodicScheduler {
   // (re)start: deadline 0 is first_deadline_ns; counters and the histogram are cleared
   void start(std::int64_t first_deadline_ns);
   // wait for the next deadline; returns the time it woke (now_ns(), never before the
-  // deadline). Records the lateness in jitter(), counts overruns and skips missed deadlines
+  // deadline; in simulated time the deadline itself, at once). Records the lateness in jitter(), counts overruns and skips missed deadlines
   // (see above). Allocates nothing, never throws. Before start(): starts at now.
   std::int64_t wait();
 

@@ -101,4 +101,11 @@ std::string find_file(const std::string& path) {
   return !ec && fs::exists(candidate, ec) ? candidate.lexically_normal().string() : path;
 }
 
+std::optional<rt::GraphClock> clock_option(const Args& a) {
+  if (!a.has("clock")) return std::nullopt;
+  const auto clock = rt::parse_clock(a.get("clock"));
+  if (!clock) throw UsageError("--clock must be real or simulated, got '" + a.get("clock") + "'");
+  return clock;
+}
+
 }  // namespace enact::cli

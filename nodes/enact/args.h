@@ -2,12 +2,14 @@
 // A small command-line parser: positionals, --name value, --name=value and flags.
 // Unknown options and missing values are errors that name the option.
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/config/lists.h"
+#include "core/rt/clock.h"
 
 namespace enact::cli {
 
@@ -40,6 +42,9 @@ std::vector<std::string> take_list(int& argc, char** argv, const std::string& na
 // the values of a repeatable option "NAME VALUE" (or "NAME=VALUE"), in order, removed from
 // argv (argc shrinks); UsageError when one has no value
 std::vector<std::string> take_repeated(int& argc, char** argv, const std::string& name);
+
+// --clock real|simulated, when given (UsageError for another value)
+std::optional<rt::GraphClock> clock_option(const Args& a);
 
 // a file as given, else relative to the source tree above the executable
 // (build/nodes/enact/enact): so that benchmarks find launch/scenes/... from anywhere

@@ -20,7 +20,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--plan]
+constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
 condition in a seeded random or balanced order, with optional familiarisation and practice
@@ -29,7 +29,7 @@ trials. Each trial runs in its own graph, started from the experiment's trial la
 DIR/trials/<subject>_<condition>_<kind>.mcap by a logger node (the nodes' output goes to the
 .log beside it). A trial ends when the bridge is completed or at the time limit; its metrics
 go to DIR/results.csv (subject,condition,order,falls,time_total_s,time_out_s,ratio,
-completed) at once. Run again with the same FILE and DIR to resume: completed trials never
+completed,missed_deadlines) at once. Run again with the same FILE and DIR to resume: completed trials never
 run again.
 
 Virtual subjects (virtual_subject: in FILE) hold simulated devices and run unattended.
@@ -51,6 +51,11 @@ options:
   --subjects N          N subjects (ids 1..N) instead of the file's
   --conditions A,B,...  these conditions instead of the file's (presets or model files)
   --out DIR             results folder (default: results/<name of the experiment>)
+  --clock CLOCK         the trial graphs' clock, over their launch file's: simulated runs
+                        each trial as fast as the machine goes (virtual subjects, simulated
+                        devices, the co-located graph), the same trial as in real time
+                        without a missed deadline; results.csv's missed_deadlines says how
+                        many each real-time trial missed
   --plan                print the plan (trial order, seeds), check every trial graph's
                         parameters (as a run does first), and run nothing
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
@@ -238,7 +243,7 @@ int discrimination_run(const Args& a, FILE* term) {
 }  // namespace
 
 int experiment_run(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out"}, {"plan"});
+  const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out", "clock"}, {"plan"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -258,6 +263,7 @@ int experiment_run(int argc, char** argv) {
     experiment::override_subjects(spec, static_cast<int>(n));
   }
   if (a.has("conditions")) experiment::override_conditions(spec, split_commas(a.get("conditions")));
+  spec.clock = clock_option(a);
   const std::vector<experiment::Trial> plan = experiment::make_plan(spec);
   const std::string out = a.get("out", "results/" + spec.name);
   if (a.flag("plan")) print_plan(spec, plan);

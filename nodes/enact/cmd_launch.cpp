@@ -20,7 +20,7 @@ namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
-                         [--check] [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
+                         [--clock real|simulated] [--check] [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
 
 Run a graph from a YAML launch file (format: docs/launch-files.md): start its nodes
 and containers in order, each ready before the next, supervise them, and stop them in
@@ -40,6 +40,9 @@ options:
                      with --graph NAME; `enact graph list` shows the running graphs
   --duration S       stop the graph cleanly after S seconds
   --ready-timeout S  how long each process may take to report ready (default 10)
+  --clock CLOCK      the graph clock, over the launch file's clock: entry: real (the loop
+                     ticks on the deadlines of rate_hz) or simulated (it ticks as soon as a
+                     tick is done, as fast as the machine goes; simulated devices only)
   --check            load and print the plan, have every node check its parameters (as it
                      always does before anything starts), start nothing
   --attach ENDPOINT  where observers attach (default tcp://127.0.0.1:*: loopback, a free
@@ -75,7 +78,7 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
-  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name", "access"}, {"check", "allow-remote"});
+  const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name", "access", "clock"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -91,6 +94,7 @@ int launch(int argc, char** argv) {
   const std::string name = a.get("name", std::filesystem::path(a.positional[0]).stem().string());
   if (name.empty()) throw UsageError("--name needs a name");
   launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
+  if (const auto clock = clock_option(a)) launch::choose_clock(graph, *clock);
   for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
   for (const auto& n : graph.nodes) {
     std::string line;

@@ -59,7 +59,7 @@ int resim(int argc, char** argv) {
     std::printf("%s\n", j.str().c_str());
     return res.divergence ? 1 : 0;
   }
-  std::printf("resim %s: scene %s, model %s, %.0f Hz\n", r.path().c_str(), res.scene.c_str(), res.model.c_str(), res.rate_hz);
+  std::printf("resim %s: scene %s, model %s, %.0f Hz, %s time\n", r.path().c_str(), res.scene.c_str(), res.model.c_str(), res.rate_hz, res.clock.c_str());
   std::printf("  %llu device states replayed; %llu forces and %llu tactile frames compared\n", static_cast<unsigned long long>(res.steps),
               static_cast<unsigned long long>(res.forces_compared), static_cast<unsigned long long>(res.frames_compared));
   if (res.first_state_seq > 1) {

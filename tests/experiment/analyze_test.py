@@ -141,6 +141,63 @@ class Wilcoxon(unittest.TestCase):
         self.assertGreater(direct["w_plus"], direct["w_minus"])
 
 
+# 6 subjects x 3 conditions of total times; None marks a trial that reached the limit
+# (completed = 0), recorded at slightly different times at or under it
+CENSORED_TIMES = [
+    (180.0, 179.5, 50.0), (40.0, 179.9998, 60.0), (30.0, 45.0, 70.0),
+    (179.9, 180.0, 20.0), (35.0, 40.0, 179.8), (25.0, 60.0, 55.0),
+]
+CENSORED = [(True, True, False), (False, True, False), (False, False, False),
+            (True, True, False), (False, False, True), (False, False, False)]
+
+
+def censored_data():
+    data = {"time_total": {str(s): dict(zip(METHODS, times)) for s, times in enumerate(CENSORED_TIMES)}}
+    censored = {str(s): dict(zip(METHODS, flags)) for s, flags in enumerate(CENSORED)}
+    return data, censored
+
+
+class Censored(unittest.TestCase):
+    def test_censored_times_are_ranked_as_ties_at_the_limit(self):
+        data, censored = censored_data()
+        entry = analyze.analyze(data, list(METHODS), censored)["measures"]["time_total"]
+        self.assertEqual(entry["censored"], {"round_out": 2, "narrow": 3, "wide": 1})
+        self.assertEqual(entry["censored_at"], 180.0)
+        # by hand: every censored time at 180 s, then the plain tests
+        tied = [[180.0 if flags[i] else times[i] for times, flags in zip(CENSORED_TIMES, CENSORED)] for i in range(3)]
+        self.assertAlmostEqual(entry["friedman"]["statistic"], analyze.friedman(tied)["statistic"], places=12)
+        # subjects 0 and 3 reached the limit in both round out and narrow: zero differences
+        pair = entry["pairs"]["round_out-narrow"]
+        self.assertEqual(pair["zeros"], 2)
+        self.assertAlmostEqual(pair["p"], analyze.wilcoxon(tied[0], tied[1])["p"], places=12)
+        # taken at face value, the times under the limit would order those trials
+        raw = analyze.analyze(data, list(METHODS))["measures"]["time_total"]
+        self.assertNotAlmostEqual(raw["friedman"]["statistic"], entry["friedman"]["statistic"], places=6)
+        self.assertEqual(raw["pairs"]["round_out-narrow"]["zeros"], 0)
+        self.assertIsNone(raw["censored_at"])
+
+    def test_only_time_total_is_censored(self):
+        data, censored = censored_data()
+        data["falls"] = {s: {c: 1.0 for c in METHODS} for s in data["time_total"]}
+        entry = analyze.analyze(data, list(METHODS), censored)["measures"]["falls"]
+        self.assertIsNone(entry["censored_at"])
+        self.assertEqual(entry["censored"]["narrow"], 3, "counted for every measure")
+
+    def test_the_script_counts_them_says_so_and_marks_them(self):
+        with tempfile.TemporaryDirectory() as d:
+            rows = [(s + 1, c, i + 1, 0, t, 0, 0, 0 if flags[i] else 1)
+                    for s, (times, flags) in enumerate(zip(CENSORED_TIMES, CENSORED)) for i, (c, t) in enumerate(zip(METHODS, times))]
+            write_results(os.path.join(d, "results.csv"), rows)
+            r = run_script(os.path.join(d, "results.csv"), "--out", os.path.join(d, "out"))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("narrow 3, round_out 2, wide 1", r.stdout)  # conditions sorted
+            self.assertIn("ties at the limit 180.000 s", r.stdout)
+            with open(os.path.join(d, "out", "report.md"), encoding="utf-8") as f:
+                self.assertIn("ranked as ties at the limit", f.read())
+            with open(os.path.join(d, "out", "stats.json"), encoding="utf-8") as f:
+                self.assertEqual(json.load(f)["measures"]["time_total"]["censored"]["narrow"], 3)
+
+
 class Input(unittest.TestCase):
     def test_missing_column_names_the_file_line_and_fix(self):
         with tempfile.TemporaryDirectory() as d:

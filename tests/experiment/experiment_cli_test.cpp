@@ -1,6 +1,7 @@
 // `enact experiment` end to end on real graphs (short trials): each trial recorded, its
 // metrics in results.csv equal to `enact metrics` replaying the recording, an interrupted
-// run resumed without running a completed trial again, the distributed graph, people
+// run resumed without running a completed trial again, simulated time (the same trials, tick
+// for tick, as real time without a missed deadline), the distributed graph, people
 // prompted and asked for their ranking, bad input refused.
 #include <fcntl.h>
 #include <signal.h>
@@ -12,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -20,6 +22,8 @@
 #include <vector>
 
 #include "core/record/reader.h"
+#include "msgs/device_state.pb.h"
+#include "msgs/force_command.pb.h"
 #include "msgs/task_event.pb.h"
 #include "tests/cli/cli_support.h"
 #include "tests/support/test_util.h"
@@ -145,26 +149,42 @@ std::int64_t mtime_ns(const std::string& path) {
   return static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
 }
 
-TEST(ExperimentCli, EachTrialIsRecordedAndItsMetricsAreTheReplays) {
-  TempDir dir;
-  const RunResult r = enact("experiment " + virtual_tiny(dir, "CM0, CM1", 8.0) + " --out " + dir.file("out"));
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const auto rows = csv_rows(dir.file("out/results.csv"));
-  ASSERT_EQ(rows.size(), 3u) << r.err;
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"subject", "condition", "order", "falls", "time_total_s", "time_out_s", "ratio", "completed"}));
-  // Williams' first row for two conditions: CM0 then CM1
-  EXPECT_EQ(rows[1][0], "1");
-  EXPECT_EQ(rows[1][1], "CM0");
-  EXPECT_EQ(rows[1][2], "1");
-  EXPECT_EQ(rows[2][1], "CM1");
-  EXPECT_EQ(rows[2][2], "2");
-  for (std::size_t i = 1; i < rows.size(); ++i) {
-    const double total = std::stod(rows[i][4]);
-    EXPECT_TRUE(rows[i][7] == "1" || std::abs(total - 8.0) < 0.01) << "completed, or stopped at the limit: " << total;
-    expect_metrics_agree(dir.file("out/trials/s1_" + rows[i][1] + "_measured.mcap"), rows[i]);
+// the graph clock a recording says made it (its enact.graph metadata)
+std::string recorded_clock(const std::string& recording) {
+  record::Reader r(recording);
+  const auto graph = r.metadata("enact.graph");
+  return graph.count("clock") ? graph.at("clock") : "";
+}
+
+TEST(ExperimentCli, EachTrialIsRecordedAndItsMetricsAreTheReplaysOnEitherClock) {
+  for (const std::string clock : {"real", "simulated"}) {
+    SCOPED_TRACE(clock + " time");
+    TempDir dir;
+    const RunResult r = enact("experiment " + virtual_tiny(dir, "CM0, CM1", 8.0) + " --clock " + clock + " --out " + dir.file("out"));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const auto rows = csv_rows(dir.file("out/results.csv"));
+    ASSERT_EQ(rows.size(), 3u) << r.err;
+    EXPECT_EQ(rows[0], (std::vector<std::string>{"subject", "condition", "order", "falls", "time_total_s", "time_out_s", "ratio", "completed", "missed_deadlines"}));
+    // Williams' first row for two conditions: CM0 then CM1
+    EXPECT_EQ(rows[1][0], "1");
+    EXPECT_EQ(rows[1][1], "CM0");
+    EXPECT_EQ(rows[1][2], "1");
+    EXPECT_EQ(rows[2][1], "CM1");
+    EXPECT_EQ(rows[2][2], "2");
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      const double total = std::stod(rows[i][4]);
+      EXPECT_TRUE(rows[i][7] == "1" || std::abs(total - 8.0) < 0.01) << "completed, or stopped at the limit: " << total;
+      if (clock == "simulated") EXPECT_EQ(rows[i][8], "0") << "no deadline to miss in simulated time";
+      const std::string recording = dir.file("out/trials/s1_" + rows[i][1] + "_measured.mcap");
+      expect_metrics_agree(recording, rows[i]);
+      EXPECT_EQ(recorded_clock(recording), clock);
+      const RunResult resim = enact("resim " + recording);
+      EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+      EXPECT_NE(resim.out.find(clock + " time"), std::string::npos) << resim.out;
+    }
+    EXPECT_NE(read_file(dir.file("out/trials/s1_CM0_measured.log")).find("logger: closed"), std::string::npos) << "the nodes' output is in the log";
+    EXPECT_NE(r.err.find("2 trials run"), std::string::npos) << r.err;
   }
-  EXPECT_NE(read_file(dir.file("out/trials/s1_CM0_measured.log")).find("logger: closed"), std::string::npos) << "the nodes' output is in the log";
-  EXPECT_NE(r.err.find("2 trials run"), std::string::npos) << r.err;
 }
 
 TEST(ExperimentCli, InterruptedRunResumesWithoutRunningCompletedTrials) {
@@ -201,6 +221,84 @@ TEST(ExperimentCli, InterruptedRunResumesWithoutRunningCompletedTrials) {
   const RunResult other = enact("experiment " + file + " --conditions CM0,CM2 --out " + dir.file("out"));
   EXPECT_EQ(other.exit_code, 1);
   EXPECT_NE(other.err.find("plan.csv: this folder holds a run of another plan"), std::string::npos) << other.err;
+  // and so is the same plan on another clock
+  const RunResult simulated = enact("experiment " + file + " --clock simulated --out " + dir.file("out"));
+  EXPECT_EQ(simulated.exit_code, 1);
+  EXPECT_NE(simulated.err.find("clock.txt: this folder holds a run of another plan (--clock differs)"), std::string::npos) << simulated.err;
+}
+
+// one tick of a recording: the device state's stamp and position, and the force answering it
+struct RecordedTick {
+  std::int64_t stamp_ns = 0;
+  double position[3] = {};
+  double force[3] = {};
+  bool answered = false;  // the recording holds its force (a real-time observer may lose one)
+};
+
+std::vector<RecordedTick> recorded_ticks(const std::string& recording) {
+  std::vector<RecordedTick> ticks;
+  record::Reader r(recording);
+  msgs::DeviceState state;
+  msgs::ForceCommand force;
+  r.for_each([&](const record::Message& m) {
+    if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      if (state.header().seq() != ticks.size() + 1) return true;  // a gap: compared up to it
+      const auto& p = state.position();
+      ticks.push_back({state.header().stamp_ns(), {p.x(), p.y(), p.z()}, {}});
+    } else if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) && force.answered_seq() >= 1 &&
+               force.answered_seq() <= ticks.size()) {
+      const auto& f = force.force();
+      RecordedTick& t = ticks[force.answered_seq() - 1];
+      t.force[0] = f.x(), t.force[1] = f.y(), t.force[2] = f.z();
+      t.answered = true;
+    }
+    return true;
+  });
+  return ticks;
+}
+
+// the ticks before the first missed deadline: a tick's stamp is its deadline, so a missed one
+// (skipped by the scheduler) is a step of more than a period between two stamps (and before
+// the first whose force the recording lost)
+std::size_t ticks_before_first_miss(const std::vector<RecordedTick>& ticks, std::int64_t period_ns) {
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    if (!ticks[i].answered || (i > 0 && ticks[i].stamp_ns - ticks[i - 1].stamp_ns != period_ns)) return i;
+  }
+  return ticks.size();
+}
+
+TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlineIsMissed) {
+  // the same trial (subject, seeds, model) on the co-located graph in simulated time and in
+  // real time: every tick's device position and force are the same, bit for bit, as long as
+  // the real-time loop missed no deadline. A model (or device, or subject) whose time came
+  // from the wall clock differs from the first ticks on (and its stamps never step by exactly
+  // a period). A loaded machine may miss deadlines: the run is compared up to its first miss,
+  // and repeated when that leaves less than half a second
+  constexpr std::int64_t kPeriod_ns = 200'000;  // 5 kHz
+  constexpr std::size_t kEnough = 2500;
+  TempDir dir;
+  const std::string file = virtual_tiny(dir, "CM1", 1.5);
+  const RunResult sim = enact("experiment " + file + " --clock simulated --out " + dir.file("sim"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::vector<RecordedTick> twin = recorded_ticks(dir.file("sim/trials/s1_CM1_measured.mcap"));
+  ASSERT_EQ(twin.size(), 7500u) << "1.5 s at 5 kHz, every tick recorded";
+  ASSERT_EQ(ticks_before_first_miss(twin, kPeriod_ns), twin.size()) << "simulated time: every deadline, every force";
+  std::size_t compared = 0;
+  for (int attempt = 0; attempt < 5 && compared < kEnough; ++attempt) {
+    const std::string out = dir.file("rt" + std::to_string(attempt));
+    const RunResult real = enact("experiment " + file + " --out " + out);
+    ASSERT_EQ(real.exit_code, 0) << real.err;
+    EXPECT_EQ(recorded_clock(out + "/trials/s1_CM1_measured.mcap"), "real");
+    const std::vector<RecordedTick> ticks = recorded_ticks(out + "/trials/s1_CM1_measured.mcap");
+    const std::size_t clean = std::min(ticks_before_first_miss(ticks, kPeriod_ns), twin.size());
+    if (clean < kEnough) continue;
+    for (std::size_t i = 0; i < clean; ++i) {
+      ASSERT_EQ(std::memcmp(ticks[i].position, twin[i].position, sizeof twin[i].position), 0) << "position at tick " << i + 1;
+      ASSERT_EQ(std::memcmp(ticks[i].force, twin[i].force, sizeof twin[i].force), 0) << "force at tick " << i + 1;
+    }
+    compared = clean;
+  }
+  EXPECT_GE(compared, kEnough) << "no real-time run held its deadlines for half a second, or its ticks' times are not its deadlines";
 }
 
 TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
@@ -287,6 +385,13 @@ TEST(ExperimentCli, BadInputIsRefused) {
   EXPECT_EQ(conditions.exit_code, 1);
   EXPECT_NE(conditions.err.find("XX"), std::string::npos) << conditions.err;
   EXPECT_EQ(enact("experiment").exit_code, 2);
+  EXPECT_EQ(enact("experiment " + virtual_tiny(dir, "CM1", 3.0) + " --clock sometimes --plan").exit_code, 2);
+  // the distributed graph's clock master keeps real time: refused in simulated time, named
+  const RunResult distributed = enact("experiment " + virtual_tiny(dir, "CM1", 3.0, "trial.yaml") + " --clock simulated --plan");
+  EXPECT_EQ(distributed.exit_code, 1);
+  EXPECT_NE(distributed.err.find("trial.yaml:"), std::string::npos) << distributed.err;
+  EXPECT_NE(distributed.err.find("keeps real time only"), std::string::npos) << distributed.err;
+  EXPECT_NE(distributed.err.find("fix:"), std::string::npos) << distributed.err;
   EXPECT_EQ(enact("metrics " + dir.file("nothing.mcap")).exit_code, 1);
 }
 

@@ -368,8 +368,22 @@ TEST_F(Launch, UndeclaredArgExitsOne) {
   EXPECT_TRUE(has(r.err, "nope")) << r.err;
 }
 
+TEST_F(Launch, ARealDeviceInSimulatedTimeIsRefusedAtItsLine) {
+  // the Falcon and the Metec cells (here their emulators): people, who cannot be simulated
+  const std::string file = std::string(ENACT_SOURCE_DIR) + "/launch/bridge_rt_usb_emulated.yaml";
+  const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --check");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, file + ":")) << r.err;
+  EXPECT_TRUE(has(r.err, "device=falcon")) << r.err;
+  EXPECT_TRUE(has(r.err, "device=metec")) << r.err;
+  EXPECT_TRUE(has(r.err, "cannot be simulated")) << r.err;
+  EXPECT_TRUE(has(r.err, "fix:")) << r.err;
+  EXPECT_FALSE(has(r.out, "check: every node accepts")) << r.out;
+}
+
 TEST_F(Launch, BadOptionsExitTwo) {
   EXPECT_EQ(launch(sh_node("n", idle()), "--arg novalue").exit_code, 2);
+  EXPECT_EQ(launch(sh_node("n", idle()), "--clock fast").exit_code, 2);
   EXPECT_EQ(launch(sh_node("n", idle()), "--ready-timeout 0").exit_code, 2);
   EXPECT_EQ(run(std::string(ENACT_CLI) + " launch").exit_code, 2);
 }

@@ -425,6 +425,32 @@ TEST_F(LoadLaunch, RealtimeRefusesAnUnknownLoopNodeAndAnUnorderablePriority) {
   EXPECT_NE(refusal("b.yaml").find("'ffd'"), std::string::npos);
 }
 
+TEST_F(LoadLaunch, ClockEntryChoosesTheGraphClockAndTheCommandLineOverridesIt) {
+  write("a.yaml",
+        "launch:\n"
+        "  - arg: {name: clock, default: real}\n"
+        "  - clock: $(var clock)\n"
+        "  - node: {name: sim, exec: sim}\n");
+  EXPECT_EQ(load("a.yaml").clock, rt::GraphClock::real);
+  LaunchDescription d = load("a.yaml", {{"clock", "simulated"}});
+  EXPECT_EQ(d.clock, rt::GraphClock::simulated);
+  EXPECT_NE(d.clock_source.find("a.yaml:3"), std::string::npos) << d.clock_source;
+  choose_clock(d, rt::GraphClock::real);
+  EXPECT_EQ(d.clock, rt::GraphClock::real);
+  EXPECT_EQ(d.clock_source, "--clock");
+  // without the entry: real time
+  write("b.yaml", kArgs);
+  EXPECT_EQ(load("b.yaml").clock, rt::GraphClock::real);
+  // a clock that is neither, and a second entry, are refused at their line
+  expect_refused_at("a.yaml", 3, {{"clock", "fast"}});
+  write("c.yaml",
+        "launch:\n"
+        "  - clock: simulated\n"
+        "  - clock: real\n"
+        "  - node: {name: sim, exec: sim}\n");
+  expect_refused_at("c.yaml", 3);
+}
+
 TEST_F(LoadLaunch, ShippedGraphsHoldTheRealtimeProfileByDefault) {
   for (const char* file : {"bridge.yaml", "bridge_rt.yaml", "experiments/trial.yaml", "experiments/trial_rt.yaml"}) {
     const LaunchDescription d = load_launch(std::string(ENACT_SOURCE_DIR) + "/launch/" + file, {}, fake_resolve);

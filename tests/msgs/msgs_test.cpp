@@ -196,6 +196,7 @@ msgs::GraphInfo graph_info() {
   file->set_media_type("application/yaml");
   file->set_data("rate_hz: 5000\n");
   m.set_loop_hop("local");
+  m.set_clock("simulated");
   return m;
 }
 

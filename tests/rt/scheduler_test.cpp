@@ -96,6 +96,20 @@ TEST(PeriodicScheduler, EverySkippedDeadlineCountsAsAnOverrun) {
   EXPECT_EQ(s.overruns(), 1 + s.skipped());
 }
 
+TEST(PeriodicScheduler, SimulatedTimeReturnsEveryDeadlineAtOnceAndMissesNone) {
+  // deadlines an hour ahead of the clock: a real wait would sleep for an hour; and one in the
+  // past would be an overrun with skipped deadlines
+  for (const std::int64_t first : {now_ns() + 3'600'000'000'000, now_ns() - 1'000'000'000}) {
+    PeriodicScheduler s({.rate_hz = 3000.0, .simulated = true});
+    s.start(first);
+    for (std::int64_t n = 0; n < 3001; ++n) ASSERT_EQ(s.wait(), s.deadline_at(n));
+    EXPECT_EQ(s.wait() - first, 1'000'333'333);  // tick 3001: 1 s + 1/3000 s, drift-free
+    EXPECT_EQ(s.ticks(), 3002u);
+    EXPECT_EQ(s.overruns(), 0u);
+    EXPECT_EQ(s.skipped(), 0u);
+  }
+}
+
 TEST(PeriodicScheduler, SleepEveryTickCapsTheSpinAtHalfAPeriod) {
   // 44 kHz: a 50 us spin window is longer than the period, so the loop would never sleep
   EXPECT_EQ(PeriodicScheduler({.rate_hz = 44000.0, .spin_ns = 50'000}).spin_ns(), 50'000);
