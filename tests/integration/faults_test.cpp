@@ -450,11 +450,14 @@ TEST(Faults, LoggerWithAFullDiskClosesAReadableFileAndTheLoopGoesOn) {
   EXPECT_NE(rec.err.find("recording stopped"), std::string::npos) << rec.err;
   const bool closed = rec.err.find(" is closed: ") != std::string::npos;
 
-  // readable: every device state from the first, none missing, and enact info says what
-  // the file holds (complete when the logger said it closed it)
+  // readable: every device state from the first, none missing but those the logger counted
+  // as lost on the way (an observer on a busy machine may lose some; none on a quiet one),
+  // and enact info says what the file holds (complete when the logger said it closed it)
   const StateRecord states = read_states(file, 0);
+  std::smatch counted;
+  ASSERT_TRUE(std::regex_search(rec.out, counted, std::regex("ffd/state +ffd +[0-9]+ messages +([0-9]+) gaps"))) << rec.out;
   EXPECT_EQ(states.first_seq, 1u);
-  EXPECT_EQ(states.gaps, 0u);
+  EXPECT_LE(states.gaps, std::stoull(counted[1].str())) << "device states missing from the file that the logger received";
   EXPECT_GT(states.states, 5000u);
   const RunResult info = run(std::string(ENACT_CLI) + " info " + file);
   EXPECT_NE(info.out.find(closed ? "complete" : "NOT closed"), std::string::npos) << info.out << info.err;

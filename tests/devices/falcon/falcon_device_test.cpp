@@ -28,6 +28,7 @@ namespace {
 using test::eventually;
 
 constexpr std::int64_t kMs = 1'000'000;
+constexpr std::int64_t kUs = 1'000;
 
 struct Rig {
   test::OnBus<FalconEmulator> on;
@@ -173,8 +174,11 @@ TEST(FalconDevice, ReadsTrackTheMovingGrip) {
   rig.device.activate();
   // every read: between where the grip was just before and just after it (the read sample
   // lies in between, whatever the scheduling), give or take the encoders' resolution and the
-  // travel over the sample's age (at most stale_s: 5 ms at 40 mm/s)
-  constexpr double kTolerance_m = 3e-4;
+  // travel over the sample's age (at most stale_s: 5 ms at 40 mm/s), plus the travel over the
+  // longest a thread of this machine was held up in the same run (the I/O thread stamps a
+  // sample when it runs, after the exchange: on a busy machine, that much later)
+  constexpr double kTolerance_m = 3e-4, kSpeed_m_per_s = 0.04;
+  std::int64_t held_up_ns = 0;
   double worst = 0.0, moved = 0.0;
   int reads = 0;
   Vec3 first;
@@ -197,14 +201,17 @@ TEST(FalconDevice, ReadsTrackTheMovingGrip) {
       worst = std::max(worst, math::norm(out));
       moved = std::max(moved, math::norm(s.position_m - first));
     }
+    const std::int64_t asleep_ns = rt::now_ns();
     std::this_thread::sleep_for(std::chrono::microseconds(500));
+    held_up_ns = std::max(held_up_ns, rt::now_ns() - asleep_ns - 500 * kUs);
   }
-  std::printf("[ falcon ] %d reads, worst distance from the grip %.3g m while moving %.3g m; %.0f lock-step exchanges per second, %llu missed\n", reads, worst,
-              moved, static_cast<double>(rig.device.exchanges() - exchanges) / (static_cast<double>(rt::now_ns() - start) * 1e-9),
+  const double tolerance_m = kTolerance_m + kSpeed_m_per_s * static_cast<double>(held_up_ns) * 1e-9;
+  std::printf("[ falcon ] %d reads, worst distance from the grip %.3g m (bound %.3g m: this thread held up %.3g ms at most) while moving %.3g m; %.0f lock-step exchanges per second, %llu missed\n", reads, worst,
+              tolerance_m, static_cast<double>(held_up_ns) * 1e-6, moved, static_cast<double>(rig.device.exchanges() - exchanges) / (static_cast<double>(rt::now_ns() - start) * 1e-9),
               static_cast<unsigned long long>(rig.device.missed()));
   EXPECT_GT(reads, 100);
   EXPECT_GT(moved, 0.01) << "the grip did not move: the comparison above was vacuous";
-  EXPECT_LT(worst, kTolerance_m);
+  EXPECT_LT(worst, tolerance_m);
 }
 
 TEST(FalconDevice, ForcesKeepTheirDirectionAndAreClampedToMaxForce) {
