@@ -113,6 +113,7 @@ struct Container::Io {
         scene_pub(out, graph::kSceneState),
         event_pub(out, graph::kTaskEvent),
         status_pub(out, graph::kNodeStatus),
+        keyframe_pub(out, graph::kSimKeyframe),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
         loop(c.simulator_, *c.force_, *c.tactile_, &rt::now_ns, c.reengage_s_),
@@ -127,6 +128,7 @@ struct Container::Io {
   bus::Publisher<msgs::SceneState> scene_pub;
   bus::Publisher<msgs::TaskEvent> event_pub;
   bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::Publisher<msgs::SimKeyframe> keyframe_pub;
   graph::ParamPort params;
   graph::TaskStateTracker task_state;
   graph::ColocatedLoop loop;
@@ -137,6 +139,11 @@ struct Container::Io {
   rt::SpscQueue<rt::LoopSummary, 8> summaries;
   graph::ParamQueue changes;
   graph::AppliedQueue applied;
+  // a keyframe the real-time thread saved (sized before it starts) after the step of tick
+  // keyframe_tick, for the publisher thread once `keyframe_full`
+  sim::Keyframe keyframe;
+  std::uint64_t keyframe_tick = 0;
+  std::atomic<bool> keyframe_full{false};
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
@@ -151,6 +158,7 @@ struct Container::Io {
   msgs::SceneState scene_msg;
   msgs::TaskEvent event_msg;
   msgs::NodeStatus status_msg;
+  msgs::SimKeyframe keyframe_msg;
   std::uint64_t frame_seq = 0;
   sim::ParamApplied done;
   Felt felt;
@@ -232,6 +240,8 @@ void Container::rt_main() {
     if (woke >= end) break;
     const graph::Observation& o = io.loop.tick(woke);
     io.stats.latency.record(o.force_ns - o.sample.time_ns);
+    // the keyframe before its tick's observation: the publisher thread sends it right after
+    if (n % status_every == 0 && !io.keyframe_full.load(std::memory_order_acquire)) save_keyframe(o);
     if (!io.queue.try_push(o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
     if (n % scene_every == 0) {
       scene.tick_ns = woke;
@@ -251,6 +261,29 @@ void Container::rt_main() {
   io.loop.deactivate();
   rt::take_timing(scheduler, io.stats);
   rt_done_.store(true);
+}
+
+// on the real-time thread, after a tick's step: allocates nothing (the keyframe is sized)
+void Container::save_keyframe(const graph::Observation& o) {
+  Io& io = *io_;
+  simulator_.save(io.keyframe);
+  io.keyframe.sample_ns = o.sample.time_ns;
+  io.keyframe.origin_ns = io.loop.start_ns();
+  io.keyframe.reengage = io.loop.reengagement();
+  io.keyframe_tick = o.seq;
+  io.keyframe_full.store(true, std::memory_order_release);
+}
+
+// on the publisher thread, after tick io.o was published: its keyframe, if one was saved
+// (one whose tick's observation was dropped is let go)
+void Container::publish_keyframe() {
+  Io& io = *io_;
+  if (!io.keyframe_full.load(std::memory_order_acquire) || io.keyframe_tick > io.o.seq) return;
+  if (io.keyframe_tick == io.o.seq) {
+    graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
+    io.keyframe_pub.publish(io.keyframe_msg);
+  }
+  io.keyframe_full.store(false, std::memory_order_release);
 }
 
 // what the real-time thread applied, before anything it did after: a tick's messages name
@@ -302,6 +335,7 @@ void Container::drain() {
     if (io.o.cut != io.cuts.tripped()) io.cuts.update(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
     io.task_state.step(io.o.sample.time_ns, io.o.step);
     publish_tick();
+    publish_keyframe();
   }
   io.task_state.publish_due(rt::now_ns(), io.params.model_name());
   while (io.scenes.try_pop(io.scene)) {
@@ -342,8 +376,10 @@ int Container::run() {
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
   board.add(tac_p_, tac_name_, tac_name_ + ".");
-  // the parameter port copies the simulator's model: before the real-time thread starts
+  // the parameter port copies the simulator's model, the keyframe is sized: before the
+  // real-time thread starts
   io_ = std::make_unique<Io>(*this);
+  simulator_.save(io_->keyframe);
   host_.announce();
   io_->loop.connect_params(io_->changes, io_->applied);
   // a recording from the first tick needs its logger subscribed first

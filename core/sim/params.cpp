@@ -109,6 +109,11 @@ ParamPlanner::ParamPlanner(const Simulator& simulator)
   envelope_ = std::max(device_damping_, loaded);
 }
 
+void ParamPlanner::follow(const Simulator& simulator) {
+  model_ = simulator.model();
+  cm_ = simulator.computer_model();
+}
+
 double ParamPlanner::stiffness_n_per_m() const {
   const int pair = first_body_contact(model_);
   return pair < 0 ? 0.0 : model_.contacts[pair].stiffness_n_per_m;

@@ -89,6 +89,10 @@ class ParamPlanner {
   // Without a device profile b is 0: stiffness and damping can only go down.
   explicit ParamPlanner(const Simulator& simulator);
 
+  // mirror the simulator again as it is now (restored from a keyframe: the parameters then in
+  // force); the envelope stays the one of the scene as loaded
+  void follow(const Simulator& simulator);
+
   // checks `name` (without the node prefix) = value. Accepted: the mirror is updated as the
   // simulator will be once it applies the change. Never throws on bad input.
   ParamPlan plan(const std::string& name, const ParamValue& value, std::uint64_t request_id);
