@@ -118,6 +118,13 @@ class ParamPlanner {
 // device and every body contact pair at the given stiffness and damping (N s/m)
 double body_passivity_demand(physics::Model model, double stiffness_n_per_m, double damping_n_s_per_m);
 
+// the largest K T/2 + B live stiffness and damping changes may reach on `model` as loaded:
+// the larger of its device's damping b (0 without a device profile) and the body's demand
+// with every body point feeding the device (any computer model may be switched to live) at
+// the scene's own stiffness and damping. `enact check`, the viewer and every refusal give
+// this one figure
+double passivity_envelope(const physics::Model& model);
+
 // a point of the exploratory body (proxy 0's): the points live changes act on
 bool is_body_point(const physics::Model& model, int point);
 

@@ -39,6 +39,24 @@ TEST(Cli, HelpExitsZero) {
   EXPECT_NE(r.out.find("simulate"), std::string::npos) << r.out;
 }
 
+// every subcommand a command's own help gives (its "enact COMMAND SUB" usage lines) is in
+// `enact --help`, on that command's lines
+TEST(Cli, HelpListsEverySubcommand) {
+  const std::string usage = enact("--help").out;
+  for (const std::string command : {"param", "topic", "node", "keys", "graph"}) {
+    std::string listed;  // the synopses of `command` in enact --help
+    for (const std::string& line : lines_of(usage)) {
+      if (line.rfind("  " + command + " ", 0) == 0) listed += line.substr(0, line.find("  ", 2)) + "\n";
+    }
+    for (const std::string& line : lines_of(enact(command + " --help").out)) {
+      const std::size_t at = line.find("enact " + command + " ");
+      if (at == std::string::npos || line.find_first_not_of(' ', line.rfind("usage:", 0) == 0 ? 6 : 0) != at) continue;
+      const std::string sub = line.substr(at + 7 + command.size(), line.find(' ', at + 7 + command.size()) - (at + 7 + command.size()));
+      EXPECT_NE(listed.find(sub), std::string::npos) << "enact --help does not list `enact " << command << " " << sub << "`:\n" << listed;
+    }
+  }
+}
+
 TEST(Cli, NoArgumentsIsAUsageError) { EXPECT_EQ(enact("").exit_code, 2); }
 
 // docs/cli.md is what the code generates: a command or parameter added, renamed or
@@ -65,6 +83,16 @@ TEST(CliCheck, BridgeIsStable) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("verdict     stable\n"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("UNSTABLE"), std::string::npos) << r.out;
+}
+
+// the figure live changes are held to is the one the simulator's planner refuses with (and
+// the viewer shows): the bridge on the ERGOS at 5 kHz, 17 body points at 6000 N/m and 0.02 N s/m
+TEST(CliCheck, SaysTheLiveChangeBoundTheRefusalsGive) {
+  const RunResult r = enact("check " + bridge_scene());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("at most 10.54 N s/m"), std::string::npos) << r.out;
+  const RunResult fast = enact("check " + bridge_scene() + " --rate 44000");
+  EXPECT_NE(fast.out.find("at most 6.00 N s/m"), std::string::npos) << "passive at 44 kHz: the device damping bounds it\n" << fast.out;
 }
 
 TEST(CliCheck, JsonHasTheGeometry) {
