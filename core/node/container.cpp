@@ -144,6 +144,7 @@ struct Container::Io {
   sim::Keyframe keyframe;
   std::uint64_t keyframe_tick = 0;
   std::atomic<bool> keyframe_full{false};
+  std::atomic<int> fifo_in_force{-1};  // the loop thread's FIFO priority, once it has set up
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
@@ -221,6 +222,7 @@ Container::~Container() = default;
 void Container::rt_main() {
   Io& io = *io_;
   io.report = rt::apply_rt_setup(rtp_);
+  io.fifo_in_force.store(rt::fifo_priority_now());
   rt::prefault_stack();
   // under SCHED_FIFO the loop sleeps every tick, or the kernel throttles it (~50 ms a second)
   rt::SchedulerParams tick = sched_;
@@ -328,6 +330,8 @@ void Container::publish_status() {
 // the queue holds), and every topic for observers
 void Container::drain() {
   Io& io = *io_;
+  // the parameter in force is what the loop runs at (a profile may have set it, FIFO refused)
+  if (const int fifo = io.fifo_in_force.exchange(-1); fifo >= 0) host_.board().set(host_.name() + ".fifo_priority", std::to_string(fifo));
   while (const auto change = io.params.next()) io.changes.try_push(*change);
   while (io.queue.try_pop(io.o)) {
     take_applied();
