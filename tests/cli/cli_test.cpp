@@ -122,19 +122,8 @@ TEST(CliCheck, JsonHasTheGeometry) {
 // and its metrics file has no task metrics; the bridge keeps them
 TEST(CliSimulate, ASceneWithoutATaskHasNoTaskColumns) {
   const TempDir dir;
-  const std::string scene = dir.file("two_boxes.yaml"), path = dir.file("path.csv");
-  write_file(scene, R"(scene: two_boxes
-objects:
-  - {name: left, type: box, center_m: [-0.01, 0, 0.005], half_extents_m: [0.0075, 0.01, 0.005]}
-  - {name: right, type: box, center_m: [0.015, 0, 0.005], half_extents_m: [0.0075, 0.01, 0.005]}
-body:
-  name: finger
-  position_m: [-0.012, 0, 0.0115]
-  grid: {rows: 4, cols: 4, pitch_m: 0.00245}
-contacts:
-  - {masses: body, objects: [left, right], stiffness_n_per_m: 3000, damping_n_s_per_m: 0.01}
-)");
-  write_file(path, "t_s,x_m,y_m,z_m\n0,-0.012,0,0.0115\n1,0.018,0,0.0098\n");
+  const std::string scene = source_path("launch/scenes/two_boxes.yaml"), path = dir.file("path.csv");
+  write_file(path, "t_s,x_m,y_m,z_m\n0,-0.012,0.003,0.0115\n1,0.018,0.003,0.0098\n");
   const RunResult r = enact("simulate " + scene + " --input " + path + " --metrics " + dir.file("m.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);

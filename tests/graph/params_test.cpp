@@ -117,19 +117,7 @@ math::Vec3 start_of(const std::map<std::string, std::string>& given) {
 // the device starts where the scene's body is (a user's scene, started live, is explored
 // from its own start), unless start_m says otherwise; without either, the device's default
 TEST(Components, TheDeviceStartsWhereTheScenesBodyIsUnlessStartMIsGiven) {
-  test::TempDir dir;
-  const std::string scene = dir.file("two_boxes.yaml");
-  test::write_file(scene, R"(scene: two_boxes
-objects:
-  - {name: left, type: box, center_m: [-0.01, 0, 0.005], half_extents_m: [0.0075, 0.01, 0.005]}
-  - {name: right, type: box, center_m: [0.015, 0, 0.005], half_extents_m: [0.0075, 0.01, 0.005]}
-body:
-  name: finger
-  position_m: [-0.012, 0.003, 0.0115]
-  grid: {rows: 4, cols: 4, pitch_m: 0.00245}
-contacts:
-  - {masses: body, objects: [left, right], stiffness_n_per_m: 3000, damping_n_s_per_m: 0.01}
-)");
+  const std::string scene = test::source_path("launch/scenes/two_boxes.yaml");  // a user's scene: two boxes with a gap
   EXPECT_EQ(start_of({{"scene", scene}}), (math::Vec3{-0.012, 0.003, 0.0115}));
   EXPECT_EQ(start_of({{"scene", scene}, {"start_m", ""}}), (math::Vec3{-0.012, 0.003, 0.0115})) << "an empty start_m (a launch argument left empty) is not given";
   EXPECT_EQ(start_of({{"scene", scene}, {"start_m", "0.001,0.002,0.02"}}), (math::Vec3{0.001, 0.002, 0.02}));
