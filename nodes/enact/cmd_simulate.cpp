@@ -123,6 +123,10 @@ int simulate(int argc, char** argv) {
     }
   }
   if (!task) std::printf("(no task in this scene: no falls, time out or completion to count)\n");
+  if (a.has("input")) {
+    std::printf("(the device followed the path exactly; live, a simulated hand tracks it behind a spring and presses far less:\n"
+                " docs/scenes-and-models.md, \"Offline and live forces differ\")\n");
+  }
   return 0;
 }
 

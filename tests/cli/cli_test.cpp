@@ -132,6 +132,7 @@ TEST(CliSimulate, ASceneWithoutATaskHasNoTaskColumns) {
   EXPECT_EQ(lines[0].find("done"), std::string::npos) << r.out;
   EXPECT_NE(lines[0].find("faults"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no task in this scene"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("live, a simulated hand tracks it behind a spring"), std::string::npos) << "the offline/live difference is said where it shows\n" << r.out;
   const std::string json = read_file(dir.file("m.json"));
   EXPECT_NE(json.find("\"task\": false"), std::string::npos) << json;
   EXPECT_EQ(json.find("\"falls\""), std::string::npos) << json;
