@@ -306,6 +306,19 @@ TEST(Recording, ADistributedGraphRecordedThreeSecondsLateReplaysFromItsFirstKeyf
   a_late_recording_replays_from_its_first_keyframe("launch/bridge.yaml", "started ffd");
 }
 
+// a user's scene (two boxes, no task) live: the device starts where its body is, the hand
+// holding it there; --arg start_m moves it
+TEST(OwnScene, ALiveGraphStartsTheDeviceWhereTheScenesBodyIs) {
+  for (const auto& [start, expected] : {std::pair<std::string, std::string>{"", "-0.012,0.003,0.0115"}, {"0.002,0.001,0.02", "0.002,0.001,0.02"}}) {
+    TempDir dir;
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 20.0, {"scene=" + source_path("launch/scenes/two_boxes.yaml"), "hand_path=", "start_m=" + start});
+    ASSERT_TRUE(graph.wait_log("enact launch: graph ready", 15.0)) << graph.log();
+    const RunResult at = run(kCli + " topic echo ffd/state --once --csv --field position --attach " + graph.endpoint());
+    ASSERT_EQ(at.exit_code, 0) << at.err;
+    EXPECT_EQ(at.out, "position.x,position.y,position.z\n" + expected + "\n") << "start_m=" << start;
+  }
+}
+
 TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
   TempDir dir;
   write_file(dir.file("path.csv"), "t_s,x_m,y_m,z_m\n0,0,0,0\n");
