@@ -140,7 +140,8 @@ int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) 
   std::string header;
   for (const std::string& f : w.fields) {
     for (FieldPath& p : resolve_columns(*msg->GetDescriptor(), f)) {
-      header += (header.empty() ? "" : ",") + csv_cell(p.text);
+      if (!header.empty()) header += ',';
+      header += csv_cell(p.text);
       paths.push_back(std::move(p));
     }
   }
