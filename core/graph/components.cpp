@@ -30,9 +30,9 @@ void refuse_given(const Params& p, std::initializer_list<const char*> names, con
 // `otherwise` (the device's own default)
 math::Vec3 start_position(const Params& p, const math::Vec3& otherwise) {
   if (!p.text("start_m").empty()) return p.vec3("start_m");
-  if (p.text("scene").empty()) return otherwise;
-  const physics::Model scene = physics::load_scene(p.text("scene"));
-  if (scene.proxies.empty()) throw config::Error(p.text("scene") + ": the scene has no body, so no start position\n  fix: add a body: section, or give start_m");
+  if (p.text("start_scene").empty()) return otherwise;
+  const physics::Model scene = physics::load_scene(p.text("start_scene"));
+  if (scene.proxies.empty()) throw config::Error(p.text("start_scene") + ": the scene has no body, so no start position\n  fix: add a body: section, or give start_m");
   return scene.points[scene.proxies[0].point].position_m;
 }
 
@@ -47,7 +47,7 @@ void read_hand(const Params& p, devices::SimulatedForceParams& f) {
   f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m");
 }
 
-constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m", "scene",
+constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m", "start_scene",
                                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
 
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)

@@ -118,9 +118,9 @@ math::Vec3 start_of(const std::map<std::string, std::string>& given) {
 // from its own start), unless start_m says otherwise; without either, the device's default
 TEST(Components, TheDeviceStartsWhereTheScenesBodyIsUnlessStartMIsGiven) {
   const std::string scene = test::source_path("launch/scenes/two_boxes.yaml");  // a user's scene: two boxes with a gap
-  EXPECT_EQ(start_of({{"scene", scene}}), (math::Vec3{-0.012, 0.003, 0.0115}));
-  EXPECT_EQ(start_of({{"scene", scene}, {"start_m", ""}}), (math::Vec3{-0.012, 0.003, 0.0115})) << "an empty start_m (a launch argument left empty) is not given";
-  EXPECT_EQ(start_of({{"scene", scene}, {"start_m", "0.001,0.002,0.02"}}), (math::Vec3{0.001, 0.002, 0.02}));
+  EXPECT_EQ(start_of({{"start_scene", scene}}), (math::Vec3{-0.012, 0.003, 0.0115}));
+  EXPECT_EQ(start_of({{"start_scene", scene}, {"start_m", ""}}), (math::Vec3{-0.012, 0.003, 0.0115})) << "an empty start_m (a launch argument left empty) is not given";
+  EXPECT_EQ(start_of({{"start_scene", scene}, {"start_m", "0.001,0.002,0.02"}}), (math::Vec3{0.001, 0.002, 0.02}));
   const math::Vec3 otherwise = start_of({});
   EXPECT_EQ(otherwise.x, 0.0);
   EXPECT_NEAR(otherwise.z, 0.0125, 1e-12);
