@@ -15,6 +15,7 @@
 #include "msgs/scene_state.pb.h"
 #include "msgs/tactile_frame.pb.h"
 #include "msgs/task_event.pb.h"
+#include "msgs/sim_keyframe.pb.h"
 #include "msgs/task_state.pb.h"
 
 namespace enact::bus {
@@ -41,7 +42,7 @@ std::string msgs_descriptor_set() {
       msgs::Header::descriptor(),       msgs::DeviceState::descriptor(), msgs::ForceCommand::descriptor(),
       msgs::TactileFrame::descriptor(), msgs::SceneState::descriptor(),  msgs::TaskEvent::descriptor(),
       msgs::ParamUpdate::descriptor(),  msgs::NodeStatus::descriptor(),  msgs::GraphInfo::descriptor(),
-      msgs::TaskState::descriptor(),
+      msgs::TaskState::descriptor(),    msgs::SimKeyframe::descriptor(),
   };
   std::set<std::string> added;
   FileDescriptorSet set;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/config/format.h"
@@ -12,6 +13,7 @@
 #include "msgs/device_state.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/task_event.pb.h"
+#include "msgs/sim_keyframe.pb.h"
 
 namespace enact::experiment {
 namespace {
@@ -59,7 +61,7 @@ void keep_or_check(const std::string& path, const std::string& text, const std::
 const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines";
 const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines,kind";
 
-RecordedTrial read_trial(const std::string& mcap_path) {
+RecordedTrial read_trial(const std::string& mcap_path, std::int64_t keyframe_stamp_ns) {
   record::Reader reader(mcap_path);
   RecordedTrial out;
   std::int64_t first_ns = 0, last_ns = 0, end_ns = -1, fall_ns = -1, out_ns = 0;
@@ -67,7 +69,9 @@ RecordedTrial read_trial(const std::string& mcap_path) {
   msgs::DeviceState state;
   msgs::TaskEvent event;
   msgs::NodeStatus status;
+  msgs::SimKeyframe keyframe;
   std::vector<std::pair<std::string, msgs::TaskEvent>> events;  // with their publisher
+  std::optional<msgs::SimKeyframe> from;  // the keyframe the trial is taken up from
   std::string sim;  // the simulator: the publisher of ffd/force
   reader.for_each([&](const record::Message& m) {
     const auto pub = m.channel->metadata.find("publisher");
@@ -83,6 +87,11 @@ RecordedTrial read_trial(const std::string& mcap_path) {
       ++out.states;
     } else if (m.topic == graph::kTaskEvent && event.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       events.emplace_back(publisher, event);
+    } else if (keyframe_stamp_ns != 0 && !from && m.topic == graph::kSimKeyframe && keyframe.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) &&
+               keyframe.header().stamp_ns() == keyframe_stamp_ns) {
+      // the simulator's events before its keyframe are in the trial it carries
+      from = keyframe;
+      std::erase_if(events, [&](const auto& e) { return e.first == publisher; });
     } else if (m.topic == graph::kForceCommand) {
       sim = publisher;
     } else if (m.topic == graph::kNodeStatus && status.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
@@ -97,6 +106,14 @@ RecordedTrial read_trial(const std::string& mcap_path) {
   // very step that completes the bridge is not reported (BridgeTask keeps it): then falls
   // can be one short.
   std::int64_t start_ns = first_ns;
+  if (from) {
+    start_ns = from->trial_start_ns();
+    out.metrics.falls = from->falls();
+    out_ns = from->closed_out_ns();
+    fall_ns = from->fall_since_ns() != 0 ? from->fall_since_ns() : -1;
+    end_ns = from->trial_end_ns() != 0 ? from->trial_end_ns() : -1;
+    out.metrics.completed = end_ns >= 0 && !from->stopped();
+  }
   for (const auto& [publisher, e] : events) {
     const bool restart = e.kind() == msgs::TaskEvent::TRIAL_START || (e.kind() == msgs::TaskEvent::RESET && e.detail() == "reset");
     if (publisher == sim && restart) {

@@ -30,8 +30,10 @@ struct RecordedTrial {
 // bridge completed) or the last device state (the limit). An independent path from
 // `enact metrics`, which replays the device states through a simulator. Throws
 // record::Error for a file that is not a recording, config::Error when it holds no device
-// state.
-RecordedTrial read_trial(const std::string& mcap_path);
+// state. With `keyframe_stamp_ns` (a recording started on a running graph: its replay's
+// keyframe, graph::ReplayStart), the trial is taken up from the simulator's keyframe of that
+// stamp (the trial so far: its start, falls, time out) and its events after it.
+RecordedTrial read_trial(const std::string& mcap_path, std::int64_t keyframe_stamp_ns = 0);
 
 // results.csv and practice.csv: a header, then one row per trial (numbers at 9 digits)
 extern const char* const kResultsHeader;  // subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines

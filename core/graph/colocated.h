@@ -62,6 +62,8 @@ class ColocatedLoop {
   void deactivate() noexcept;
   // the body's re-synchronisations (the first tick's included)
   const sim::Reengagement& reengagement() const { return reengage_; }
+  // the clock's time of the first tick: the simulator's time 0
+  std::int64_t start_ns() const { return start_ns_; }
 
  private:
   sim::Simulator& sim_;

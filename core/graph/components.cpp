@@ -14,6 +14,7 @@
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
 #include "core/graph/node_params.h"
+#include "core/physics/scene.h"
 
 namespace enact::graph {
 namespace {
@@ -25,18 +26,28 @@ void refuse_given(const Params& p, std::initializer_list<const char*> names, con
   }
 }
 
+// where the end-effector starts: start_m when given, else where the scene's body is, else
+// `otherwise` (the device's own default)
+math::Vec3 start_position(const Params& p, const math::Vec3& otherwise) {
+  if (!p.text("start_m").empty()) return p.vec3("start_m");
+  if (p.text("start_scene").empty()) return otherwise;
+  const physics::Model scene = physics::load_scene(p.text("start_scene"));
+  if (scene.proxies.empty()) throw config::Error(p.text("start_scene") + ": the scene has no body, so no start position\n  fix: add a body: section, or give start_m");
+  return scene.points[scene.proxies[0].point].position_m;
+}
+
 // the hand of a simulated device, or of an emulated one: a scripted path or a virtual subject
 void read_hand(const Params& p, devices::SimulatedForceParams& f) {
   f.hand_path = p.text("hand_path");
   f.subject = p.text("subject");
   f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed"));
   f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed"));
-  f.start_m = p.vec3("start_m");
+  f.start_m = start_position(p, f.start_m);
   f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m");
   f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m");
 }
 
-constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m",
+constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m", "start_scene",
                                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
 
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)

@@ -100,6 +100,24 @@ void fill(msgs::SceneState& m, const SceneSnapshot& s, const std::string& model)
   m.set_progress(s.progress);
 }
 
+void fill(msgs::SimKeyframe& m, const sim::Keyframe& k, const physics::Model& model) {
+  m.mutable_header()->set_stamp_ns(k.sample_ns);
+  m.set_step(k.step);
+  m.set_origin_ns(k.origin_ns);
+  m.set_model(k.model.name);
+  set(*m.mutable_body_position(), k.state.x[model.proxies[0].point]);
+  // the trial as its events told it, on the device clock (0: none)
+  const task::BridgeTask::Account a = k.task.account();
+  auto on_device = [&](std::int64_t t_ns) { return t_ns < 0 ? 0 : k.origin_ns + t_ns; };
+  m.set_trial_start_ns(on_device(a.start_ns));
+  m.set_falls(a.falls);
+  m.set_closed_out_ns(a.closed_out_ns);
+  m.set_fall_since_ns(on_device(a.fall_since_ns));
+  m.set_stopped(!k.trial_running && a.end_ns < 0);
+  m.set_trial_end_ns(on_device(m.stopped() ? a.last_ns : a.end_ns));
+  sim::pack(k, *m.mutable_memory());
+}
+
 bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition) {
   switch (e.kind) {
     case task::TaskEventKind::none: return false;

@@ -5,11 +5,13 @@
 
 #include "core/devices/device.h"
 #include "core/rt/loop_stats.h"
+#include "core/sim/keyframe.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/scene_state.pb.h"
+#include "msgs/sim_keyframe.pb.h"
 #include "msgs/tactile_frame.pb.h"
 #include "msgs/task_event.pb.h"
 
@@ -46,6 +48,9 @@ struct SceneSnapshot {
 };
 void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& force_n, SceneSnapshot& out);
 void fill(msgs::SceneState& m, const SceneSnapshot& s, const std::string& model);
+// a keyframe of the simulator running `model` (its body's position, the trial so far on the
+// device clock, the packed memory into the message's reused bytes)
+void fill(msgs::SimKeyframe& m, const sim::Keyframe& k, const physics::Model& model);
 // a task event; false when there is none
 bool fill(msgs::TaskEvent& m, const task::TaskEvent& e, const std::string& condition);
 void fill(msgs::NodeStatus& m, const std::string& node, const rt::LoopSummary& loop, std::uint64_t faults, const std::string& last_fault);

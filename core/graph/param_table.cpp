@@ -114,6 +114,7 @@ std::optional<std::string> value_problem(const ParamSpec& spec, const std::strin
       return "must be one of " + joined(spec.choices, ", ") + got + config::did_you_mean(value, spec.choices) +
              "\n  fix: write e.g. " + spec.name + "=" + example(spec);
     case ParamType::vec3: {
+      if (value.empty() && spec.fallback.empty()) return std::nullopt;  // not given: the reader decides
       std::stringstream ss(value);
       std::string cell;
       int n = 0;

@@ -21,6 +21,7 @@
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
 #include "msgs/param_update.pb.h"
+#include "msgs/sim_keyframe.pb.h"
 #include "msgs/tactile_frame.pb.h"
 
 namespace enact::graph {
@@ -80,40 +81,100 @@ SimSource find_sim(const record::StringMap& params, const std::string& publisher
   return {};
 }
 
-}  // namespace
-
-ResimResult resim(record::Reader& r, const ResimOptions& options) {
-  // the recorded traffic: device states, the answers by state seq, the tactile frames
+// the recorded traffic: device states, the answers by state seq, the tactile frames, the
+// simulator's acknowledged changes and keyframes
+struct Traffic {
   std::vector<State> states;
   std::map<std::uint64_t, Force> forces;
   std::vector<std::vector<float>> frames;
+  std::vector<std::uint64_t> frame_after;  // per frame: the state seq of the last answer recorded before it
   std::string sim_publisher;
+  std::vector<Change> changes;
+  std::vector<std::pair<std::string, msgs::SimKeyframe>> keyframes;  // with their publisher
+};
+
+Traffic read_traffic(record::Reader& r) {
+  Traffic t;
   msgs::DeviceState state;
   msgs::ForceCommand command;
   msgs::TactileFrame frame;
   msgs::ParamAck ack;
-  std::vector<Change> changes;
+  msgs::SimKeyframe keyframe;
   std::set<std::uint64_t> acked;  // request ids (a repeated request is acked again)
   r.for_each([&](const record::Message& m) {
     const auto pub = m.channel->metadata.find("publisher");
-    if (m.topic == kParamAck && ack.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) && ack.applied() && ack.state_seq() != 0 &&
-        acked.insert(ack.request_id()).second) {
-      changes.push_back(change_of(ack, pub == m.channel->metadata.end() ? "" : pub->second));
-    }
-    if (m.topic == kDeviceState && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()),
-                        force_path_cut(state.faults())});
-    } else if (m.topic == kForceCommand && command.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      forces[command.answered_seq()] = {get(command.force()), command.zero(), command.header().seq()};
-      if (pub != m.channel->metadata.end()) sim_publisher = pub->second;
-    } else if (m.topic == kTactileFrame && frame.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      frames.emplace_back(frame.level().begin(), frame.level().end());
+    const std::string publisher = pub == m.channel->metadata.end() ? "" : pub->second;
+    auto parse = [&](google::protobuf::Message& msg) { return msg.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())); };
+    if (m.topic == kParamAck && parse(ack) && ack.applied() && ack.state_seq() != 0 && acked.insert(ack.request_id()).second) {
+      t.changes.push_back(change_of(ack, publisher));
+    } else if (m.topic == kDeviceState && parse(state)) {
+      t.states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()), force_path_cut(state.faults())});
+    } else if (m.topic == kForceCommand && parse(command)) {
+      t.forces[command.answered_seq()] = {get(command.force()), command.zero(), command.header().seq()};
+      t.sim_publisher = publisher;
+    } else if (m.topic == kTactileFrame && parse(frame)) {
+      t.frames.emplace_back(frame.level().begin(), frame.level().end());
+      t.frame_after.push_back(command.answered_seq());
+    } else if (m.topic == kSimKeyframe && parse(keyframe)) {
+      t.keyframes.emplace_back(publisher, keyframe);
     }
     return true;
   });
-  if (states.empty()) {
+  if (t.states.empty()) {
     throw config::Error(r.path() + ": no ffd/state messages: nothing to replay\n  fix: record the device states (enact record --all)");
   }
+  return t;
+}
+
+// the replay's start and the keyframe it starts from (nullptr: the first state)
+std::pair<ReplayStart, const msgs::SimKeyframe*> find_start(const Traffic& t) {
+  ReplayStart s;
+  s.first_state_seq = t.states.front().seq;
+  s.mid_run = s.first_state_seq != 1;
+  if (!s.mid_run) return {s, nullptr};
+  std::map<std::int64_t, std::size_t> by_stamp;
+  for (std::size_t i = 0; i < t.states.size(); ++i) by_stamp.emplace(t.states[i].stamp_ns, i);
+  for (const auto& [publisher, k] : t.keyframes) {
+    const auto at = by_stamp.find(k.header().stamp_ns());
+    if (publisher != t.sim_publisher || at == by_stamp.end()) continue;
+    s.keyframe = true;
+    s.keyframe_stamp_ns = k.header().stamp_ns();
+    s.keyframe_state_seq = t.states[at->second].seq;
+    s.keyframe_step = k.step();
+    s.keyframe_time_s = static_cast<double>(k.header().stamp_ns() - k.origin_ns()) * 1e-9;
+    s.skipped_s = static_cast<double>(k.header().stamp_ns() - t.states.front().stamp_ns) * 1e-9;
+    return {s, &k};
+  }
+  return {s, nullptr};
+}
+
+}  // namespace
+
+ReplayStart replay_start(record::Reader& r) { return find_start(read_traffic(r)).first; }
+
+std::string describe(const ReplayStart& s) {
+  if (!s.mid_run) return "";
+  const std::string began = "started mid-run (its first ffd/state is seq " + std::to_string(s.first_state_seq) + ", not the graph's first)";
+  if (!s.keyframe) {
+    return began + " and holds no keyframe of the simulator after it: its state there is unknown, so a replay may differ\n"
+                   "  fix: record sim/keyframe too (enact record --all), or from the graph's start";
+  }
+  char text[256];
+  std::snprintf(text, sizeof text, ": replay begins at its first keyframe (sim/keyframe), after ffd/state seq %llu, simulator step %llu, %.3f s after it started (%.3f s into the recording)",
+                static_cast<unsigned long long>(s.keyframe_state_seq), static_cast<unsigned long long>(s.keyframe_step), s.keyframe_time_s, s.skipped_s);
+  return began + text;
+}
+
+ResimResult resim(record::Reader& r, const ResimOptions& options) {
+  Traffic traffic = read_traffic(r);
+  std::vector<State>& states = traffic.states;
+  std::map<std::uint64_t, Force>& forces = traffic.forces;
+  std::vector<std::vector<float>>& frames = traffic.frames;
+  std::vector<Change>& changes = traffic.changes;
+  const std::string& sim_publisher = traffic.sim_publisher;
+  // another scene or model replays from the first state, as a fresh simulator would
+  auto [start, keyframe] = find_start(traffic);
+  if (!options.scene.empty() || !options.model.empty()) keyframe = nullptr;
 
   // the simulator as recorded, with the recorded files, unless overridden
   const record::StringMap recorded = r.metadata("enact.params");
@@ -150,24 +211,47 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   sim::Reengagement reengage(p.number("reengage_s"));
   reengage.interrupt();
   out.rate_hz = sim.model().rate_hz;
-  out.first_state_seq = states.front().seq;
+  out.start = start;
+  // from a keyframe: the simulator as it was after the keyframe's state, the states from the
+  // next one, the simulator's clock from its first state
+  std::size_t first = 0;
+  std::int64_t t0 = states.front().stamp_ns;
+  sim::ParamPlanner planner(sim);
+  if (keyframe) {
+    sim::Keyframe k;
+    sim.save(k);
+    if (!sim::unpack(keyframe->memory(), k)) {
+      throw config::Error(r.path() + ": its keyframe (sim/keyframe) was made by another build of enact or for another scene\n"
+                                     "  fix: replay it with the enact that recorded it");
+    }
+    sim.restore(k);
+    reengage = k.reengage;
+    planner.follow(sim);
+    t0 = k.origin_ns;
+    while (first < states.size() && states[first].stamp_ns != start.keyframe_stamp_ns) ++first;
+    ++first;
+    std::erase_if(changes, [&](const Change& c) { return c.state_seq <= start.keyframe_state_seq; });
+  }
+  out.start.keyframe = keyframe != nullptr;
+  out.first_state_seq = first < states.size() ? states[first].seq : 0;
 
   // the simulator's live changes, in the order it applied them, each before the step that
   // first used it
   std::erase_if(changes, [&](const Change& c) { return c.publisher != sim_publisher; });
   std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.state_seq < b.state_seq; });
-  sim::ParamPlanner planner(sim);
   std::size_t next_change = 0;
   out.changes = changes.size();
 
   // step on every recorded state, as the recorded simulator did; compare as we go
   const physics::Proxy& body = sim.model().proxies[0];
-  const std::int64_t t0 = states.front().stamp_ns;
   std::size_t next_frame = 0;
+  msgs::TactileFrame frame;
+  if (keyframe) while (next_frame < frames.size() && traffic.frame_after[next_frame] <= start.keyframe_state_seq) ++next_frame;
   auto diverge = [&](std::uint64_t step, std::uint64_t seq, const char* topic, std::string field, std::string rec, std::string rep) {
     if (!out.divergence) out.divergence = Divergence{step, seq, topic, std::move(field), std::move(rec), std::move(rep)};
   };
-  for (const State& s : states) {
+  for (std::size_t i = first; i < states.size(); ++i) {
+    const State& s = states[i];
     for (; next_change < changes.size() && changes[next_change].state_seq <= s.seq; ++next_change) {
       const Change& c = changes[next_change];
       const sim::ParamPlan plan = planner.plan(c.param, c.value, next_change + 1);

@@ -29,12 +29,25 @@ struct Divergence {
   std::string recorded, replayed;
 };
 
+// where a replay starts: the graph's first tick, or a keyframe (sim/keyframe) of the
+// simulator when the recording starts later
+struct ReplayStart {
+  std::uint64_t first_state_seq = 0;  // of the recording's first device state (1: the graph's first tick)
+  bool mid_run = false;               // the recording starts after the graph's first tick
+  bool keyframe = false;              // ... and holds a keyframe to start from
+  std::int64_t keyframe_stamp_ns = 0; // its device state's stamp (replay continues after it)
+  std::uint64_t keyframe_state_seq = 0, keyframe_step = 0;
+  double keyframe_time_s = 0.0;       // the simulator's time at it (since its first state)
+  double skipped_s = 0.0;             // recorded before it (not replayed)
+};
+
 struct ResimResult {
   std::string scene, model;            // what the simulator ran (scene path as recorded)
   std::string clock = "real";          // the graph clock that made the recording (rt::GraphClock)
   double rate_hz = 0.0;
   std::uint64_t steps = 0;             // device states replayed
-  std::uint64_t first_state_seq = 0;   // 1 when the recording holds the graph's first tick
+  std::uint64_t first_state_seq = 0;   // the first state replayed (1: the graph's first tick)
+  ReplayStart start;
   std::uint64_t forces_compared = 0, frames_compared = 0;
   std::uint64_t forces_missing = 0;    // states the recording holds no answer to
   // of those, states the simulator never received (a stall filled the loop hop's queue, which
@@ -46,7 +59,14 @@ struct ResimResult {
   task::Metrics metrics;               // the bridge task's metrics of the replay
 };
 
-// replays `r`; throws config::Error (naming the file and the fix) when the recording has no
+// where a replay of `r` starts (the first keyframe of the simulator that answered the states,
+// after the recording's first state)
+ReplayStart replay_start(record::Reader& r);
+// where a replay starts, in words ("" from the graph's first tick)
+std::string describe(const ReplayStart& start);
+
+// replays `r` from its start (replay_start; with another scene or model, from its first
+// state); throws config::Error (naming the file and the fix) when the recording has no
 // device states, or no scene is recorded and none is given
 ResimResult resim(record::Reader& r, const ResimOptions& options);
 

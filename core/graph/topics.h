@@ -11,9 +11,13 @@ inline constexpr const char* kTaskEvent = "task/event";       // TaskEvent, simu
 inline constexpr const char* kTaskState = "task/state";       // TaskState, simulator, 10 Hz and on change (latched)
 inline constexpr const char* kParamSet = "param/set";         // ParamUpdate, viewer / CLI, on demand
 inline constexpr const char* kParamAck = "param/ack";         // ParamAck, simulator, one per ParamUpdate
+inline constexpr const char* kSimKeyframe = "sim/keyframe";  // SimKeyframe, simulator, 1 Hz: replay starts there
 inline constexpr const char* kNodeStatus = "node/status";     // NodeStatus, every node, 1 Hz
 // ParamValues, every node, 1 Hz and on a live change (latched): topic kParamValues + node name
 inline constexpr const char* kParamValues = "param/values/";
+
+// how often the simulator publishes a keyframe (sim/keyframe)
+inline constexpr long long kKeyframePeriod_ns = 1'000'000'000;
 
 // where a node's parameter board (param_board.h) publishes: node_endpoint(name + kParamBoardSuffix)
 inline constexpr const char* kParamBoardSuffix = ":params";

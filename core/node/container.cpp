@@ -113,6 +113,7 @@ struct Container::Io {
         scene_pub(out, graph::kSceneState),
         event_pub(out, graph::kTaskEvent),
         status_pub(out, graph::kNodeStatus),
+        keyframe_pub(out, graph::kSimKeyframe),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
         loop(c.simulator_, *c.force_, *c.tactile_, c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
@@ -127,6 +128,7 @@ struct Container::Io {
   bus::Publisher<msgs::SceneState> scene_pub;
   bus::Publisher<msgs::TaskEvent> event_pub;
   bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::Publisher<msgs::SimKeyframe> keyframe_pub;
   graph::ParamPort params;
   graph::TaskStateTracker task_state;
   graph::ColocatedLoop loop;
@@ -137,6 +139,12 @@ struct Container::Io {
   rt::SpscQueue<rt::LoopSummary, 8> summaries;
   graph::ParamQueue changes;
   graph::AppliedQueue applied;
+  // a keyframe the real-time thread saved (sized before it starts) after the step of tick
+  // keyframe_tick, for the publisher thread once `keyframe_full`
+  sim::Keyframe keyframe;
+  std::uint64_t keyframe_tick = 0;
+  std::atomic<bool> keyframe_full{false};
+  std::atomic<int> fifo_in_force{-1};  // the loop thread's FIFO priority, once it has set up
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
@@ -151,6 +159,7 @@ struct Container::Io {
   msgs::SceneState scene_msg;
   msgs::TaskEvent event_msg;
   msgs::NodeStatus status_msg;
+  msgs::SimKeyframe keyframe_msg;
   std::uint64_t frame_seq = 0;
   sim::ParamApplied done;
   Felt felt;
@@ -239,6 +248,7 @@ bool Container::deliver(Queue& queue, const Item& item) {
 void Container::rt_main() {
   Io& io = *io_;
   io.report = rt::apply_rt_setup(rtp_);
+  io.fifo_in_force.store(rt::fifo_priority_now());
   rt::prefault_stack();
   // under SCHED_FIFO the loop sleeps every tick, or the kernel throttles it (~50 ms a second)
   rt::SchedulerParams tick = sched_;
@@ -266,6 +276,8 @@ void Container::rt_main() {
     last_ns = tick_ns;
     const graph::Observation& o = io.loop.tick(tick_ns);
     io.stats.latency.record(o.force_ns - woke);  // from the device read to the force written
+    // the keyframe before its tick's observation: the publisher thread sends it right after
+    if (n % status_every == 0 && !io.keyframe_full.load(std::memory_order_acquire)) save_keyframe(o);
     if (!deliver(io.queue, o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
     // in simulated time nobody is there after the bridge is completed: the run ends with it
     if (clock_ == rt::GraphClock::simulated && o.step.event.kind == task::TaskEventKind::completed) break;
@@ -290,6 +302,29 @@ void Container::rt_main() {
   rt::take_timing(scheduler, io.stats);
   deliver(io.summaries, rt::summarize(io.stats, sched_.rate_hz));
   rt_done_.store(true);
+}
+
+// on the real-time thread, after a tick's step: allocates nothing (the keyframe is sized)
+void Container::save_keyframe(const graph::Observation& o) {
+  Io& io = *io_;
+  simulator_.save(io.keyframe);
+  io.keyframe.sample_ns = o.sample.time_ns;
+  io.keyframe.origin_ns = io.loop.start_ns();
+  io.keyframe.reengage = io.loop.reengagement();
+  io.keyframe_tick = o.seq;
+  io.keyframe_full.store(true, std::memory_order_release);
+}
+
+// on the publisher thread, after tick io.o was published: its keyframe, if one was saved
+// (one whose tick's observation was dropped is let go)
+void Container::publish_keyframe() {
+  Io& io = *io_;
+  if (!io.keyframe_full.load(std::memory_order_acquire) || io.keyframe_tick > io.o.seq) return;
+  if (io.keyframe_tick == io.o.seq) {
+    graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
+    io.keyframe_pub.publish(io.keyframe_msg);
+  }
+  io.keyframe_full.store(false, std::memory_order_release);
 }
 
 // what the real-time thread applied, before anything it did after: a tick's messages name
@@ -335,6 +370,8 @@ void Container::publish_status() {
 std::size_t Container::drain() {
   Io& io = *io_;
   std::size_t ticks = 0;
+  // the parameter in force is what the loop runs at (a profile may have set it, FIFO refused)
+  if (const int fifo = io.fifo_in_force.exchange(-1); fifo >= 0) host_.board().set(host_.name() + ".fifo_priority", std::to_string(fifo));
   while (const auto change = io.params.next()) io.changes.try_push(*change);
   for (; io.queue.try_pop(io.o); ++ticks) {
     take_applied();
@@ -342,6 +379,7 @@ std::size_t Container::drain() {
     if (io.o.cut != io.cuts.tripped()) io.cuts.update(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
     io.task_state.step(io.o.sample.time_ns, io.o.step);
     publish_tick();
+    publish_keyframe();
   }
   io.task_state.publish_due(rt::now_ns(), io.params.model_name());
   while (io.scenes.try_pop(io.scene)) {
@@ -402,8 +440,10 @@ int Container::run() {
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
   board.add(tac_p_, tac_name_, tac_name_ + ".");
-  // the parameter port copies the simulator's model: before the real-time thread starts
+  // the parameter port copies the simulator's model, the keyframe is sized: before the
+  // real-time thread starts
   io_ = std::make_unique<Io>(*this);
+  simulator_.save(io_->keyframe);
   host_.announce();
   io_->loop.connect_params(io_->changes, io_->applied);
   // a recording from the first tick needs its logger subscribed first

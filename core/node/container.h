@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/devices/device.h"
+#include "core/graph/colocated.h"
 #include "core/graph/params.h"
 #include "core/node/host.h"
 #include "core/rt/rt_setup.h"
@@ -31,6 +32,8 @@ class Container {
   std::size_t drain();
   void publish_tick();
   void take_applied();
+  void save_keyframe(const graph::Observation& o);
+  void publish_keyframe();
   void publish_status();
   void print_summary();
   void publish_limit();

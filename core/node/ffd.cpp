@@ -137,6 +137,7 @@ void Ffd::plan_wait() {
   const bool fifo = rt::running_fifo();
   const rt::WaitPlan wait = rt::loop_wait(spin_us_, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_pinned());
   if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
+  host_.board().set(host_.name() + ".fifo_priority", std::to_string(rt::fifo_priority_now()));  // what the loop runs at
   sched_.spin_ns = wait.spin_ns;
   sched_.sleep_every_tick = !wait.spin_whole_period;
   graph::say(host_.name(), "the loop " + wait.why);

@@ -50,6 +50,7 @@ struct Sim::Io {
         scene_pub(out, graph::kSceneState),
         event_pub(out, graph::kTaskEvent),
         status_pub(out, graph::kNodeStatus),
+        keyframe_pub(out, graph::kSimKeyframe),
         states(in, graph::kDeviceState),
         ffd_endpoint(graph::node_endpoint(s.ffd_node_)),
         link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.ffd_node_) : ""),
@@ -64,6 +65,7 @@ struct Sim::Io {
   bus::Publisher<msgs::SceneState> scene_pub;
   bus::Publisher<msgs::TaskEvent> event_pub;
   bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::Publisher<msgs::SimKeyframe> keyframe_pub;
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states;
   // the hop from the FFD driver: its same-host link once it listens (tried each time no
@@ -80,6 +82,8 @@ struct Sim::Io {
   graph::SceneSnapshot snap;
   msgs::TaskEvent event;
   msgs::NodeStatus status;
+  sim::Keyframe keyframe;  // sized by a first save before the loop
+  msgs::SimKeyframe keyframe_msg;
   rt::LoopStats stats;
 };
 
@@ -119,7 +123,7 @@ void Sim::answer(std::int64_t received_ns) {
   Io& io = *io_;
   if (first_ns_ < 0) {
     first_ns_ = state_.header().stamp_ns();
-    next_scene_ = next_status_ = received_ns;
+    next_scene_ = next_status_ = next_keyframe_ = received_ns;
   }
   if (graph::force_path_cut(state_.faults())) reengage_.interrupt();
   const std::int64_t step_ns = state_.header().stamp_ns() - first_ns_;
@@ -149,6 +153,16 @@ void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
     graph::snapshot(simulator_, o.pins, o.force_n, io.snap);
     graph::fill(io.scene, io.snap, simulator_.computer_model().name);
     io.scene_pub.publish(io.scene);
+  }
+  if (received_ns >= next_keyframe_) {
+    // after this step's outputs: replay continues from here with the next state
+    next_keyframe_ = received_ns + graph::kKeyframePeriod_ns;
+    simulator_.save(io.keyframe);
+    io.keyframe.sample_ns = state_.header().stamp_ns();
+    io.keyframe.origin_ns = first_ns_;
+    io.keyframe.reengage = reengage_;
+    graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
+    io.keyframe_pub.publish(io.keyframe_msg);
   }
   if (received_ns >= next_status_) {
     next_status_ = received_ns + 1'000'000'000;
@@ -206,6 +220,7 @@ int Sim::run() {
   scene_period_ns_ = scene_rate_hz_ > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz_) : INT64_MAX;
   restart_begins();
   simulator_.activate(0);
+  simulator_.save(io_->keyframe);
   reengage_.interrupt();
   graph::report_ready();
   // observers asked for (a logger recording a replay from its first step) listen before the

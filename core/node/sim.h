@@ -41,7 +41,7 @@ class Sim {
   bool local_hop_;
   std::unique_ptr<Io> io_;
   msgs::DeviceState state_;
-  std::int64_t first_ns_ = -1, next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0;
+  std::int64_t first_ns_ = -1, next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
   std::int64_t scene_period_ns_ = 0, restart_ns_ = 0;
   std::uint64_t steps_ = 0;
   int respawn_ = 0;

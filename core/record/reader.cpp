@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 #include "core/record/compression.h"
@@ -28,16 +29,41 @@ StringMap read_map(In& in) {
   return m;
 }
 
+// a record's kind as the specification names it: "message index", "chunk", ...; "" for an opcode it does not
 const char* op_name(Op op) {
   switch (op) {
+    case Op::header: return "header";
+    case Op::footer: return "footer";
     case Op::schema: return "schema";
     case Op::channel: return "channel";
     case Op::message: return "message";
     case Op::chunk: return "chunk";
+    case Op::message_index: return "message index";
+    case Op::chunk_index: return "chunk index";
     case Op::attachment: return "attachment";
+    case Op::attachment_index: return "attachment index";
+    case Op::statistics: return "statistics";
     case Op::metadata: return "metadata";
-    default: return "record";
+    case Op::metadata_index: return "metadata index";
+    case Op::summary_offset: return "summary offset";
+    case Op::data_end: return "data end";
   }
+  return "";
+}
+
+// "chunk record", "record of opcode 0x7f"
+std::string record_name(Op op) {
+  const std::string name = op_name(op);
+  if (!name.empty()) return name + " record";
+  char opcode[48];
+  std::snprintf(opcode, sizeof opcode, "record of opcode 0x%02x", static_cast<unsigned>(op));
+  return opcode;
+}
+
+// with its article: "a chunk record", "an attachment record"
+std::string a_record(Op op) {
+  const std::string name = record_name(op);
+  return (std::string("aeiou").find(name[0]) == std::string::npos ? "a " : "an ") + name;
 }
 
 }  // namespace
@@ -110,7 +136,7 @@ void Reader::index() {
     const std::uint64_t length = prefix.u64();
     if (length > file_.size() - at - kRecordPrefix) {
       if (header) break;
-      report(at, std::string("truncated: a ") + op_name(op) + " record of " + std::to_string(length) + " bytes runs past the end of the file (the recording was cut off)");
+      report(at, "truncated: " + a_record(op) + " of " + std::to_string(length) + " bytes runs past the end of the file (the recording was cut off)");
       break;
     }
     const std::string_view content = file_.substr(at + kRecordPrefix, static_cast<std::size_t>(length));
@@ -159,7 +185,7 @@ void Reader::index() {
       case Op::data_end: data_end = true; break;
       default: break;  // indexes, summary records and unknown opcodes: nothing to read here
     }
-    if (!ok) report(at, std::string("malformed ") + op_name(op) + " record, skipped");
+    if (!ok) report(at, "malformed " + record_name(op) + ", skipped");
     at += kRecordPrefix + content.size();
     if (data_end || op == Op::footer) break;
   }
@@ -266,7 +292,7 @@ void Reader::for_each(const std::function<bool(const Message&)>& fn) {
       if (op == Op::schema) ok = add_schema(In{content});
       if (op == Op::channel) ok = add_channel(In{content});
       if (op == Op::message) ok = emit_message(item.offset, content, fn, go_on);
-      if (!ok) report(item.offset, std::string("malformed ") + op_name(op) + " record inside the chunk, skipped");
+      if (!ok) report(item.offset, "malformed " + record_name(op) + " inside the chunk, skipped");
       at += kRecordPrefix + content.size();
     }
   }

@@ -136,10 +136,12 @@ __attribute__((noinline)) std::size_t prefault_stack(std::size_t bytes) {
   return bytes;
 }
 
-bool running_fifo() {
+bool running_fifo() { return fifo_priority_now() > 0; }
+
+int fifo_priority_now() {
   int policy = 0;
   sched_param sp{};
-  return pthread_getschedparam(pthread_self(), &policy, &sp) == 0 && policy == SCHED_FIFO;
+  return pthread_getschedparam(pthread_self(), &policy, &sp) == 0 && policy == SCHED_FIFO ? sp.sched_priority : 0;
 }
 
 }  // namespace enact::rt

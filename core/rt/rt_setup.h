@@ -38,6 +38,9 @@ RtReport apply_rt_setup(const RtParams& params);  // also sets the thread's time
 
 // whether the calling thread runs under SCHED_FIFO (set here or by a graph's profile)
 bool running_fifo();
+// the calling thread's SCHED_FIFO priority, 0 when it is not under SCHED_FIFO: what a loop
+// runs at, whatever asked for it (its parameter, a graph's profile) and whatever was refused
+int fifo_priority_now();
 
 // touch `bytes` of stack below the caller so the loop never page-faults on it (call it from
 // the loop thread, after locking memory, so the pages stay resident). Stops short of the end

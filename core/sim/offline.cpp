@@ -134,13 +134,17 @@ void write_metrics_json(const RunSummary& s, const Simulator& sim, std::ostream&
       << "  \"rate_hz\": " << number(sim.model().rate_hz) << ",\n"
       << "  \"steps\": " << s.steps << ",\n"
       << "  \"faults\": " << s.faults << ",\n"
-      << "  \"falls\": " << m.falls << ",\n"
-      << "  \"time_total_s\": " << number(m.time_total_s) << ",\n"
-      << "  \"time_out_s\": " << number(m.time_out_s) << ",\n"
-      << "  \"ratio\": " << number(m.ratio) << ",\n"
-      << "  \"completed\": " << (m.completed ? "true" : "false") << ",\n"
-      << "  \"progress\": " << number(m.progress) << ",\n"
-      << "  \"mean_force_n\": " << number(s.mean_force_n) << ",\n"
+      << "  \"task\": " << (sim.has_task() ? "true" : "false") << ",\n";
+  // the task's metrics only for a scene with a task (none to count without one)
+  if (sim.has_task()) {
+    out << "  \"falls\": " << m.falls << ",\n"
+        << "  \"time_total_s\": " << number(m.time_total_s) << ",\n"
+        << "  \"time_out_s\": " << number(m.time_out_s) << ",\n"
+        << "  \"ratio\": " << number(m.ratio) << ",\n"
+        << "  \"completed\": " << (m.completed ? "true" : "false") << ",\n"
+        << "  \"progress\": " << number(m.progress) << ",\n";
+  }
+  out << "  \"mean_force_n\": " << number(s.mean_force_n) << ",\n"
       << "  \"peak_force_n\": " << number(s.peak_force_n) << ",\n"
       << "  \"mean_pins_up\": " << number(s.mean_pins_up) << ",\n"
       << "  \"contact_fraction\": " << number(s.contact_fraction) << "\n"

@@ -101,12 +101,21 @@ void assign(haptics::ComputerModel& cm, const ModelChange& c) {
   cm.name.assign(c.name);
 }
 
+double passivity_envelope(const physics::Model& model) {
+  const auto profile = devices::find_device_profile(model.device_profile);
+  const int pair = first_body_contact(model);
+  const double loaded = pair < 0 ? 0.0 : body_passivity_demand(model, model.contacts[pair].stiffness_n_per_m, model.contacts[pair].damping_n_s_per_m);
+  return std::max(profile ? profile->damping_n_s_per_m : 0.0, loaded);
+}
+
 ParamPlanner::ParamPlanner(const Simulator& simulator)
-    : model_(simulator.model()), cm_(simulator.computer_model()), grid_masses_(simulator.grid_masses()) {
+    : model_(simulator.model()), cm_(simulator.computer_model()), grid_masses_(simulator.grid_masses()), envelope_(passivity_envelope(model_)) {
   if (const auto profile = devices::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
-  const int pair = first_body_contact(model_);
-  const double loaded = pair < 0 ? 0.0 : body_passivity_demand(model_, model_.contacts[pair].stiffness_n_per_m, model_.contacts[pair].damping_n_s_per_m);
-  envelope_ = std::max(device_damping_, loaded);
+}
+
+void ParamPlanner::follow(const Simulator& simulator) {
+  model_ = simulator.model();
+  cm_ = simulator.computer_model();
 }
 
 double ParamPlanner::stiffness_n_per_m() const {

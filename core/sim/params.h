@@ -89,6 +89,10 @@ class ParamPlanner {
   // Without a device profile b is 0: stiffness and damping can only go down.
   explicit ParamPlanner(const Simulator& simulator);
 
+  // mirror the simulator again as it is now (restored from a keyframe: the parameters then in
+  // force); the envelope stays the one of the scene as loaded
+  void follow(const Simulator& simulator);
+
   // checks `name` (without the node prefix) = value. Accepted: the mirror is updated as the
   // simulator will be once it applies the change. Never throws on bad input.
   ParamPlan plan(const std::string& name, const ParamValue& value, std::uint64_t request_id);
@@ -113,6 +117,13 @@ class ParamPlanner {
 // the passivity demand K T/2 + B of the exploratory body with every body point feeding the
 // device and every body contact pair at the given stiffness and damping (N s/m)
 double body_passivity_demand(physics::Model model, double stiffness_n_per_m, double damping_n_s_per_m);
+
+// the largest K T/2 + B live stiffness and damping changes may reach on `model` as loaded:
+// the larger of its device's damping b (0 without a device profile) and the body's demand
+// with every body point feeding the device (any computer model may be switched to live) at
+// the scene's own stiffness and damping. `enact check`, the viewer and every refusal give
+// this one figure
+double passivity_envelope(const physics::Model& model);
 
 // a point of the exploratory body (proxy 0's): the points live changes act on
 bool is_body_point(const physics::Model& model, int point);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/physics/contact.h"
+#include "core/sim/simulator.h"
 
 namespace enact::sim {
 namespace {

@@ -10,9 +10,12 @@
 #include <cstdint>
 
 #include "core/math/vec3.h"
-#include "core/sim/simulator.h"
+#include "core/physics/model.h"
+#include "core/physics/state.h"
 
 namespace enact::sim {
+
+class Simulator;
 
 // the simulator node's default duration (parameter reengage_s)
 constexpr double kReengageDefault_s = 0.100;

@@ -118,6 +118,63 @@ void Simulator::deactivate() {
   out_.force_n = {};
 }
 
+// the fields a keyframe holds as the simulator does, one list for save and restore:
+// pair(the simulator's, the keyframe's)
+template <class S, class K, class F>
+void Simulator::pair_fields(S& s, K& k, F&& pair) {
+  pair(s.steps_, k.step);
+  pair(s.params_.change_ramp_s, k.change_ramp_s);
+  pair(s.state_, k.state);
+  pair(s.task_, k.task);
+  pair(s.trial_running_, k.trial_running);
+  pair(s.trial_change_, k.trial_change);
+  pair(s.tactile_, k.tactile);
+  pair(s.out_.force_n, k.force_n);
+  pair(s.from_n_, k.from_n);
+  pair(s.reentering_, k.reentering);
+  pair(s.capture_, k.capture);
+  pair(s.settling_, k.settling);
+  pair(s.offset_left_, k.offset_left);
+  pair(s.offset_total_, k.offset_total);
+  pair(s.reentry_step_m_, k.reentry_step_m);
+  pair(s.felt_depth_m_, k.felt_depth_m);
+  pair(s.felt_normal_, k.felt_normal);
+}
+
+void Simulator::save(Keyframe& k) const {
+  pair_fields(*this, k, [](const auto& from, auto& to) { to = from; });
+  // the parameters in force: the computer model, each contact pair's and each point's
+  k.model = to_change(cm_);
+  k.stiffness_n_per_m.resize(model_.contacts.size());
+  k.damping_n_s_per_m.resize(model_.contacts.size());
+  for (std::size_t c = 0; c < model_.contacts.size(); ++c) {
+    k.stiffness_n_per_m[c] = model_.contacts[c].stiffness_n_per_m;
+    k.damping_n_s_per_m[c] = model_.contacts[c].damping_n_s_per_m;
+  }
+  k.threshold_m.resize(model_.points.size());
+  k.feeds_device.resize(model_.points.size());
+  for (std::size_t p = 0; p < model_.points.size(); ++p) {
+    k.threshold_m[p] = model_.points[p].contact_threshold_m;
+    k.feeds_device[p] = model_.points[p].feeds_device;
+  }
+}
+
+void Simulator::restore(const Keyframe& k) {
+  if (lifecycle_ == Lifecycle::unconfigured) throw std::logic_error("Simulator::restore before configure");
+  out_ = {};
+  pair_fields(*this, k, [](auto& to, const auto& from) { to = from; });
+  assign(cm_, k.model);
+  for (std::size_t c = 0; c < model_.contacts.size(); ++c) {
+    model_.contacts[c].stiffness_n_per_m = k.stiffness_n_per_m[c];
+    model_.contacts[c].damping_n_s_per_m = k.damping_n_s_per_m[c];
+  }
+  for (std::size_t p = 0; p < model_.points.size(); ++p) {
+    model_.points[p].contact_threshold_m = k.threshold_m[p];
+    model_.points[p].feeds_device = k.feeds_device[p] != 0;
+  }
+  lifecycle_ = Lifecycle::active;
+}
+
 void Simulator::set_computer_model(const haptics::ComputerModel& cm) {
   cm_ = cm;
   haptics::apply(cm_, model_);

@@ -13,6 +13,7 @@
 #include "core/physics/model.h"
 #include "core/physics/stability.h"
 #include "core/physics/state.h"
+#include "core/sim/keyframe.h"
 #include "core/sim/params.h"
 #include "core/task/bridge_task.h"
 #include "core/task/polyline.h"
@@ -64,6 +65,14 @@ class Simulator {
   // rest blends away over change_ramp_s. Allocates nothing, never throws.
   ParamApplied apply(const ParamChange& change, std::int64_t now_ns);
 
+  // everything it needs to continue from here (keyframe.h), into `out`: allocates nothing once
+  // `out` was filled before by this simulator. The caller sets the keyframe's sample, origin
+  // and re-synchronisation, which the simulator does not hold
+  void save(Keyframe& out) const;
+  // continue from a keyframe saved by a simulator configured alike (the same scene at the same
+  // rate): the next step is the one after the keyframe's
+  void restore(const Keyframe& keyframe);
+
   Lifecycle lifecycle() const { return lifecycle_; }
   const physics::Model& model() const { return model_; }
   const physics::State& state() const { return state_; }
@@ -89,6 +98,8 @@ class Simulator {
   haptics::TactileDownsampler tactile_;
   task::BridgeTask task_;
   task::Polyline path_;
+  template <class S, class K, class F>
+  static void pair_fields(S& simulator, K& keyframe, F&& pair);
   // a change of the force law, before and after it is made (no jolt)
   void find_deepest();
   void keep_felt_forces();
@@ -99,7 +110,6 @@ class Simulator {
   std::vector<int> top_pairs_;  // contact pairs of the body with the task surface
   bool trial_running_ = true;
   // a trial a change started (or reset) begins at the next step; one it stopped ends with it
-  enum class TrialChange : std::uint8_t { none, start, stop };
   TrialChange trial_change_ = TrialChange::none;
   std::uint64_t steps_ = 0;     // steps since activate
   StepOutput out_;

@@ -115,6 +115,10 @@ Metrics BridgeTask::metrics() const {
   return m;
 }
 
+BridgeTask::Account BridgeTask::account() const {
+  return {start_ns_, falls_, closed_out_ns_, falling() ? lost_ns_ : -1, completed_ ? completed_ns_ : -1, last_ns_};
+}
+
 bool BridgeTask::falling() const { return phase_ == Phase::falling || phase_ == Phase::pending_on; }
 
 }  // namespace enact::task

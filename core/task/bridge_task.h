@@ -53,6 +53,18 @@ class BridgeTask {
   Metrics metrics() const;
   bool falling() const;  // a counted fall is in progress
 
+  // the trial so far as its task events tell it (times on the task's clock; -1: none): where
+  // a recording that starts mid-trial takes the trial up (sim::Keyframe)
+  struct Account {
+    std::int64_t start_ns = 0;
+    int falls = 0;
+    std::int64_t closed_out_ns = 0;   // time out of the falls already ended
+    std::int64_t fall_since_ns = -1;  // a counted fall still open began here
+    std::int64_t end_ns = -1;         // the bridge was completed here
+    std::int64_t last_ns = 0;         // the last sample
+  };
+  Account account() const;
+
  private:
   enum class Phase : std::uint8_t {
     on_top,        // on the top surface

@@ -98,9 +98,9 @@ std::uint64_t GraphLink::send(const msgs::ParamUpdate& update) { return connecti
 
 std::string GraphLink::describe() const {
   if (!endpoint_.empty()) return name_.empty() ? endpoint_ : "graph " + name_ + " at " + endpoint_;
-  if (!choice_.graph.empty()) return "graph " + choice_.graph + " (waiting for it)";
-  if (!choice_.prefix.empty()) return "the trials of " + choice_.prefix + " (waiting for one)";
-  return "the graph launched next here (waiting for it)";
+  if (!choice_.graph.empty()) return "graph " + choice_.graph;
+  if (!choice_.prefix.empty()) return "the trials of " + choice_.prefix;
+  return "the graph launched next here";
 }
 
 }  // namespace enact::viewer

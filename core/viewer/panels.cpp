@@ -34,29 +34,40 @@ bool prechecked(const std::string& param) { return param == "threshold_m" || par
 
 }  // namespace
 
-void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, const std::string& recording) {
+std::string link_line(LinkState state, const std::string& graph_name, const std::string& where) {
+  switch (state) {
+    case LinkState::waiting: return "waiting for " + where;
+    case LinkState::connected: return "graph '" + graph_name + "' at " + where;
+    case LinkState::lost: return "graph '" + graph_name + "' lost (no answer for 3 s)";
+  }
+  return "";
+}
+
+std::string place_line(const TaskView& t, bool has_task) {
+  if (!has_task) return "no task in this scene: nothing is counted";
+  return std::string(t.on_top ? "ON the bridge" : "OFF the bridge") + "  falls " + std::to_string(t.falls) + (t.falling ? " (falling)" : "");
+}
+
+void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, bool has_task, const std::string& recording) {
   begin_fixed("task", r);
   if (!recording.empty()) {
     ImGui::TextColored(kGood, "recording %s", recording.c_str());
   } else {
-    switch (model.link(now_ns)) {
-      case LinkState::waiting: ImGui::TextColored(kDim, "waiting for a graph at %s", source.c_str()); break;
-      case LinkState::connected: ImGui::TextColored(kGood, "graph '%s' at %s", model.graph_name().c_str(), source.c_str()); break;
-      case LinkState::lost: ImGui::TextColored(kBad, "graph '%s' lost (no answer for 3 s)", model.graph_name().c_str()); break;
-    }
+    const LinkState state = model.link(now_ns);
+    const ImVec4 colour = state == LinkState::connected ? kGood : state == LinkState::lost ? kBad : kDim;
+    ImGui::TextColored(colour, "%s", link_line(state, model.graph_name(), source).c_str());
   }
   ImGui::Separator();
   const TaskView& t = model.task();
   if (model.has_scene()) {
     ImGui::Text("computer model %s", model.scene().model().c_str());
-    if (t.on_top) ImGui::TextColored(kGood, "ON the bridge");
-    else ImGui::TextColored(kBad, "OFF the bridge");
-    ImGui::SameLine();
-    ImGui::Text("  falls %d%s", t.falls, t.falling ? " (falling)" : "");
-    ImGui::Text("trial %.1f s %s", static_cast<double>(t.time_ns) * 1e-9, t.completed ? "(completed)" : t.running ? "(running)" : "(stopped)");
-    char progress[32];
-    std::snprintf(progress, sizeof progress, "progress %.0f %%", t.progress * 100.0);
-    ImGui::ProgressBar(static_cast<float>(t.progress), {-1.0f, 0.0f}, progress);
+    ImGui::TextColored(!has_task ? kDim : t.on_top ? kGood : kBad, "%s", place_line(t, has_task).c_str());
+    if (has_task) {
+      ImGui::Text("trial %.1f s %s", static_cast<double>(t.time_ns) * 1e-9, t.completed ? "(completed)" : t.running ? "(running)" : "(stopped)");
+      char progress[32];
+      std::snprintf(progress, sizeof progress, "progress %.0f %%", t.progress * 100.0);
+      ImGui::ProgressBar(static_cast<float>(t.progress), {-1.0f, 0.0f}, progress);
+    }
   } else {
     ImGui::TextColored(kDim, "no scene yet");
   }

@@ -4,6 +4,7 @@
 
 #include "core/config/yaml.h"
 #include "core/haptics/computer_model.h"
+#include "core/sim/params.h"
 #include "core/devices/device_profile.h"
 #include "core/physics/scene.h"
 #include "core/physics/stability.h"
@@ -116,6 +117,14 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
   std::cout << j.str() << "\n";
 }
 
+// the bound live stiffness and damping changes are held to (the figure the viewer and every
+// refusal give): every body point feeding, whatever the computer model
+void print_live_envelope(const physics::Model& m) {
+  std::printf("\nlive changes  enact param set keeps K T/2 + B with every body point feeding (any computer model may be switched to)\n"
+              "              at most %.2f N s/m (the device damping b, or this scene as loaded if larger; docs/parameters.md)\n",
+              sim::passivity_envelope(m));
+}
+
 void write_table(const physics::Model& m, const physics::StabilityReport& r, const std::string& device) {
   int dynamic = 0, fixed = 0, body = 0;
   for (const auto& p : m.points) {
@@ -187,6 +196,7 @@ int check(int argc, char** argv) {
   }
   if (a.flag("json")) write_json(m, r, device, sweep);
   else write_table(m, r, device);
+  if (!a.flag("json") && !m.proxies.empty()) print_live_envelope(m);
   if (!sweep.empty() && !a.flag("json")) reference::print_sweep(sweep, "rate sweep: device force and pins against cordis at 880 kHz");
   std::fflush(stdout);  // the table before any message on stderr
   if (!r.stable()) {

@@ -25,7 +25,9 @@ constexpr const char* kHelp = R"(usage: enact node list [--graph NAME | --attach
 The nodes of a running graph (like `ros2 node`), through its attach point:
   list   every node: its state, rate and the topics it publishes (node/status, graph/topics)
   info   NODE's topics, parameters (as launched) and status: state, rate, loop latency,
-         overruns, faults, and its per-topic counters
+         overruns, faults, and its per-topic counters. NODE may be a component of a
+         co-located graph (sim, ffd, tactile of enact-rt): its parameters, and its node's
+         topics and status
 options:
 )";
 
@@ -98,16 +100,30 @@ int list(const std::string& endpoint, const bus::ClientKeys& keys) {
   return 0;
 }
 
-int info(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& node) {
+// the node a container's component runs in ("" when `name` is no component of one): its
+// parameters are NODE.NAME.PARAM
+std::string container_of(const msgs::GraphInfo& graph, const std::vector<std::string>& nodes, const std::string& name) {
+  for (const std::string& n : nodes) {
+    for (const auto& p : graph.params()) {
+      if (p.name().starts_with(n + "." + name + ".")) return n;
+    }
+  }
+  return "";
+}
+
+int info(const std::string& endpoint, const bus::ClientKeys& keys, const std::string& name) {
   const msgs::GraphInfo graph = graph_info(endpoint, keys);
   const auto heard = statuses(endpoint, keys, 2500'000'000);
   const std::vector<std::string> names = node_names(graph, heard);
-  if (std::find(names.begin(), names.end(), node) == names.end()) {
-    throw UsageError("the graph has no node '" + node + "'" + config::did_you_mean(node, names) + " (enact node list)");
-  }
-  std::printf("node %s\n  publishes: %s\n  parameters:\n", node.c_str(), published_by(graph, node).c_str());
+  const bool is_node = std::find(names.begin(), names.end(), name) != names.end();
+  // a co-located graph's components (sim, ffd, tactile of enact-rt) are shown in their node
+  const std::string node = is_node ? name : container_of(graph, names, name);
+  if (node.empty()) throw UsageError("the graph has no node or component '" + name + "'" + config::did_you_mean(name, names) + " (enact node list)");
+  const std::string prefix = is_node ? node + "." : node + "." + name + ".";
+  if (is_node) std::printf("node %s\n  publishes: %s\n  parameters:\n", node.c_str(), published_by(graph, node).c_str());
+  else std::printf("component %s of node %s (in its one real-time thread)\n  publishes, through %s: %s\n  parameters:\n", name.c_str(), node.c_str(), node.c_str(), published_by(graph, node).c_str());
   for (const auto& p : graph.params()) {
-    if (p.name().starts_with(node + ".")) std::printf("    %s = %s\n", p.name().substr(node.size() + 1).c_str(), p.value().c_str());
+    if (p.name().starts_with(prefix)) std::printf("    %s = %s\n", p.name().substr(prefix.size()).c_str(), p.value().c_str());
   }
   const auto it = heard.find(node);
   if (it == heard.end()) {

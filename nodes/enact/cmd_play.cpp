@@ -15,6 +15,7 @@
 #include "core/graph/node.h"
 #include "core/graph/params.h"
 #include "core/launch/env.h"
+#include "core/config/format.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
@@ -47,7 +48,8 @@ options:
   --remap FROM:=TO  publish topic FROM as TO (repeatable)
   --paused          start paused (on a terminal: Space plays; else Enter)
   --name NODE       publish everything as node NODE
-  --wait S          wait up to S s for a subscriber of every topic before playing (default 5)
+  --wait S          wait up to S s for a subscriber of every topic before playing (default 5; said
+                    when it waits, and whether they came)
   --check           check the options and the recording, play nothing
 )";
 
@@ -144,7 +146,15 @@ int play(int argc, char** argv) {
     }
     return true;
   };
-  while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+  // a short grace for subscribers on their way, then the wait is said, and how it ended
+  const std::int64_t grace = std::min(give_up, rt::now_ns() + 200'000'000);
+  while (!all_heard() && rt::now_ns() < grace && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+  if (!all_heard() && wait_s > 0.0) {
+    std::cerr << "enact play: waiting up to " << config::number(wait_s) << " s for a subscriber of every topic played (--wait S)\n";
+    while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+    std::cerr << (all_heard() ? "enact play: every topic has a subscriber; playing\n"
+                              : "enact play: a topic still has no subscriber; playing anyway (what is sent before one listens is lost)\n");
+  }
   // the recording's span, for the progress: "12.3 / 40.0 s"
   const auto [first_ns, last_ns] = r.time_span();
   const double total_s = static_cast<double>(last_ns - first_ns) * 1e-9;

@@ -1,6 +1,7 @@
 // enact record | info | export | recover: make, inspect, flatten and repair MCAP recordings.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <ctime>
@@ -17,6 +18,8 @@
 #include "core/config/yaml.h"
 #include "core/graph/logger.h"
 #include "core/graph/node.h"
+#include "core/graph/replay.h"
+#include "core/graph/topics.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
 #include "core/record/writer.h"
@@ -159,6 +162,15 @@ void flatten(const google::protobuf::Message& m, const std::string& prefix, std:
   }
 }
 
+// a recording started on a running graph: said, with where a replay can begin (resim, metrics)
+void say_replay_start(const std::string& file) {
+  record::Reader r(file);
+  const auto& channels = r.channels();
+  if (std::none_of(channels.begin(), channels.end(), [](const auto& c) { return c.second.topic == graph::kDeviceState; })) return;
+  const graph::ReplayStart start = graph::replay_start(r);
+  if (start.mid_run) std::printf("the recording %s\n", graph::describe(start).c_str());
+}
+
 }  // namespace
 
 int record(int argc, char** argv) {
@@ -210,6 +222,7 @@ int record(int argc, char** argv) {
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());
+  if (logger.write_failure().empty()) say_replay_start(logger.files().front());
   if (!logger.write_failure().empty()) {
     std::fprintf(stderr, "enact record: %s\n", graph::format_write_failure(logger).c_str());
     return 1;

@@ -14,16 +14,19 @@ constexpr const char* kHelp = R"(usage: enact resim FILE [--scene S] [--model M]
 Offline, with no bus: step a fresh simulator, configured as the recorded one (parameters
 from the recording's metadata, scene and model files from its attachments), on every
 recorded ffd/state, and compare its forces and tactile frames with the recorded ffd/force
-and tactile/frame, bit for bit. Live parameter changes the simulator acknowledged (param/ack)
-are re-applied before the step that first used them. With the recorded scene and model they must be identical
+and tactile/frame, bit for bit. A recording started on a running graph (its first ffd/state
+is not the graph's first) replays from the simulator's first keyframe in it (sim/keyframe,
+published once a second: the simulator's whole state), with the state after it. Live
+parameter changes the simulator acknowledged (param/ack) are re-applied before the step that
+first used them. With the recorded scene and model they must be identical
 (a regression check for the physics); otherwise the first divergence is reported: the step,
 the state's sequence number, the topic, the field and both values. Also prints the bridge
 task's metrics of the replay.
 Exit status: 0 identical, 1 diverged (or an error).
 
 options:
-  --scene S   run another scene file
-  --model M   run another computer model (preset or file)
+  --scene S   run another scene file (from the recording's first state, no keyframe)
+  --model M   run another computer model (preset or file; likewise)
   --json      print the result as JSON
 )";
 
@@ -43,6 +46,7 @@ int resim(int argc, char** argv) {
     Json j;
     j.begin_object();
     j.field("steps", static_cast<long long>(res.steps)).field("first_state_seq", static_cast<long long>(res.first_state_seq));
+    j.field("from_keyframe", res.start.keyframe).field("keyframe_step", static_cast<long long>(res.start.keyframe_step));
     j.field("forces_compared", static_cast<long long>(res.forces_compared)).field("frames_compared", static_cast<long long>(res.frames_compared));
     j.field("forces_missing", static_cast<long long>(res.forces_missing)).field("changes", static_cast<long long>(res.changes));
     j.field("identical", !res.divergence);
@@ -62,11 +66,7 @@ int resim(int argc, char** argv) {
   std::printf("resim %s: scene %s, model %s, %.0f Hz, %s time\n", r.path().c_str(), res.scene.c_str(), res.model.c_str(), res.rate_hz, res.clock.c_str());
   std::printf("  %llu device states replayed; %llu forces and %llu tactile frames compared\n", static_cast<unsigned long long>(res.steps),
               static_cast<unsigned long long>(res.forces_compared), static_cast<unsigned long long>(res.frames_compared));
-  if (res.first_state_seq > 1) {
-    std::printf("  note: the recording starts at ffd/state seq %llu, not at the graph's first tick: the simulator's history before it is\n"
-                "  unknown, so the replay may differ (record from the start: docs/recording-and-replay.md)\n",
-                static_cast<unsigned long long>(res.first_state_seq));
-  }
+  if (res.start.mid_run) std::printf("  the recording %s\n", graph::describe(res.start).c_str());
   if (res.changes) std::printf("  %llu live parameter changes re-applied where they took effect (param/ack)\n", static_cast<unsigned long long>(res.changes));
   if (res.forces_missing) {
     std::printf("  %llu states have no recorded answer", static_cast<unsigned long long>(res.forces_missing));

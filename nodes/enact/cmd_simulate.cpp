@@ -73,6 +73,22 @@ sim::SimParams params_from(const Args& a, const std::string& model) {
   return p;
 }
 
+// the table's two header lines and its rows; the task's columns only for a scene with a task
+void print_header(bool task) {
+  std::printf("%-6s %10s %10s %10s %10s", "model", "mean |F|", "peak |F|", "pins up", "contact");
+  if (task) std::printf(" %6s %10s %10s %6s", "falls", "time_out", "time_total", "done");
+  std::printf(" %6s\n%-6s %10s %10s %10s %10s", "faults", "", "(N)", "(N)", "(mean)", "(% steps)");
+  if (task) std::printf(" %6s %10s %10s %6s", "", "(s)", "(s)", "");
+  std::printf(" %6s\n", "");
+}
+
+void print_row(const sim::RunSummary& s, bool task) {
+  const task::Metrics& m = s.metrics;
+  std::printf("%-6s %10.3f %10.3f %10.2f %10.1f", s.model.c_str(), s.mean_force_n, s.peak_force_n, s.mean_pins_up, 100.0 * s.contact_fraction);
+  if (task) std::printf(" %6d %10.3f %10.3f %6s", m.falls, m.time_out_s, m.time_total_s, m.completed ? "yes" : "no");
+  std::printf(" %6llu\n", static_cast<unsigned long long>(s.faults));
+}
+
 }  // namespace
 
 int simulate(int argc, char** argv) {
@@ -87,11 +103,12 @@ int simulate(int argc, char** argv) {
   if (models.empty()) throw UsageError("--model needs at least one computer model");
   if (models.size() > 1 && (a.has("out") || a.has("metrics"))) throw UsageError("--out and --metrics take a single --model");
 
-  // every model checked before the table starts
+  // every model checked before the table starts; a scene without a task has no task columns
   for (const std::string& model : models) haptics::resolve_computer_model(model);
-  std::printf("%-6s %10s %10s %10s %10s %6s %10s %10s %6s %6s\n", "model", "mean |F|", "peak |F|", "pins up", "contact", "falls",
-              "time_out", "time_total", "done", "faults");
-  std::printf("%-6s %10s %10s %10s %10s %6s %10s %10s %6s %6s\n", "", "(N)", "(N)", "(mean)", "(% steps)", "", "(s)", "(s)", "", "");
+  sim::Simulator first;
+  first.configure(params_from(a, models.front()));
+  const bool task = first.has_task();
+  print_header(task);
   for (const std::string& model : models) {
     sim::Simulator simulator;
     simulator.configure(params_from(a, model));
@@ -99,14 +116,16 @@ int simulate(int argc, char** argv) {
     std::ofstream csv;
     if (a.has("out")) csv = open_out(a.get("out"));
     const sim::RunSummary s = sim::run_offline(simulator, path, a.has("out") ? &csv : nullptr);
-    const task::Metrics& m = s.metrics;
-    std::printf("%-6s %10.3f %10.3f %10.2f %10.1f %6d %10.3f %10.3f %6s %6llu\n", s.model.c_str(), s.mean_force_n, s.peak_force_n,
-                s.mean_pins_up, 100.0 * s.contact_fraction, m.falls, m.time_out_s, m.time_total_s, m.completed ? "yes" : "no",
-                static_cast<unsigned long long>(s.faults));
+    print_row(s, task);
     if (a.has("metrics")) {
       std::ofstream out = open_out(a.get("metrics"));
       sim::write_metrics_json(s, simulator, out);
     }
+  }
+  if (!task) std::printf("(no task in this scene: no falls, time out or completion to count)\n");
+  if (a.has("input")) {
+    std::printf("(the device followed the path exactly; live, a simulated hand tracks it behind a spring and presses far less:\n"
+                " docs/scenes-and-models.md, \"Offline and live forces differ\")\n");
   }
   return 0;
 }

@@ -38,8 +38,9 @@ Attach to a running graph (like `ros2 topic`), at any time, without disturbing i
          Ctrl-C; a state topic (task/state) gives its current message at once; at the end,
          on stderr, how many arrived and how many were lost (sequence gaps);
          --field PATH: only that field of each message (force.x, header.seq, pins, a list
-         as [a, b], one element as pins[3]); several --field: one line each, tab-separated;
-         --csv: a header line of the paths, then one CSV row per message
+         as [a, b], one element as pins[3]; a message, one column per field: position is
+         position.x, position.y, position.z); several --field: one line each,
+         tab-separated; --csv: a header line of the paths, then one CSV row per message
   hz     the rate of TOPIC every second, with messages lost (sequence gaps)
   info   TOPIC's message type, publishers and rate (measured over 1 s)
   bw     the bandwidth of TOPIC every second (bytes of payload), until --duration or Ctrl-C
@@ -138,8 +139,11 @@ int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) 
   std::vector<FieldPath> paths;
   std::string header;
   for (const std::string& f : w.fields) {
-    paths.push_back(resolve_field(*msg->GetDescriptor(), f));
-    header += (header.empty() ? "" : ",") + csv_cell(f);
+    for (FieldPath& p : resolve_columns(*msg->GetDescriptor(), f)) {
+      if (!header.empty()) header += ',';
+      header += csv_cell(p.text);
+      paths.push_back(std::move(p));
+    }
   }
   if (w.csv) std::printf("%s\n", header.c_str());
   bus::ByteSubscriber sub;

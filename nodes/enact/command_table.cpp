@@ -40,6 +40,7 @@ constexpr Command kCommands[] = {
     {"resim", "resim FILE", "rerun a recording's device states through the simulator, compare", resim},
     {"devices", "devices", "the supported USB devices on this machine (Novint Falcon, Metec cells)", devices},
     {"param", "param set NAME VALUE", "change a parameter of a running graph (answered: applied or refused)", param},
+    {"param", "param list|get|dump|load", "a running graph's parameters: values in force, ranges; as YAML and back", param},
     {"foxglove", "foxglove", "serve a running graph to Foxglove (WebSocket): topics, schemas, the 3D scene", foxglove_bridge},
     {"doctor", "doctor", "is this machine ready for real-time haptics? one line per check, with the fix", doctor},
     {"keys", "keys new|show", "CURVE keys for remote access (graphs launched with --access)", keys},

@@ -129,6 +129,18 @@ FieldPath resolve_field(const Descriptor& type, const std::string& path) {
   }
 }
 
+std::vector<FieldPath> resolve_columns(const Descriptor& type, const std::string& path) {
+  FieldPath whole = resolve_field(type, path);
+  const FieldPath::Step& last = whole.steps.back();
+  const Descriptor* sub = last.field->message_type();
+  if (!sub || (last.field->is_repeated() && last.index < 0)) return {whole};
+  std::vector<FieldPath> out;
+  for (int i = 0; i < sub->field_count(); ++i) {
+    for (FieldPath& leaf : resolve_columns(type, path + "." + sub->field(i)->name())) out.push_back(std::move(leaf));
+  }
+  return out;
+}
+
 std::string field_text(const Message& m, const FieldPath& path) { return value_of(m, path.steps, 0); }
 
 std::string csv_cell(const std::string& text) {

@@ -22,6 +22,9 @@ struct FieldPath {
 // `path` resolved in `type`; UsageError naming the message's fields where it fails, and
 // the closest one ("did you mean")
 FieldPath resolve_field(const google::protobuf::Descriptor& type, const std::string& path);
+// the columns `path` gives: itself for a value or a list, one per leaf for a message
+// (position: position.x, position.y, position.z)
+std::vector<FieldPath> resolve_columns(const google::protobuf::Descriptor& type, const std::string& path);
 
 // the value at `path` in `m` as text: numbers, true / false, enum names, text; a repeated
 // field (or a path through one) as a list "[a, b, c]", a message as {field: value ...};

@@ -4,13 +4,31 @@
 // --regex / --exclude, echo --field / --csv, pub.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <regex>
+#include <sstream>
+#include <vector>
 
 #include "tests/cli/cli_support.h"
 #include "tests/integration/integration_util.h"
 
 namespace enact::test {
 namespace {
+
+// the highest SCHED_FIFO priority among the threads of process `pid` (0: none runs FIFO),
+// from /proc/PID/task/TID/stat (fields 40 rt_priority, 41 policy)
+int highest_fifo_priority(pid_t pid) {
+  int highest = 0;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    const std::string stat = read_file_or_empty(task.path().string() + "/stat");
+    std::istringstream fields(stat.substr(stat.rfind(')') + 2));  // from field 3
+    std::vector<std::string> f{"", "", ""};
+    for (std::string v; fields >> v;) f.push_back(v);
+    if (f.size() > 41 && f[41] == "1") highest = std::max(highest, std::stoi(f[40]));  // 1: SCHED_FIFO
+  }
+  return highest;
+}
 
 TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
   TempDir dir;
@@ -50,6 +68,19 @@ TEST(RosHabits, TopicsAndNodesOfARunningGraph) {
   EXPECT_NE(node.out.find("sim.model = CM1"), std::string::npos) << node.out;
   EXPECT_NE(node.out.find("status: ACTIVE"), std::string::npos) << node.out;
   EXPECT_NE(node.out.find("ffd/state      sent"), std::string::npos) << node.out;
+  // a component of the co-located graph: its parameters, its node's topics and status
+  const RunResult component = enact("node info sim" + at);
+  ASSERT_EQ(component.exit_code, 0) << component.err;
+  EXPECT_NE(component.out.find("component sim of node rt"), std::string::npos) << component.out;
+  EXPECT_NE(component.out.find("\n    model = CM1\n"), std::string::npos) << component.out;
+  EXPECT_EQ(component.out.find("rate_hz"), std::string::npos) << "the container's own parameters are rt's\n" << component.out;
+  EXPECT_NE(component.out.find("status: ACTIVE"), std::string::npos) << component.out;
+
+  // the loop's FIFO priority in force is what its thread runs at (the graph's profile sets
+  // it, not the parameter; 0 where FIFO is refused)
+  const RunResult fifo = enact("param get rt.fifo_priority" + at);
+  ASSERT_EQ(fifo.exit_code, 0) << fifo.err;
+  EXPECT_EQ(std::atoi(fifo.out.c_str()), highest_fifo_priority(graph.pid_of("rt"))) << fifo.out;
 
   // a short recording, exported to standard output
   const std::string file = dir.file("run.mcap");
@@ -105,6 +136,11 @@ TEST(RosHabits, EchoFieldsAndPubOnARunningGraph) {
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
   EXPECT_TRUE(std::regex_search(csv.out, std::regex("^rows,level,level\\[15\\]\n4,\"\\[[0-9.]+(, [0-9.]+){15}\\]\",[0-9.]+\n"))) << csv.out;
   EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 3) << csv.out;
+  // a message field: one column per field of it
+  const RunResult position = enact("topic echo ffd/state --count 2 --csv --field position --field header.seq" + at);
+  ASSERT_EQ(position.exit_code, 0) << position.err;
+  EXPECT_TRUE(std::regex_search(position.out, std::regex("^position.x,position.y,position.z,header.seq\n(-?[0-9.e-]+,-?[0-9.e-]+,-?[0-9.e-]+,[0-9]+\n){2}$")))
+      << position.out;
   // a misspelled field: the message's fields and the closest one
   const RunResult wrong = enact("topic echo ffd/state --once --field positon.z" + at);
   EXPECT_EQ(wrong.exit_code, 2);

@@ -193,6 +193,27 @@ TEST(PlayKeys, DelayHoldsTheFirstMessageAndProgressComesAsLines) {
   EXPECT_EQ(log.find("Space"), std::string::npos) << log;
 }
 
+// as a node of a graph no one listens to (its graph folder, no attach point), play says it
+// waits (and how long), then that it plays anyway; standalone, its own attach point listens
+TEST(PlayKeys, TheWaitForSubscribersIsSaid) {
+  const TempDir dir;
+  const std::string file = make_recording(dir, 1);
+  const RunResult alone = run("ENACT_GRAPH_DIR=" + dir.path() + " " + std::string(ENACT_CLI) + " play " + file + " --wait 1 --rate 0");
+  EXPECT_EQ(alone.exit_code, 0) << alone.err;
+  EXPECT_NE(alone.err.find("enact play: waiting up to 1 s for a subscriber of every topic played (--wait S)\n"), std::string::npos) << alone.err;
+  EXPECT_NE(alone.err.find("playing anyway"), std::string::npos) << alone.err;
+
+  const std::string out = dir.file("play.out"), err = dir.file("play.err");
+  const pid_t pid = spawn({ENACT_CLI, "play", file, "--wait", "20"}, out, err, {"ENACT_REGISTRY=" + dir.file("registry")});
+  ASSERT_TRUE(eventually([&] { return !endpoint_in(read_file_or_empty(err)).empty(); }, 20.0)) << read_file_or_empty(err);
+  Observer observer(endpoint_in(read_file_or_empty(err)));
+  observer.take(4.0);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(read_file(err).find("waiting up to"), std::string::npos) << read_file(err);
+}
+
 TEST(PlayKeys, TopicsTakeASlashAndMisspellingsGetTheClosest) {
   const TempDir dir;
   const std::string file = make_recording(dir, 1);

@@ -1,12 +1,16 @@
 // Node parameters from the command line: typed, checked, typos refused with the fix.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <string>
+
 #include "core/config/yaml.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/components.h"
 #include "core/graph/node_params.h"
 #include "core/graph/params.h"
 #include "tests/support/refusal.h"
+#include "tests/support/test_util.h"
 
 namespace enact::graph {
 namespace {
@@ -96,6 +100,30 @@ TEST(Components, OnlyKnownDevices) {
   p.set("device", "falcon-usb");
   const std::string msg = error_of([&] { make_force_device(p); });
   EXPECT_NE(msg.find("must be one of simulated, falcon, dhd, hd, inverse3, got 'falcon-usb' (did you mean falcon?)"), std::string::npos) << msg;
+}
+
+// where the simulated device's end-effector is at its first read, for these ffd parameters
+math::Vec3 start_of(const std::map<std::string, std::string>& given) {
+  Params p("ffd");
+  for (const auto& [name, value] : given) p.set(name, value);
+  auto device = make_force_device(p);
+  device->activate();
+  devices::ForceSample s;
+  device->read(0, s);
+  device->deactivate();
+  return s.position_m;
+}
+
+// the device starts where the scene's body is (a user's scene, started live, is explored
+// from its own start), unless start_m says otherwise; without either, the device's default
+TEST(Components, TheDeviceStartsWhereTheScenesBodyIsUnlessStartMIsGiven) {
+  const std::string scene = test::source_path("launch/scenes/two_boxes.yaml");  // a user's scene: two boxes with a gap
+  EXPECT_EQ(start_of({{"start_scene", scene}}), (math::Vec3{-0.012, 0.003, 0.0115}));
+  EXPECT_EQ(start_of({{"start_scene", scene}, {"start_m", ""}}), (math::Vec3{-0.012, 0.003, 0.0115})) << "an empty start_m (a launch argument left empty) is not given";
+  EXPECT_EQ(start_of({{"start_scene", scene}, {"start_m", "0.001,0.002,0.02"}}), (math::Vec3{0.001, 0.002, 0.02}));
+  const math::Vec3 otherwise = start_of({});
+  EXPECT_EQ(otherwise.x, 0.0);
+  EXPECT_NEAR(otherwise.z, 0.0125, 1e-12);
 }
 
 // every node's --help lists each of its declared parameters, from the one table

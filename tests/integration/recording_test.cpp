@@ -256,6 +256,69 @@ TEST(Recording, ALateTickOfTheColocatedGraphReplaysExactly) {
   a_cut_replays_exactly("launch/bridge_rt.yaml", "started rt", "rt", "rt: watchdog: episode 1 ended after");
 }
 
+// `enact record` started 3 s after its graph (a live change made before it, one during it):
+// it says it started mid-run and where replay begins; resim, from the simulator's first
+// keyframe in it (which carries the change made before), is identical, and metrics agree,
+// saying what they compare
+void a_late_recording_replays_from_its_first_keyframe(const std::string& graph_file, const std::string& started) {
+  TempDir dir;
+  const std::string file = dir.file("late.mcap");
+  RunResult rec;
+  {
+    Launcher graph(dir, source_path(graph_file), 12.0);
+    ASSERT_TRUE(graph.wait_log(started, 15.0)) << graph.log();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    const RunResult before = run(kCli + " param set sim.stiffness_n_per_m 3000 --attach " + graph.endpoint());
+    EXPECT_EQ(before.exit_code, 0) << before.out << before.err;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+    const RunResult recorder = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 5 >" + dir.file("rec.out") +
+                                   " 2>&1 & echo $!");
+    const pid_t pid = static_cast<pid_t>(std::stol(recorder.out));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    const RunResult during = run(kCli + " param set sim.model CM2 --attach " + graph.endpoint());
+    EXPECT_EQ(during.exit_code, 0) << during.out << during.err;
+    const auto end = after(20.0);
+    while (!process_gone(pid) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(process_gone(pid)) << read_file(dir.file("rec.out"));
+  }
+  const std::string said = read_file(dir.file("rec.out"));
+  EXPECT_NE(said.find("started mid-run"), std::string::npos) << said;
+  EXPECT_NE(said.find("replay begins at its first keyframe"), std::string::npos) << said;
+  const Summary s = summarize(file);
+  EXPECT_GT(s.first_state_seq, 10000u);  // 3 s at 5 kHz went by before it
+  EXPECT_EQ(s.state_gaps, 0u);
+  const RunResult resim = run(kCli + " resim " + file);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("replay begins at its first keyframe"), std::string::npos) << resim.out;
+  EXPECT_NE(resim.out.find("1 live parameter changes re-applied"), std::string::npos) << resim.out;
+  EXPECT_NE(resim.out.find("identical"), std::string::npos) << resim.out;
+  const RunResult metrics = run(kCli + " metrics " + file);
+  EXPECT_EQ(metrics.exit_code, 0) << metrics.out << metrics.err;
+  EXPECT_NE(metrics.out.find("compared: the whole trial to the recording's end, taken up at the keyframe"), std::string::npos) << metrics.out;
+  EXPECT_NE(metrics.out.find("agree:"), std::string::npos) << metrics.out;
+}
+
+TEST(Recording, AColocatedGraphRecordedThreeSecondsLateReplaysFromItsFirstKeyframe) {
+  a_late_recording_replays_from_its_first_keyframe("launch/bridge_rt.yaml", "started rt");
+}
+
+TEST(Recording, ADistributedGraphRecordedThreeSecondsLateReplaysFromItsFirstKeyframe) {
+  a_late_recording_replays_from_its_first_keyframe("launch/bridge.yaml", "started ffd");
+}
+
+// a user's scene (two boxes, no task) live: the device starts where its body is, the hand
+// holding it there; --arg start_m moves it
+TEST(OwnScene, ALiveGraphStartsTheDeviceWhereTheScenesBodyIs) {
+  for (const auto& [start, expected] : {std::pair<std::string, std::string>{"", "-0.012,0.003,0.0115"}, {"0.002,0.001,0.02", "0.002,0.001,0.02"}}) {
+    TempDir dir;
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 20.0, {"scene=" + source_path("launch/scenes/two_boxes.yaml"), "hand_path=", "start_m=" + start});
+    ASSERT_TRUE(graph.wait_log("enact launch: graph ready", 15.0)) << graph.log();
+    const RunResult at = run(kCli + " topic echo ffd/state --once --csv --field position --attach " + graph.endpoint());
+    ASSERT_EQ(at.exit_code, 0) << at.err;
+    EXPECT_EQ(at.out, "position.x,position.y,position.z\n" + expected + "\n") << "start_m=" << start;
+  }
+}
+
 TEST(Recording, BadFilesAndMissingGraphsGetClearErrors) {
   TempDir dir;
   write_file(dir.file("path.csv"), "t_s,x_m,y_m,z_m\n0,0,0,0\n");

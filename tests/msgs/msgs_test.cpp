@@ -21,6 +21,7 @@
 #include "msgs/scene_state.pb.h"
 #include "msgs/tactile_frame.pb.h"
 #include "msgs/task_event.pb.h"
+#include "msgs/sim_keyframe.pb.h"
 #include "msgs/task_state.pb.h"
 
 namespace msgs = enact::msgs;
@@ -245,7 +246,7 @@ std::vector<const Descriptor*> stream_messages() {
   return {msgs::DeviceState::descriptor(),  msgs::ForceCommand::descriptor(), msgs::TactileFrame::descriptor(),
           msgs::TactileShown::descriptor(), msgs::SceneState::descriptor(),   msgs::TaskEvent::descriptor(),
           msgs::ParamUpdate::descriptor(),  msgs::ParamAck::descriptor(),     msgs::NodeStatus::descriptor(),
-          msgs::GraphInfo::descriptor(),    msgs::TaskState::descriptor()};
+          msgs::GraphInfo::descriptor(),    msgs::TaskState::descriptor(),    msgs::SimKeyframe::descriptor()};
 }
 
 // a header field as the contract wants it: `Header header = 1`, singular
@@ -291,6 +292,28 @@ TEST(Msgs, SceneStateRoundTrip) {
 TEST(Msgs, TaskEventRoundTrip) {
   expect_round_trip(task_event());
   EXPECT_EQ(round_trip(task_event()).kind(), msgs::TaskEvent::FALL_START);
+}
+
+msgs::SimKeyframe sim_keyframe() {
+  msgs::SimKeyframe m;
+  fill(*m.mutable_header(), 5);
+  m.set_step(20001);
+  m.set_origin_ns(1'000'000'000);
+  m.set_model("CM1");
+  fill(*m.mutable_body_position(), 0.01, -0.02, 0.011);
+  m.set_trial_start_ns(1'000'000'000);
+  m.set_falls(1);
+  m.set_closed_out_ns(1'200'000'000);
+  m.set_fall_since_ns(2'500'000'000);
+  m.set_trial_end_ns(9'000'000'000);
+  m.set_stopped(true);
+  m.set_memory(std::string("\0\1keyframe", 10));
+  return m;
+}
+
+TEST(Msgs, SimKeyframeRoundTrip) {
+  expect_round_trip(sim_keyframe());
+  EXPECT_EQ(round_trip(sim_keyframe()).memory(), std::string("\0\1keyframe", 10));
 }
 
 TEST(Msgs, TaskStateRoundTrip) {

@@ -203,6 +203,26 @@ TEST(Mcap, TruncatedFileReadsEverythingBeforeTheCut) {
   expect_same(sent, got, got.size());
 }
 
+// a file cut inside a record names the record as the specification does, with its article
+TEST(Mcap, ACutRecordIsNamedOnceWithItsArticle) {
+  TempDir dir;
+  write_sample(dir.file("whole.mcap"), WriterOptions{}, 10);
+  const std::string f = read_file(dir.file("whole.mcap"));
+  const std::size_t after_header = 8 + 9 + le(f, 8 + 1, 8);  // magic, then the header record
+  auto cut_in = [&](char opcode) {
+    std::string length(8, '\0');
+    length[0] = static_cast<char>(0xe8), length[1] = 0x03;  // 1000 bytes, little-endian
+    write_file(dir.file("cut.mcap"), f.substr(0, after_header) + opcode + length + "partial");
+    Reader r(dir.file("cut.mcap"));
+    return r.damage().empty() ? std::string() : r.damage().front();
+  };
+  const std::string index = cut_in(0x07), attachment = cut_in(0x09), unknown = cut_in(0x7f);
+  EXPECT_NE(index.find("truncated: a message index record of 1000 bytes"), std::string::npos) << index;
+  EXPECT_NE(attachment.find("truncated: an attachment record of 1000 bytes"), std::string::npos) << attachment;
+  EXPECT_NE(unknown.find("truncated: a record of opcode 0x7f of 1000 bytes"), std::string::npos) << unknown;
+  for (const std::string& said : {index, attachment, unknown}) EXPECT_EQ(said.find("record record"), std::string::npos) << said;
+}
+
 TEST(Mcap, CorruptedChunkIsSkippedAndTheOthersAreRead) {
   TempDir dir;
   WriterOptions o;

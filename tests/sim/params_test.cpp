@@ -74,6 +74,20 @@ TEST(ParamPlanner, BridgeStiffnessCanGoDownButNotPastTheSceneAsLoaded) {
   EXPECT_EQ(planner.stiffness_n_per_m(), 6000.0);  // the refused values left the mirror alone
 }
 
+// the planner's envelope is the one function enact check prints, and its refusal says it
+TEST(ParamPlanner, EnvelopeIsTheSceneFunctionsAndTheRefusalSaysIt) {
+  Simulator sim;
+  SimParams p;
+  p.scene = test::source_path("launch/scenes/bridge.yaml");
+  sim.configure(p);
+  ParamPlanner planner(sim);
+  EXPECT_EQ(planner.passivity_envelope_n_s_per_m(), passivity_envelope(sim.model()));
+  EXPECT_NEAR(passivity_envelope(sim.model()), 10.54, 0.005);
+  const ParamPlan refused = planner.plan("stiffness_n_per_m", {9000.0, {}, {}}, 1);
+  EXPECT_FALSE(refused.accepted);
+  EXPECT_NE(refused.reason.find("past 10.54 N s/m"), std::string::npos) << refused.reason;
+}
+
 TEST(ParamPlanner, AThresholdIsFromZeroToFiftyMillimetres) {
   Rig rig;
   ParamPlanner planner(rig.sim);

@@ -1,6 +1,7 @@
 // Re-synchronising the model with the device after an interruption: on the bridge, a device
 // driven 8 mm into the top while the force was cut comes back without a jolt.
 #include "core/sim/reengage.h"
+#include "core/sim/simulator.h"
 
 #include <gtest/gtest.h>
 

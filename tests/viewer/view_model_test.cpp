@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/viewer/panels.h"
 #include "core/viewer/ring.h"
 
 namespace enact::viewer {
@@ -96,6 +97,26 @@ TEST(ViewModel, LinkIsWaitingThenConnectedThenLost) {
   EXPECT_EQ(m.link(1'000'000'000 + ViewModel::kLost_ns + 1), LinkState::lost);
   m.clear();
   EXPECT_EQ(m.link(2'000'000'000), LinkState::waiting);
+}
+
+// the header names the graph once, with its endpoint; before it attaches, what it waits for
+TEST(TaskWindow, TheLinkLineNamesTheGraphOnce) {
+  const std::string attached = link_line(LinkState::connected, "bridge_rt", "tcp://127.0.0.1:5555");
+  EXPECT_EQ(attached, "graph 'bridge_rt' at tcp://127.0.0.1:5555");
+  EXPECT_EQ(link_line(LinkState::waiting, "", "graph bridge_rt"), "waiting for graph bridge_rt");
+  EXPECT_EQ(link_line(LinkState::lost, "bridge_rt", "tcp://127.0.0.1:5555"), "graph 'bridge_rt' lost (no answer for 3 s)");
+}
+
+// a scene without a task says so instead of "OFF the bridge"
+TEST(TaskWindow, ASceneWithoutATaskSaysSo) {
+  TaskView t;
+  t.on_top = false;
+  EXPECT_EQ(place_line(t, false), "no task in this scene: nothing is counted");
+  EXPECT_EQ(place_line(t, true), "OFF the bridge  falls 0");
+  t.on_top = true;
+  t.falls = 2;
+  t.falling = true;
+  EXPECT_EQ(place_line(t, true), "ON the bridge  falls 2 (falling)");
 }
 
 TEST(ViewModel, KeepsTheLastStatusOfEveryNodeAndLogsAnswers) {
