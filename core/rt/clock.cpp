@@ -17,6 +17,12 @@ std::int64_t now_ns() noexcept {
   return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
 }
 
+std::int64_t wall_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
+}
+
 int ms_until(std::int64_t deadline_ns) noexcept {
   constexpr std::int64_t kNsPerMs = 1'000'000;
   const std::int64_t left = deadline_ns - now_ns();
