@@ -1,6 +1,8 @@
 #include "core/foxglove/parameters.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <vector>
 
 #include <google/protobuf/util/json_util.h>
 
@@ -29,7 +31,10 @@ bool set_value(msgs::ParamUpdate& update, const json& value) {
   else if (value.is_string()) graph::set_value(update, value.get<std::string>());
   else if (value.is_array()) {
     std::string joined;
-    for (const json& item : value) joined += (joined.empty() ? "" : ",") + (item.is_string() ? item.get<std::string>() : item.dump());
+    for (const json& item : value) {
+      if (!joined.empty()) joined += ',';
+      joined += item.is_string() ? item.get<std::string>() : item.dump();
+    }
     graph::set_value(update, joined);
   } else {
     return false;
@@ -37,12 +42,41 @@ bool set_value(msgs::ParamUpdate& update, const json& value) {
   return true;
 }
 
+namespace {
+
+bool is_default(const json& v) { return v.is_null() || (v.is_number() && v.get<double>() == 0.0) || v == "" || v == false; }
+
+// Studio's Publish panel writes every field of the schema into its template, each member of
+// a oneof included: of a oneof's members, those at their default are dropped while another
+// is present (all at their default: the first one is kept), so the one the user filled is
+// the one set. Members set to two values are left for the parser to refuse.
+void keep_one_of_each_oneof(json& object, const google::protobuf::Descriptor& type) {
+  for (int o = 0; o < type.oneof_decl_count(); ++o) {
+    const google::protobuf::OneofDescriptor& oneof = *type.oneof_decl(o);
+    std::vector<std::string> present;
+    for (int f = 0; f < oneof.field_count(); ++f) {
+      for (const std::string& key : {oneof.field(f)->name(), oneof.field(f)->json_name()}) {
+        if (object.contains(key) && std::find(present.begin(), present.end(), key) == present.end()) present.push_back(key);
+      }
+    }
+    const bool all_default = std::all_of(present.begin(), present.end(), [&](const std::string& k) { return is_default(object[k]); });
+    for (std::size_t i = all_default ? 1 : 0; i < present.size(); ++i) {
+      if (is_default(object[present[i]])) object.erase(present[i]);
+    }
+  }
+}
+
+}  // namespace
+
 std::string decode(std::string_view encoding, std::string_view payload, google::protobuf::Message& msg) {
   if (encoding == "protobuf") {
     return msg.ParseFromArray(payload.data(), static_cast<int>(payload.size())) ? "" : "bytes that are not an " + msg.GetTypeName();
   }
   if (encoding != "json") return "encoding '" + std::string(encoding) + "' is not one of json, protobuf";
-  const auto status = google::protobuf::util::JsonStringToMessage(google::protobuf::StringPiece(payload.data(), payload.size()), &msg);
+  json object = json::parse(payload, nullptr, false);
+  if (object.is_object()) keep_one_of_each_oneof(object, *msg.GetDescriptor());
+  const std::string text = object.is_discarded() ? std::string(payload) : object.dump();
+  const auto status = google::protobuf::util::JsonStringToMessage(text, &msg);
   return status.ok() ? "" : "JSON that is not an " + msg.GetTypeName() + ": " + std::string(status.message());
 }
 

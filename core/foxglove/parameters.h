@@ -28,7 +28,8 @@ nlohmann::json parameter(const msgs::ParamValues::Param& p);
 bool set_value(msgs::ParamUpdate& update, const nlohmann::json& value);
 
 // `payload` in `encoding` (protobuf, or json as Protobuf's JSON mapping writes it) into `msg`:
-// "" when done, else why not
+// "" when done, else why not. In json, of a oneof's members those at their default (0, "",
+// false) are left out while another is given: Foxglove's Publish panel template lists them all
 std::string decode(std::string_view encoding, std::string_view payload, google::protobuf::Message& msg);
 
 }  // namespace enact::foxglove

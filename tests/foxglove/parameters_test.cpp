@@ -56,6 +56,15 @@ TEST(FoxgloveParameters, PublishedMessagesDecodeFromJsonOrProtobuf) {
   got.Clear();
   EXPECT_EQ(decode("json", R"({"name": "sim.threshold_m", "number": 0.002, "request_id": "18446744073709551615"})", got), "");
   EXPECT_EQ(got.SerializeAsString(), sent.SerializeAsString());
+  // the Publish panel's template lists every member of the oneof: the one filled in is set
+  got.Clear();
+  EXPECT_EQ(decode("json", R"({"header": {"seq": 0, "stamp_ns": 0, "source": ""}, "name": "sim.model", "number": 0, "text": "CM3", "flag": false, "request_id": 0})", got), "");
+  EXPECT_EQ(got.value_case(), msgs::ParamUpdate::kText);
+  EXPECT_EQ(got.text(), "CM3");
+  got.Clear();
+  EXPECT_EQ(decode("json", R"({"name": "sim.reset", "number": 0, "text": "", "flag": false})", got), "");
+  EXPECT_EQ(got.value_case(), msgs::ParamUpdate::kNumber);
+  EXPECT_NE(decode("json", R"({"name": "sim.model", "number": 2, "text": "CM3"})", got).find("oneof"), std::string::npos);
   // what does not fit the schema is refused with the reason
   EXPECT_NE(decode("json", R"({"nmae": "x"})", got).find("nmae"), std::string::npos);
   EXPECT_NE(decode("json", R"({"name": )", got), "");
