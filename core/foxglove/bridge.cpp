@@ -536,7 +536,7 @@ std::string url(const BridgeOptions& options, int port) {
 
 std::string describe(const Bridge& bridge, const BridgeOptions& options) {
   return "Foxglove WebSocket server at " + url(options, bridge.port()) + " for the graph at " + options.attach +
-         (bridge.client_publish() ? " (clients may publish param/set)" : " (read-only: the graph or the server is reachable from other machines)") +
+         (bridge.client_publish() ? " (clients may set parameters and publish param/set)" : " (read-only: the graph or the server is reachable from other machines)") +
          "\n  open it: Foxglove > Open connection > Foxglove WebSocket > " + url(options, bridge.port()) + "; layout: docs/foxglove-layout.json";
 }
 
