@@ -94,7 +94,6 @@ Bridge::~Bridge() { server_->stop(); }
 int Bridge::port() const { return server_->port(); }
 
 void Bridge::connect(const std::string& endpoint) {
-  options_.attach = endpoint;
   sub_ = std::make_unique<bus::ByteSubscriber>();
   sub_->set_receive_hwm(100'000);
   bus::attach_connect(sub_->socket(), endpoint, options_.keys);
@@ -105,6 +104,7 @@ void Bridge::connect(const std::string& endpoint) {
   scene_text_.clear();
   graph_seen_ns_ = rt::now_ns();
   std::lock_guard lock(mutex_);
+  options_.attach = endpoint;
   // client publishing only where nobody from another machine can reach either side
   param_out_.reset();
   if (bus::is_local(endpoint) && loopback_host(options_.host)) param_out_ = std::make_unique<graph::ParamClient>(endpoint, "foxglove", options_.keys);
@@ -174,6 +174,7 @@ std::string Bridge::advertise_json(const std::vector<const Channel*>& channels) 
 // --- WebSocket thread
 
 void Bridge::on_open(ClientId c) {
+  std::lock_guard lock(mutex_);  // param_out_ and the endpoint change when the graph restarts
   json capabilities = {"parameters", "parametersSubscribe"};
   if (param_out_) capabilities.push_back("clientPublish");
   json info = {{"op", "serverInfo"},
@@ -182,7 +183,6 @@ void Bridge::on_open(ClientId c) {
                {"metadata", {{"graph", options_.attach}, {"maxRateHz", std::to_string(options_.max_rate_hz)}}},
                {"sessionId", std::to_string(rt::wall_ns())}};
   if (param_out_) info["supportedEncodings"] = kClientEncodings;
-  std::lock_guard lock(mutex_);
   clients_[c];
   server_->send(c, info.dump(), false);
   std::vector<const Channel*> all;
@@ -247,8 +247,8 @@ void Bridge::advertise_from(ClientId c, Client& client, const json& channels) {
 }
 
 void Bridge::on_binary(ClientId c, const std::string& data) {
-  if (!param_out_ || data.size() < 5 || static_cast<std::uint8_t>(data[0]) != kMessageData) return;
   std::lock_guard lock(mutex_);
+  if (!param_out_ || data.size() < 5 || static_cast<std::uint8_t>(data[0]) != kMessageData) return;
   const auto& published = clients_[c].published;
   const auto it = published.find(get_le32(data, 1));
   if (it == published.end()) {
