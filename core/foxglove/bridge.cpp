@@ -98,7 +98,7 @@ void Bridge::connect(const std::string& endpoint) {
   sub_->set_receive_hwm(100'000);
   bus::attach_connect(sub_->socket(), endpoint, options_.keys);
   sub_->subscribe(std::string(bus::kGraphTopic));
-  sub_->subscribe(graph::kParamAck);  // param/values/<node>: as the graph lists them
+  sub_->subscribe(graph::kParamAck);  // and each param/values/<node> as the graph lists it (take_graph)
   zmq_topics_.clear();
   scene_.reset();
   scene_text_.clear();
@@ -137,6 +137,7 @@ bool Bridge::follow_graph(std::int64_t now_ns) {
     std::fprintf(stderr, "enact foxglove: graph %s started again at %s: following it\n", e.name.c_str(), e.endpoint.c_str());
     connect(e.endpoint);
     waiting_ = false;
+    break;
   }
   return true;
 }
