@@ -408,7 +408,7 @@ void Bridge::forward(const std::string& topic, const std::string& payload, std::
   if (it == channels_.end()) return;
   Channel& ch = *it;
   ++ch.window;
-  const bool limited = ch.rate_hz > options_.max_rate_hz;
+  const bool limited = !ch.measured || ch.fast;
   const auto period_ns = static_cast<std::int64_t>(1e9 / options_.max_rate_hz);
   const auto stamp = static_cast<std::uint64_t>(rt::wall_ns());  // Foxglove shows dates
   for (auto& [c, client] : clients_) {
@@ -461,7 +461,7 @@ void Bridge::update_subscriptions() {
     sub_->subscribe(t);
     for (Channel& ch : channels_) {
       if (ch.topic != t && !(t == graph::kSceneState && ch.topic == kSceneTopic)) continue;
-      ch.rate_hz = kUnknownRate;
+      ch.measured = false;
       ch.since_ns = now;
     }
   }
@@ -519,8 +519,10 @@ void Bridge::measure_rates(std::int64_t now_ns) {
   if (elapsed < kRateWindow_ns) return;
   std::lock_guard lock(mutex_);
   for (Channel& ch : channels_) {
-    const bool whole_window = ch.since_ns <= rate_window_start_ns_;
-    ch.rate_hz = whole_window ? static_cast<double>(ch.window) * 1e9 / static_cast<double>(elapsed) : kUnknownRate;
+    if (ch.since_ns <= rate_window_start_ns_) {
+      ch.measured = true;
+      ch.fast = ch.fast || static_cast<double>(ch.window) * 1e9 / static_cast<double>(elapsed) > options_.max_rate_hz;
+    }
     ch.window = 0;
   }
   rate_window_start_ns_ = now_ns;

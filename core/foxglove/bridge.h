@@ -7,7 +7,8 @@
 // Clients get what they subscribe to, stamped with the wall clock (the messages' own headers
 // keep the monotonic stamps); a topic faster than max_rate_hz (the loop-rate ones) reaches
 // each client at most at that rate from its first message (a topic's rate is not known until
-// it was measured over a full window: until then the limit holds), and a client whose
+// it was measured over a full window: until then the limit holds; once measured faster, it
+// stays limited), and a client whose
 // connection backs up loses messages. The graph never waits: the attach point drops for a
 // slow observer, and the observer thread (run()) never waits for the WebSocket thread.
 // Clients publish (clientPublish, encodings json and protobuf) on the graph's inbound topics
@@ -88,11 +89,13 @@ class Bridge {
   struct Channel {
     std::uint32_t id = 0;
     std::string topic, type, schema_base64;
-    double rate_hz = kUnknownRate;   // measured over the last window (observer thread)
+    // the rate limit applies until the topic was measured over a whole window since its
+    // messages started to arrive, and for good once it ran faster than max_rate_hz in one (a
+    // loop-rate topic whose loop paused stays limited when it resumes) (observer thread)
+    bool measured = false, fast = false;
     std::uint64_t window = 0;        // messages in the current window (observer thread)
     std::int64_t since_ns = 0;       // when its messages started to arrive (subscribed)
   };
-  static constexpr double kUnknownRate = 1e300;  // not measured yet: limited
   struct Published {
     std::string topic, encoding;
   };
