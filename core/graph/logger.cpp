@@ -103,6 +103,7 @@ void Logger::attach() {
   }
   update_graph(graph_);
   start_ns_ = rt::now_ns();
+  wall_offset_ns_ = rt::wall_ns() - start_ns_;
   open_file();
 }
 
@@ -139,7 +140,7 @@ void Logger::open_file() {
   record::StringMap params;
   for (const auto& p : graph_.params()) params[p.name()] = p.value();
   writer_->add_metadata("enact.params", params);
-  for (const auto& f : graph_.files()) writer_->add_attachment(f.name(), f.media_type(), f.data(), rt::now_ns());
+  for (const auto& f : graph_.files()) writer_->add_attachment(f.name(), f.media_type(), f.data(), rt::now_ns() + wall_offset_ns_);
 }
 
 std::uint16_t Logger::schema_for(const std::string& type) {
@@ -185,7 +186,7 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
   c.report.seq.add(has_header ? header_.seq() : c.report.seq.last + 1);
   ++messages_;
   const std::int64_t publish_ns = has_header && header_.stamp_ns() > 0 ? header_.stamp_ns() : now_ns;
-  writer_->write(c.id, static_cast<std::uint32_t>(c.report.seq.last), now_ns, publish_ns,
+  writer_->write(c.id, static_cast<std::uint32_t>(c.report.seq.last), now_ns + wall_offset_ns_, publish_ns,
                  std::string_view(static_cast<const char*>(m.payload()), m.payload_size()));
 }
 

@@ -126,6 +126,9 @@ class Logger {
   msgs::Header header_;
   std::uint64_t messages_ = 0;
   std::int64_t file_start_ns_ = 0, start_ns_ = 0;
+  // wall clock - monotonic clock at the start: log times are dates (Foxglove shows them),
+  // one offset for the whole recording so they never jump; publish times keep header.stamp_ns
+  std::int64_t wall_offset_ns_ = 0;
   std::string write_failure_;
   bool closed_whole_ = false;
 };

@@ -8,6 +8,7 @@
 
 #include "core/config/format.h"
 #include "core/config/number.h"
+#include "core/config/suggest.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
@@ -240,7 +241,7 @@ ParamClient::ParamClient(const std::string& endpoint, std::string source, const 
 }
 
 std::uint64_t ParamClient::send(msgs::ParamUpdate update) {
-  const std::uint64_t id = next_id_++;
+  const std::uint64_t id = update.request_id() != 0 ? update.request_id() : next_id_++;
   const std::int64_t now = rt::now_ns();
   update.set_request_id(id);
   sender_.send(kParamSet, update);
@@ -265,6 +266,29 @@ std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
     ++it;
   }
   return given_up;
+}
+
+const msgs::ParamValues::Param* find_param(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
+  for (const msgs::ParamValues& b : boards) {
+    for (const msgs::ParamValues::Param& e : b.params()) {
+      if (e.name() == name) return &e;
+    }
+  }
+  return nullptr;
+}
+
+std::string no_such_param(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
+  std::vector<std::string> names;
+  for (const msgs::ParamValues& b : boards) {
+    for (const msgs::ParamValues::Param& e : b.params()) names.push_back(e.name());
+  }
+  return "no parameter '" + name + "' in the graph" + config::did_you_mean(name, names) + "\n  fix: enact param list shows them all";
+}
+
+std::string fixed_refusal(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
+  const msgs::ParamValues::Param* e = find_param(boards, name);
+  if (!e || e->live()) return "";
+  return "it cannot change while the graph runs (now \"" + e->value() + "\")\n  fix: change it in the launch file (or its param_file) and launch again";
 }
 
 std::string answer_text(const ParamAnswer& a) {

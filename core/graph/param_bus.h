@@ -127,6 +127,17 @@ class ParamPort {
   std::thread planning_;  // last: starts once everything above is made
 };
 
+// the parameter named `name` ("<node>.<param>") in the nodes' ParamValues, or nullptr
+const msgs::ParamValues::Param* find_param(const std::vector<msgs::ParamValues>& boards, const std::string& name);
+
+// "no parameter 'NAME' in the graph", the closest names and the fix
+std::string no_such_param(const std::vector<msgs::ParamValues>& boards, const std::string& name);
+
+// why a change of `name` is refused before it is sent (enact param set, the Foxglove bridge):
+// its node declares it not live (no node would answer); "" when it may be sent (the node
+// decides then)
+std::string fixed_refusal(const std::vector<msgs::ParamValues>& boards, const std::string& name);
+
 // the answer to one request, as the sender sees it
 struct ParamAnswer {
   std::uint64_t request_id = 0;
@@ -147,7 +158,8 @@ class ParamClient {
   // the sender in headers
   ParamClient(const std::string& endpoint, std::string source, const bus::ClientKeys& keys = {});
 
-  // sends `update` (name and value set) with a fresh request id, returned
+  // sends `update` (name and value set) with its request id, a fresh one when it has none
+  // (a Foxglove client's own id is kept: it sees the answer on param/ack); returns the id
   std::uint64_t send(msgs::ParamUpdate update);
   // resends the requests still unanswered every resend_ns; the ones older than timeout_ns
   // are given up and returned, unanswered

@@ -69,9 +69,9 @@ int Foxglove::run() {
   foxglove::Bridge bridge(options_);
   graph::report_ready();
   graph::say(host_.name(), foxglove::describe(bridge, options_));
-  bridge.run([] { return graph::stop_requested(); });
+  const bool stopped = bridge.run([] { return graph::stop_requested(); });
   graph::say(host_.name(), foxglove::format(bridge.stats()));
-  return 0;
+  return stopped ? 0 : 1;
 }
 
 }  // namespace enact::node

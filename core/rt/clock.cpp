@@ -25,6 +25,12 @@ std::optional<GraphClock> parse_clock(std::string_view text) {
   return std::nullopt;
 }
 
+std::int64_t wall_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
+}
+
 int ms_until(std::int64_t deadline_ns) noexcept {
   constexpr std::int64_t kNsPerMs = 1'000'000;
   const std::int64_t left = deadline_ns - now_ns();

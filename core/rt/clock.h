@@ -11,6 +11,10 @@ namespace enact::rt {
 // Allocates nothing, never throws.
 std::int64_t now_ns() noexcept;
 
+// CLOCK_REALTIME now, in ns since 1970: for the dates tools show (log times in recordings,
+// message times in Foxglove), never for a loop or a stamp. Allocates nothing, never throws.
+std::int64_t wall_ns() noexcept;
+
 // a clock to read instead of now_ns (tests and emulators drive time with their own)
 using ClockFn = std::int64_t (*)();
 

@@ -46,8 +46,14 @@ std::vector<std::string> take_repeated(int& argc, char** argv, const std::string
 // --clock real|simulated, when given (UsageError for another value)
 std::optional<rt::GraphClock> clock_option(const Args& a);
 
-// a file as given, else relative to the source tree above the executable
-// (build/nodes/enact/enact): so that benchmarks find launch/scenes/... from anywhere
+// where an installed enact's launch files, scenes, paths, experiments and scripts are,
+// relative to the prefix (CMakeLists.txt installs them there)
+inline constexpr const char* kDataDir = "share/enact";
+
+// a file as given, else relative to the source tree above the executable (a build's:
+// build/nodes/enact/enact) or to the installed data beside it (<prefix>/bin/enact:
+// <prefix>/share/enact): so that `enact launch launch/bridge_rt.yaml` and the benchmarks find
+// launch/... from anywhere
 std::string find_file(const std::string& path);
 
 }  // namespace enact::cli

@@ -49,7 +49,9 @@ std::optional<int> start_attached(const Args& a, const std::string& tool, const 
   }
   graph::install_stop_handlers();
   out.keys = attach_keys(a);
-  out.endpoint = attach_target(a, tool).endpoint;
+  const graph::GraphEntry entry = attach_target(a, tool);
+  out.endpoint = entry.endpoint;
+  out.name = entry.pid != 0 ? entry.name : "";  // a registered graph (pid 0: an endpoint alone)
   return std::nullopt;
 }
 

@@ -32,6 +32,7 @@ std::set<std::string> attach_options(std::initializer_list<std::string> own = {}
 // a graph a tool attached to: its attach endpoint and the keys for it
 struct Attached {
   std::string endpoint;
+  std::string name;  // its name in the registry ("": an endpoint no running graph here has)
   bus::ClientKeys keys;
 };
 

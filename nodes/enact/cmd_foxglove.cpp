@@ -23,8 +23,12 @@ Layout > Import from file > docs/foxglove-layout.json.
   --max-rate   topics faster than this (the loop-rate ones) reach each client at most at
                this rate, Hz (default 100); a client that cannot keep up loses messages:
                the graph never waits for it
-Foxglove may publish param/set (its Publish panel, enact.msgs.ParamUpdate) only when both
-the graph and this server are reachable from this machine alone. Runs until Ctrl-C.
+Foxglove's Parameters panel lists every parameter of the graph and sets the live ones, and its
+Publish panel may send param/set (enact.msgs.ParamUpdate, in json or protobuf), both checked
+and answered as enact param set is, only when the graph and this server are reachable from
+this machine alone. Messages carry wall-clock times. Runs until Ctrl-C; when the graph stops,
+it waits for a graph of the same name and follows it (attached by --attach to an endpoint no
+graph here has: it ends, exit 1).
 In a launch file: a node with exec: enact-foxglove (parameters: enact-foxglove --help).
 )";
 
@@ -37,6 +41,7 @@ int foxglove_bridge(int argc, char** argv) {
   foxglove::BridgeOptions o;
   o.keys = graph.keys;
   o.attach = graph.endpoint;
+  o.graph_name = graph.name;
   o.port = static_cast<int>(a.number("port", o.port));
   o.host = a.get("host", o.host);
   o.max_rate_hz = a.number("max-rate", o.max_rate_hz);
@@ -44,9 +49,9 @@ int foxglove_bridge(int argc, char** argv) {
   if (o.max_rate_hz <= 0.0) throw UsageError("--max-rate must be > 0");
   foxglove::Bridge bridge(o);
   std::fprintf(stderr, "enact foxglove: %s\n", foxglove::describe(bridge, o).c_str());
-  bridge.run([] { return graph::stop_requested(); });
+  const bool stopped = bridge.run([] { return graph::stop_requested(); });
   std::fprintf(stderr, "enact foxglove: %s\n", foxglove::format(bridge.stats()).c_str());
-  return 0;
+  return stopped ? 0 : 1;
 }
 
 }  // namespace enact::cli

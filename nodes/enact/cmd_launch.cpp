@@ -91,9 +91,10 @@ int launch(int argc, char** argv) {
   options.duration_s = a.number("duration", 0.0);
   options.ready_timeout_s = a.number("ready-timeout", options.ready_timeout_s);
   if (options.duration_s < 0.0 || options.ready_timeout_s <= 0.0) throw UsageError("--duration must be >= 0 and --ready-timeout > 0");
-  const std::string name = a.get("name", std::filesystem::path(a.positional[0]).stem().string());
+  const std::string file = find_file(a.positional[0]);
+  const std::string name = a.get("name", std::filesystem::path(file).stem().string());
   if (name.empty()) throw UsageError("--name needs a name");
-  launch::LaunchDescription graph = launch::load_launch(a.positional[0], launch_args);
+  launch::LaunchDescription graph = launch::load_launch(file, launch_args);
   if (const auto clock = clock_option(a)) launch::choose_clock(graph, *clock);
   for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
   for (const auto& n : graph.nodes) {
@@ -138,13 +139,13 @@ int launch(int argc, char** argv) {
     const bus::Access& acc = *session_options.access;
     std::cerr << "enact launch: access from " << acc.file << ": " << acc.clients.size() << " client keys; graph key " << acc.server_public_z85 << "\n";
   }
-  graph::GraphSession session(name, a.positional[0], session_options);
+  graph::GraphSession session(name, file, session_options);
   std::cerr << "enact launch: graph " << session.name() << ": observers attach at " << session.endpoint() << std::endl;
   // a node whose node/status stops is handled as if it had exited
   graph::StatusWatch statuses(session.endpoint(), session.own_keys());
   options.hung_nodes = [&] { return statuses.hung(rt::now_ns()); };
   options.on_ready = [&] { std::cerr << "enact launch: graph " << session.name() << " ready; observers attach at " << session.endpoint() << std::endl; };
-  return session.run(graph, a.positional[0], options, std::cerr);
+  return session.run(graph, file, options, std::cerr);
 }
 
 }  // namespace enact::cli

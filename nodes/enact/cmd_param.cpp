@@ -121,12 +121,8 @@ std::vector<std::pair<std::string, const Entry*>> entries(const std::vector<msgs
 
 // the entry named `name` (full name), or an error naming the closest ones
 const Entry& find_entry(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
-  std::vector<std::string> names;
-  for (const auto& [n, e] : entries(boards, "")) {
-    if (n == name) return *e;
-    names.push_back(n);
-  }
-  throw config::Error("no parameter '" + name + "' in the graph" + config::did_you_mean(name, names) + "\n  fix: enact param list shows them all");
+  if (const Entry* e = graph::find_param(boards, name)) return *e;
+  throw config::Error(graph::no_such_param(boards, name));
 }
 
 // a YAML scalar, always double-quoted (paths, lists and empty values read back as written)
@@ -199,15 +195,6 @@ class Changes {
   std::map<std::uint64_t, std::string> pending_;  // by request id: "[where]NAME = VALUE"
 };
 
-// why a change of `name` to `value` is refused before it is sent: a parameter its node
-// declares not live; "" when it may be sent (the node decides then)
-std::string fixed_refusal(const std::vector<msgs::ParamValues>& boards, const std::string& name) {
-  for (const auto& [n, e] : entries(boards, "")) {
-    if (n == name && !e->live()) return "it cannot change while the graph runs (now " + quoted(e->value()) + ")\n  fix: change it in the launch file (or its param_file) and launch again";
-  }
-  return "";
-}
-
 int load(const Target& t, const std::vector<msgs::ParamValues>& boards, const std::string& file, const std::string& node) {
   const YAML::Node root = config::load_file(file);
   if (!root.IsMap()) throw config::Error(file + ": not a YAML map of name: value lines\n  fix: write it with enact param dump");
@@ -226,7 +213,7 @@ int load(const Target& t, const std::vector<msgs::ParamValues>& boards, const st
     }
     if (!e) std::printf("%srefused: no such parameter%s\n  fix: enact param list%s shows them\n", at.c_str(), config::did_you_mean(name, names).c_str(), node.empty() ? "" : (" " + node).c_str());
     else if (e->value() == value) std::printf("%sunchanged\n", at.c_str());
-    else if (!e->live()) std::printf("%srefused: %s\n", at.c_str(), fixed_refusal(boards, e->name()).c_str());
+    else if (!e->live()) std::printf("%srefused: %s\n", at.c_str(), graph::fixed_refusal(boards, e->name()).c_str());
     else changes.send(e->name(), value, where);
     ok = ok && e && (e->value() == value || e->live());
   }
@@ -263,7 +250,7 @@ int param(int argc, char** argv) {
     } catch (const config::Error&) {
       // a graph whose nodes publish no parameters: the node alone decides
     }
-    const std::string refused = fixed_refusal(boards, a.positional[1]);
+    const std::string refused = graph::fixed_refusal(boards, a.positional[1]);
     if (!refused.empty()) {
       std::printf("%s = %s: refused: %s\n", a.positional[1].c_str(), a.positional[2].c_str(), refused.c_str());
       return 1;

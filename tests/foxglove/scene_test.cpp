@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/foxglove/bridge.h"
 #include "core/foxglove/scene.h"
@@ -77,6 +78,24 @@ TEST(FoxgloveScene, Base64MatchesRfc4648Vectors) {
   EXPECT_EQ(base64("foo"), "Zm9v");
   EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
   EXPECT_EQ(base64(std::string("\xff\x00", 2)), "/wA=");
+}
+
+// the shipped layout (docs/foxglove-layout.json): the 3D panel shows foxglove/scene in frame
+// `scene` without that frame's axes over it (Foxglove's default axes are ~20 cm long and
+// thick, the bridge 3 cm: they hid it)
+TEST(FoxgloveScene, TheShippedLayoutShowsTheSceneWithoutTheFramesAxes) {
+  const nlohmann::json layout = nlohmann::json::parse(test::read_file(test::source_path("docs/foxglove-layout.json")));
+  int panels = 0;
+  for (const auto& [id, config] : layout["configById"].items()) {
+    if (!id.starts_with("3D!")) continue;
+    ++panels;
+    EXPECT_TRUE(config["topics"][kSceneTopic]["visible"].get<bool>()) << id;
+    EXPECT_EQ(config["followTf"], "scene") << id;
+    EXPECT_FALSE(config["transforms"]["frame:scene"]["visible"].get<bool>()) << id;
+    EXPECT_LE(config["scene"]["transforms"]["axisScale"].get<double>(), 0.1) << id;
+    EXPECT_FALSE(config["scene"]["transforms"]["showLabel"].get<bool>()) << id;
+  }
+  EXPECT_EQ(panels, 1);
 }
 
 }  // namespace

@@ -2,8 +2,11 @@
 // registry, installed by scripts/setup.sh into .deps/npm) against `enact foxglove`: it checks
 // the server info, decodes every advertised channel's schema with protobufjs, checks that
 // every topic the graph lists (graph/topics, decoded with its advertised schema) is
-// advertised, subscribes to every channel, decodes what arrives, and publishes one
-// param/set (enact.msgs.ParamUpdate) to see its param/ack. Prints a JSON summary.
+// advertised, subscribes to every channel, decodes what arrives (counting what comes in each
+// topic's first half second and its steady rate, both by the server's stamps, and how far
+// its log time is from the wall clock), and publishes
+// one param/set (enact.msgs.ParamUpdate) to see its param/ack; when the graph restarts, what
+// arrives on the channels advertised again. Prints a JSON summary.
 // Usage: ENACT_NODE_MODULES=DIR/node_modules node foxglove_client.mjs ws://127.0.0.1:PORT SECONDS
 import { createRequire } from "node:module";
 import path from "node:path";
@@ -21,7 +24,7 @@ const bySubscription = new Map(); // subscription id -> channel
 const ws = new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
 const client = new FoxgloveClient({ ws });
 let publishChannel = null;
-const start_s = performance.now() / 1000;
+let firstStamp_s = null;  // the server's stamp (its wall clock when it sent) of the first message
 
 function fail(message) {
   console.error(message);
@@ -34,8 +37,12 @@ client.on("serverInfo", (info) => {
   summary.server = info.name;
   summary.capabilities = info.capabilities;
 });
+// a graph that stopped and started again: its channels gone, the new ones advertised again
+const readvertised = new Set();
+client.on("unadvertise", (ids) => (summary.unadvertised = (summary.unadvertised ?? 0) + ids.length));
 client.on("advertise", (channels) => {
   for (const ch of channels) {
+    if (summary.channels[ch.topic]) readvertised.add(ch.id);
     if (ch.encoding !== "protobuf") fail(`${ch.topic}: encoding ${ch.encoding}`);
     const root = protobuf.Root.fromDescriptor(descriptor.FileDescriptorSet.decode(Buffer.from(ch.schema, "base64")));
     types.set(ch.id, root.lookupType(ch.schemaName));
@@ -52,15 +59,24 @@ client.on("advertise", (channels) => {
     const timer = setInterval(() => (summary.ack ? clearInterval(timer) : client.sendMessage(publishChannel, bytes)), 200);
   }
 });
-client.on("message", ({ subscriptionId, data }) => {
+client.on("message", ({ subscriptionId, timestamp, data }) => {
   const ch = bySubscription.get(subscriptionId);
   const type = types.get(ch.id);
   const message = type.toObject(type.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength)), { longs: Number, defaults: true });
-  const r = (summary.received[ch.topic] ??= { count: 0, first_s: performance.now() / 1000, last_s: 0 });
+  if (readvertised.has(ch.id)) summary.after_restart = { ...summary.after_restart, [ch.topic]: (summary.after_restart?.[ch.topic] ?? 0) + 1 };
+  // times by the server's stamps, which say when it sent (a client starved by a busy machine
+  // receives in bursts)
+  const stamp_s = Number(timestamp) / 1e9;
+  firstStamp_s ??= stamp_s;
+  const r = (summary.received[ch.topic] ??= { count: 0, first_s: stamp_s, last_s: 0 });
   r.count += 1;
-  r.last_s = performance.now() / 1000;
-  // the steady rate: messages after the first 1.5 s (the server measures rates first)
-  if (r.last_s - start_s > 1.5) r.steady = (r.steady ?? 0) + 1;
+  r.last_s = stamp_s;
+  // the rate limit from the first message: what came in its first half second
+  if (r.last_s - r.first_s < 0.5) r.first_half_s = (r.first_half_s ?? 0) + 1;
+  // the log time: the wall clock (Foxglove shows it as a date)
+  summary.most_stamp_offset_s = Math.max(summary.most_stamp_offset_s ?? 0, Math.abs(Number(timestamp) / 1e9 - Date.now() / 1e3));
+  // the steady rate: messages sent after the first 1.5 s
+  if (r.last_s - firstStamp_s > 1.5) r.steady = (r.steady ?? 0) + 1;
   if (ch.topic === "graph/topics") summary.graph_topics = message.topics.map((t) => t.name);
   if (ch.topic === "foxglove/scene") {
     const entities = message.entities.map((e) => ({ id: e.id, frame: e.frame_id, cubes: e.cubes.length, spheres: e.spheres.length, arrows: e.arrows.length,
@@ -74,7 +90,7 @@ client.on("message", ({ subscriptionId, data }) => {
 });
 
 setTimeout(() => {
-  for (const r of Object.values(summary.received)) r.steady_rate_hz = (r.steady ?? 0) / (seconds - 1.5);
+  for (const r of Object.values(summary.received)) r.steady_rate_hz = (r.steady ?? 0) / Math.max(r.last_s - firstStamp_s - 1.5, 1e-9);
   console.log(JSON.stringify(summary));
   client.close();
   process.exit(0);
