@@ -59,10 +59,11 @@ GraphSession::~GraphSession() { attach_.stop(); }
 std::string GraphSession::node_endpoint(const std::string& node) const { return bus::ipc_endpoint(folder_.path(), node); }
 
 std::vector<launch::Param> GraphSession::environment() const {
-  std::vector<launch::Param> env{{launch::kGraphDirEnv, folder_.path()}, {launch::kAttachEnv, attach_.endpoint()}, {launch::kGraphEnv, name()}};
+  // the launcher's own values (no source to name)
+  std::vector<launch::Param> env{{launch::kGraphDirEnv, folder_.path(), ""}, {launch::kAttachEnv, attach_.endpoint(), ""}, {launch::kGraphEnv, name(), ""}};
   if (!own_.key.empty()) {
-    env.push_back({bus::kKeyEnv, own_.key});
-    env.push_back({bus::kServerKeyEnv, own_.server_key});
+    env.push_back({bus::kKeyEnv, own_.key, ""});
+    env.push_back({bus::kServerKeyEnv, own_.server_key, ""});
   }
   return env;
 }

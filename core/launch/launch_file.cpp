@@ -250,7 +250,7 @@ struct Loader {
     stack.push_back(fs::absolute(path).lexically_normal().string());
     const YAML::Node root = config::load_file(path);
     const Map doc(root, path, "launch file", {"launch", "description"});
-    Scope scope{path, {}};
+    Scope scope{path, {}, {}};
     std::set<std::string> declared;
     const std::vector<YAML::Node> actions = doc.list("launch");
     for (const auto& action : actions) {

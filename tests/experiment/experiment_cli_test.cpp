@@ -272,10 +272,11 @@ TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlin
   // real time: every tick's device position and force are the same, bit for bit, as long as
   // the real-time loop missed no deadline. A model (or device, or subject) whose time came
   // from the wall clock differs from the first ticks on (and its stamps never step by exactly
-  // a period). A loaded machine may miss deadlines: the run is compared up to its first miss,
-  // and repeated when that leaves less than half a second
+  // a period). A loaded machine may miss deadlines: each run is compared up to its first
+  // miss, and repeated while that leaves less than half a second; on a machine too busy for
+  // that, 50 ms (250 ticks) still shows a wall-clock time, which differs within a few ticks
   constexpr std::int64_t kPeriod_ns = 200'000;  // 5 kHz
-  constexpr std::size_t kEnough = 2500;
+  constexpr std::size_t kEnough = 2500, kAtLeast = 250;
   TempDir dir;
   const std::string file = virtual_tiny(dir, "CM1", 1.5);
   const RunResult sim = enact("experiment " + file + " --clock simulated --out " + dir.file("sim"));
@@ -291,14 +292,14 @@ TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlin
     EXPECT_EQ(recorded_clock(out + "/trials/s1_CM1_measured.mcap"), "real");
     const std::vector<RecordedTick> ticks = recorded_ticks(out + "/trials/s1_CM1_measured.mcap");
     const std::size_t clean = std::min(ticks_before_first_miss(ticks, kPeriod_ns), twin.size());
-    if (clean < kEnough) continue;
     for (std::size_t i = 0; i < clean; ++i) {
-      ASSERT_EQ(std::memcmp(ticks[i].position, twin[i].position, sizeof twin[i].position), 0) << "position at tick " << i + 1;
-      ASSERT_EQ(std::memcmp(ticks[i].force, twin[i].force, sizeof twin[i].force), 0) << "force at tick " << i + 1;
+      ASSERT_EQ(std::memcmp(ticks[i].position, twin[i].position, sizeof twin[i].position), 0) << "position at tick " << i + 1 << " (run " << attempt + 1 << ")";
+      ASSERT_EQ(std::memcmp(ticks[i].force, twin[i].force, sizeof twin[i].force), 0) << "force at tick " << i + 1 << " (run " << attempt + 1 << ")";
     }
-    compared = clean;
+    std::printf("[ twin ] real-time run %d: %zu ticks before its first missed deadline, each equal to its simulated twin\n", attempt + 1, clean);
+    compared = std::max(compared, clean);
   }
-  EXPECT_GE(compared, kEnough) << "no real-time run held its deadlines for half a second, or its ticks' times are not its deadlines";
+  EXPECT_GE(compared, kAtLeast) << "no real-time run held its deadlines for 50 ms, or its ticks' times are not its deadlines";
 }
 
 TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
