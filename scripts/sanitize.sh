@@ -5,6 +5,8 @@
 # those of whole graphs of processes, the viewer and the experiments (they run in the normal
 # build; docs/building.md, "Reliability"). Exits non-zero on any failure or sanitizer report.
 # Usage: scripts/sanitize.sh [ctest label regex]   (default: every suite below)
+#        scripts/sanitize.sh --build-only          (build, run nothing: .ci/run builds it
+#                                                   while the normal suite runs)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${ENACT_ASAN_DIR:-$root/build-asan}"
@@ -18,6 +20,7 @@ if [[ ! -f "$build/build.ninja" ]]; then
     -DENACT_SANITIZE=address,undefined -DENACT_VIEWER=OFF >/dev/null
 fi
 cmake --build "$build" --parallel "$(nproc)" --target "${targets[@]}"
+[[ "${1:-}" == --build-only ]] && exit 0
 labels="${1:-^($(IFS='|'; echo "${suites[*]}")|fuzz_replay)\$}"
 # handle_segv=0: the drivers' own fatal-signal handlers (zero force, then die of the signal)
 # are under test; memory errors are still caught by the instrumentation

@@ -1,5 +1,6 @@
 #include "core/graph/param_bus.h"
 
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdio>
@@ -245,7 +246,7 @@ std::uint64_t ParamClient::send(msgs::ParamUpdate update) {
   const std::int64_t now = rt::now_ns();
   update.set_request_id(id);
   sender_.send(kParamSet, update);
-  pending_[id] = {std::move(update), now, now};
+  pending_[id] = {std::move(update), now, now, kFirstResend_ns};
   return id;
 }
 
@@ -259,9 +260,10 @@ std::vector<ParamAnswer> ParamClient::tick(std::int64_t now_ns) {
       it = pending_.erase(it);
       continue;
     }
-    if (now_ns - p.last_ns >= kResend_ns) {
+    if (now_ns - p.last_ns >= p.wait_ns) {
       sender_.send(kParamSet, p.update);
       p.last_ns = now_ns;
+      p.wait_ns = std::min(2 * p.wait_ns, kResend_ns);
     }
     ++it;
   }

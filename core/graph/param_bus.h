@@ -161,12 +161,14 @@ class ParamClient {
   // sends `update` (name and value set) with its request id, a fresh one when it has none
   // (a Foxglove client's own id is kept: it sees the answer on param/ack); returns the id
   std::uint64_t send(msgs::ParamUpdate update);
-  // resends the requests still unanswered every resend_ns; the ones older than timeout_ns
-  // are given up and returned, unanswered
+  // resends the requests still unanswered: 10 ms after the first send (a request sent before
+  // the connection to the attach point is up is lost), then twice as long each time, at most
+  // every 250 ms; the ones older than 5 s are given up and returned, unanswered
   std::vector<ParamAnswer> tick(std::int64_t now_ns);
   // a ParamAck received on param/ack: the answer when it is one of ours still unanswered
   std::optional<ParamAnswer> take(const msgs::ParamAck& ack);
 
+  static constexpr std::int64_t kFirstResend_ns = 10'000'000;
   static constexpr std::int64_t kResend_ns = 250'000'000;
   static constexpr std::int64_t kTimeout_ns = 5'000'000'000;
 
@@ -175,6 +177,7 @@ class ParamClient {
     msgs::ParamUpdate update;
     std::int64_t first_ns = 0;
     std::int64_t last_ns = 0;
+    std::int64_t wait_ns = kFirstResend_ns;  // until the next resend
   };
 
   bus::AttachSender sender_;

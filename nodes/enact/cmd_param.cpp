@@ -172,7 +172,7 @@ class Changes {
     bool all = true;
     msgs::ParamAck ack;
     while (!pending_.empty()) {
-      if (acks_.receive(ack, 50)) {
+      if (acks_.receive(ack, 5)) {
         if (const auto answer = client_.take(ack)) {
           std::printf("%s: %s\n", pending_[answer->request_id].c_str(), graph::answer_text(*answer).c_str());
           all = all && answer->applied;
