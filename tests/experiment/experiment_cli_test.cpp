@@ -302,6 +302,38 @@ TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlin
   EXPECT_GE(compared, kAtLeast) << "no real-time run held its deadlines for 50 ms, or its ticks' times are not its deadlines";
 }
 
+// a user's own scene (two boxes, no task) as an experiment: the trial graph takes it from
+// launch_args, every trial runs to its limit (nothing to complete) and is recorded on that
+// scene, and its replay agrees with the live run
+TEST(ExperimentCli, AUsersOwnSceneRunsAsAnExperiment) {
+  TempDir dir;
+  const std::string scene = source_path("launch/scenes/two_boxes.yaml");
+  const std::string file = experiment_file(dir, "subjects: 1\nvirtual_subject: " + source_path("launch/experiments/subjects/quick.yaml") +
+                                                    "\nconditions: [CM1]\norder: balanced\nlimit_s: 1.0\ngraph: " + source_path("launch/experiments/trial_rt.yaml") +
+                                                    "\nlaunch_args: {scene: " + scene + "}\n");
+  const RunResult r = enact("experiment " + file + " --clock simulated --out " + dir.file("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto rows = csv_rows(dir.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][7], "0") << "a scene without a task has nothing to complete";
+  EXPECT_NEAR(std::stod(rows[1][4]), 1.0, 1e-3) << "the trial ran to its limit";
+  // recorded on the user's scene: its parameters name the file, 1 s of ticks at 5 kHz
+  const std::string recording = dir.file("out/trials/s1_CM1_measured.mcap");
+  record::Reader reader(recording);
+  bool on_scene = false;
+  for (const auto& [name, value] : reader.metadata("enact.params")) on_scene = on_scene || (name.ends_with(".scene") && value.find("two_boxes.yaml") != std::string::npos);
+  EXPECT_TRUE(on_scene) << "the trial graph was not given the scene";
+  int states = 0;
+  reader.for_each([&](const record::Message& m) {
+    states += m.topic == "ffd/state";
+    return true;
+  });
+  EXPECT_EQ(states, 5000);
+  const RunResult resim = enact("resim " + recording);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("identical: every force and every pin frame"), std::string::npos) << resim.out;
+}
+
 TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
   TempDir dir;
   const RunResult r = enact("experiment " + virtual_tiny(dir, "CM1", 5.0, "trial.yaml") + " --out " + dir.file("out"));
