@@ -30,7 +30,7 @@ namespace enact::test {
 namespace {
 
 constexpr double kReadyTimeout_s = 30.0;
-constexpr double kObserve_s = 5.0;
+constexpr double kObserve_s = 10.0;  // issue 29: each stand-in runs the bridge for 10 s
 constexpr double kGraphDuration_s = 30.0;  // a safety net: the test stops the graph itself
 
 TEST(VendorComponents, ADhdDeviceComesConfiguredInsideTheSafetyLayer) {
