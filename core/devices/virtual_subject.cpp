@@ -301,8 +301,6 @@ void VirtualSubject::control(const Percept& now) noexcept {
   percepts_[head_] = now;
   const Percept& p = percepts_[(head_ + 1) % percepts_.size()];
   const Contact c = contact(p);
-  const double since_s = static_cast<double>(now_ns_ - phase_ns_) * 1e-9;
-  const int pins = pin_rows_ * pin_cols_;
   // landed on the top while looking for it
   const bool back_on_top = top_known_ && c.touching() && p.handle_m.z >= top_z_m_ - 2.0 * params_.drop_m;
 
@@ -310,153 +308,156 @@ void VirtualSubject::control(const Percept& now) noexcept {
   if (lost_ && phase_ != Phase::reposition && static_cast<double>(now_ns_ - lost_at_ns_) * 1e-9 > params_.reposition_after_s) {
     return enter(Phase::reposition);
   }
-
   switch (phase_) {
-    case Phase::settle:
-      // long enough to have felt the pins in the air (they rise within tens of ms)
-      move(0.0, 0.0, 0.0);
-      if (since_s < std::max(params_.settle_s, delay_s_ + kPinsSettle_s)) return;
-      // what the pins show in the air; raised there, they rise off contact (inverted)
-      air_pins_ = p.pins_up;
-      air_known_ = true;
-      tactile_use_ = params_.tactile_use * (2 * std::popcount(air_pins_) > pins ? params_.inverted_pin_use : 1.0);
-      enter(Phase::descend);
-      return;
+    case Phase::settle: return settle(p);
+    case Phase::descend: return descend(p, c);
+    case Phase::follow: return follow(p, c);
+    case Phase::search: return search(p, c, back_on_top);
+    case Phase::climb: return climb(p, c, back_on_top);
+    case Phase::over: return over(p, c, back_on_top);
+    case Phase::reposition: return reposition();
+  }
+}
 
-    case Phase::descend:
-      if (c.touching()) {
-        if (!top_known_) top_z_m_ = p.handle_m.z;
-        top_known_ = true;
-        on_top(p, c);
-        move(0.0, 0.0, 0.0);
-        enter(Phase::follow);
-        return;
-      }
-      if (top_known_ && p.handle_m.z < top_z_m_ - 2.0 * params_.drop_m) return start_search(p);  // missed the top
-      move(0.0, 0.0, -params_.descend_m_per_s);
-      return;
+void VirtualSubject::settle(const Percept& p) noexcept {
+  // long enough to have felt the pins in the air (they rise within tens of ms)
+  move(0.0, 0.0, 0.0);
+  const double since_s = static_cast<double>(now_ns_ - phase_ns_) * 1e-9;
+  if (since_s < std::max(params_.settle_s, delay_s_ + kPinsSettle_s)) return;
+  // what the pins show in the air; raised there, they rise off contact (inverted)
+  air_pins_ = p.pins_up;
+  air_known_ = true;
+  tactile_use_ = params_.tactile_use * (2 * std::popcount(air_pins_) > pin_rows_ * pin_cols_ ? params_.inverted_pin_use : 1.0);
+  enter(Phase::descend);
+}
 
-    case Phase::follow: {
-      if (c.touching()) on_top(p, c);
-      const bool dropped = !c.touching() && p.handle_m.z < support_z_m_ - params_.drop_m;
-      const bool on_floor = c.touching() && p.handle_m.z < top_z_m_ - kFloorBelowTop_m;
-      if (dropped || on_floor) return start_search(p);
-      // along the remembered heading, slower when the pins say the top is slipping away;
-      // where the pins in contact lie across the heading, the subject steers and turns
-      const double hx = heading_x(), hy = heading_y();
-      const double across = c.cx_m * hy - c.cy_m * hx;  // + right of the heading
-      const double careful = c.pins > 0 ? 1.0 - kCarefulSlowdown * tactile_use_ * (1.0 - static_cast<double>(c.pins) / pins) : 1.0;
-      const double speed = speed_m_per_s_ * careful;
-      const double steer = tactile_use_ * params_.tactile_gain_per_s * across;
-      turn_rad_ += tactile_use_ * params_.tactile_turn_per_s_m * across * period_s_;
-      move(speed * hx + steer * hy, speed * hy - steer * hx, 0.0);
-      // press down: the hand a press's worth below where it is; when the pins show contact
-      // that the force does not (a force felt only past a threshold, CM2), hold the height
-      const double press_n = !c.force_up && c.pins > 0 ? 0.0 : params_.press_n;
-      target_to_.z = p.handle_m.z - press_n / stiffness_n_per_m_;
-      // something ahead holds the hand back: rise over it instead of pressing
-      if (-(p.force_n.x * hx + p.force_n.y * hy) > params_.push_n) target_to_.z = std::max(target_from_.z, p.handle_m.z) + params_.climb_m_per_s * period_s_;
-      // the route, by efference copy
-      segment_travel_m_ += speed * period_s_;
-      if (segment_ + 1 < length_m_.size() && segment_travel_m_ >= length_m_[segment_]) {
-        ++segment_;
-        segment_travel_m_ = 0.0;
-        turn_rad_ = 0.0;
-      }
-      return;
-    }
+void VirtualSubject::descend(const Percept& p, const Contact& c) noexcept {
+  if (c.touching()) {
+    if (!top_known_) top_z_m_ = p.handle_m.z;
+    top_known_ = true;
+    on_top(p, c);
+    move(0.0, 0.0, 0.0);
+    enter(Phase::follow);
+    return;
+  }
+  if (top_known_ && p.handle_m.z < top_z_m_ - 2.0 * params_.drop_m) return start_search(p);  // missed the top
+  move(0.0, 0.0, -params_.descend_m_per_s);
+}
 
-    case Phase::search: {
-      if (back_on_top) {
-        on_top(p, c);
-        move(0.0, 0.0, 0.0);
-        return enter(Phase::follow);
-      }
-      // a wall pushes back against the search
-      if (-(p.force_n.x * dir_x_ + p.force_n.y * dir_y_) > params_.touch_n) {
-        wall_ns_ = now_ns_;
-        return enter(Phase::climb);
-      }
-      // one side, then the other (twice as far: back past the start), then back along the route
-      phase_travel_m_ += params_.search_m_per_s * period_s_;
-      const double leg = search_leg_ == 1 ? 2.0 * params_.search_m : params_.search_m;
-      if (phase_travel_m_ >= leg) {
-        phase_travel_m_ = 0.0;
-        ++search_leg_;
-        if (search_leg_ == 1) {
-          dir_x_ = -dir_x_;
-          dir_y_ = -dir_y_;
-        } else if (search_leg_ == 2) {
-          dir_x_ = -heading_x();
-          dir_y_ = -heading_y();
-        } else {
-          return enter(Phase::reposition);
-        }
-      }
-      const double vz = (support_z_m_ - target_to_.z) / kHoldTime_s;
-      move(params_.search_m_per_s * dir_x_, params_.search_m_per_s * dir_y_, vz);
-      return;
-    }
+void VirtualSubject::follow(const Percept& p, const Contact& c) noexcept {
+  if (c.touching()) on_top(p, c);
+  const bool dropped = !c.touching() && p.handle_m.z < support_z_m_ - params_.drop_m;
+  const bool on_floor = c.touching() && p.handle_m.z < top_z_m_ - kFloorBelowTop_m;
+  if (dropped || on_floor) return start_search(p);
+  // along the remembered heading, slower when the pins say the top is slipping away;
+  // where the pins in contact lie across the heading, the subject steers and turns
+  const double hx = heading_x(), hy = heading_y();
+  const double across = c.cx_m * hy - c.cy_m * hx;  // + right of the heading
+  const int pins = pin_rows_ * pin_cols_;
+  const double careful = c.pins > 0 ? 1.0 - kCarefulSlowdown * tactile_use_ * (1.0 - static_cast<double>(c.pins) / pins) : 1.0;
+  const double speed = speed_m_per_s_ * careful;
+  const double steer = tactile_use_ * params_.tactile_gain_per_s * across;
+  turn_rad_ += tactile_use_ * params_.tactile_turn_per_s_m * across * period_s_;
+  move(speed * hx + steer * hy, speed * hy - steer * hx, 0.0);
+  // press down: the hand a press's worth below where it is; when the pins show contact
+  // that the force does not (a force felt only past a threshold, CM2), hold the height
+  const double press_n = !c.force_up && c.pins > 0 ? 0.0 : params_.press_n;
+  target_to_.z = p.handle_m.z - press_n / stiffness_n_per_m_;
+  // something ahead holds the hand back: rise over it instead of pressing
+  if (-(p.force_n.x * hx + p.force_n.y * hy) > params_.push_n) target_to_.z = std::max(target_from_.z, p.handle_m.z) + params_.climb_m_per_s * period_s_;
+  // the route, by efference copy
+  segment_travel_m_ += speed * period_s_;
+  if (segment_ + 1 < length_m_.size() && segment_travel_m_ >= length_m_[segment_]) {
+    ++segment_;
+    segment_travel_m_ = 0.0;
+    turn_rad_ = 0.0;
+  }
+}
 
-    case Phase::climb: {
-      if (back_on_top && c.force_up) {
-        on_top(p, c);
-        move(0.0, 0.0, 0.0);
-        return enter(Phase::follow);
-      }
-      // up the wall, pushing against it, until it is no longer felt
-      const bool wall = -(p.force_n.x * dir_x_ + p.force_n.y * dir_y_) > 0.5 * params_.touch_n;
-      if (wall) wall_ns_ = now_ns_;
-      if (static_cast<double>(now_ns_ - wall_ns_) * 1e-9 > kWallGone_s) {
-        if (p.handle_m.z >= top_z_m_ - params_.drop_m) return enter(Phase::over);
-        support_z_m_ = p.handle_m.z;
-        return enter(Phase::search);  // slipped off the wall: look again
-      }
-      // no higher than a little above the top as remembered
-      const double vz = std::min(params_.climb_m_per_s, (top_z_m_ + kAboveTop_m - target_to_.z) / period_s_);
-      move(0.0, 0.0, vz);
-      const double into = params_.push_n / stiffness_n_per_m_;
-      target_to_.x = p.handle_m.x + dir_x_ * into;
-      target_to_.y = p.handle_m.y + dir_y_ * into;
-      return;
-    }
+// back on the top (a surface pushing up, when `need_force`): follow it again; true if so
+bool VirtualSubject::landed(const Percept& p, const Contact& c, bool back_on_top, bool need_force) noexcept {
+  if (!back_on_top || (need_force && !c.force_up)) return false;
+  on_top(p, c);
+  move(0.0, 0.0, 0.0);
+  enter(Phase::follow);
+  return true;
+}
 
-    case Phase::over:
-      if (back_on_top && c.force_up) {
-        on_top(p, c);
-        move(0.0, 0.0, 0.0);
-        return enter(Phase::follow);
-      }
-      phase_travel_m_ += params_.search_m_per_s * period_s_;
-      if (phase_travel_m_ >= params_.over_m) return enter(Phase::descend);
-      move(params_.search_m_per_s * dir_x_, params_.search_m_per_s * dir_y_, (top_z_m_ + kAboveTop_m - target_to_.z) / kHoldTime_s);
-      return;
-
-    case Phase::reposition: {
-      // the experimenter lifts the hand above the bridge, takes it to the start, lets go
-      target_from_ = target_to_;
-      from_ns_ = now_ns_;
-      const double step = kRepositionSpeed_m_per_s * period_s_;
-      const double up_z = std::max(start_m_.z, top_z_m_ + 0.002);
-      if (target_to_.z < up_z) {
-        target_to_.z = std::min(up_z, target_to_.z + step);
-        return;
-      }
-      const double dx = start_m_.x - target_to_.x, dy = start_m_.y - target_to_.y;
-      const double d = std::hypot(dx, dy);
-      if (d > step) {
-        target_to_.x += dx / d * step;
-        target_to_.y += dy / d * step;
-        return;
-      }
-      target_to_ = {start_m_.x, start_m_.y, up_z};
-      segment_ = 0;
-      segment_travel_m_ = turn_rad_ = 0.0;
-      side_cue_ = 0.0;
-      lost_ = false;
-      return enter(Phase::settle);
+void VirtualSubject::search(const Percept& p, const Contact& c, bool back_on_top) noexcept {
+  if (landed(p, c, back_on_top, false)) return;
+  // a wall pushes back against the search
+  if (-(p.force_n.x * dir_x_ + p.force_n.y * dir_y_) > params_.touch_n) {
+    wall_ns_ = now_ns_;
+    return enter(Phase::climb);
+  }
+  // one side, then the other (twice as far: back past the start), then back along the route
+  phase_travel_m_ += params_.search_m_per_s * period_s_;
+  const double leg = search_leg_ == 1 ? 2.0 * params_.search_m : params_.search_m;
+  if (phase_travel_m_ >= leg) {
+    phase_travel_m_ = 0.0;
+    ++search_leg_;
+    if (search_leg_ == 1) {
+      dir_x_ = -dir_x_;
+      dir_y_ = -dir_y_;
+    } else if (search_leg_ == 2) {
+      dir_x_ = -heading_x();
+      dir_y_ = -heading_y();
+    } else {
+      return enter(Phase::reposition);
     }
   }
+  const double vz = (support_z_m_ - target_to_.z) / kHoldTime_s;
+  move(params_.search_m_per_s * dir_x_, params_.search_m_per_s * dir_y_, vz);
+}
+
+void VirtualSubject::climb(const Percept& p, const Contact& c, bool back_on_top) noexcept {
+  if (landed(p, c, back_on_top, true)) return;
+  // up the wall, pushing against it, until it is no longer felt
+  const bool wall = -(p.force_n.x * dir_x_ + p.force_n.y * dir_y_) > 0.5 * params_.touch_n;
+  if (wall) wall_ns_ = now_ns_;
+  if (static_cast<double>(now_ns_ - wall_ns_) * 1e-9 > kWallGone_s) {
+    if (p.handle_m.z >= top_z_m_ - params_.drop_m) return enter(Phase::over);
+    support_z_m_ = p.handle_m.z;
+    return enter(Phase::search);  // slipped off the wall: look again
+  }
+  // no higher than a little above the top as remembered
+  const double vz = std::min(params_.climb_m_per_s, (top_z_m_ + kAboveTop_m - target_to_.z) / period_s_);
+  move(0.0, 0.0, vz);
+  const double into = params_.push_n / stiffness_n_per_m_;
+  target_to_.x = p.handle_m.x + dir_x_ * into;
+  target_to_.y = p.handle_m.y + dir_y_ * into;
+}
+
+void VirtualSubject::over(const Percept& p, const Contact& c, bool back_on_top) noexcept {
+  if (landed(p, c, back_on_top, true)) return;
+  phase_travel_m_ += params_.search_m_per_s * period_s_;
+  if (phase_travel_m_ >= params_.over_m) return enter(Phase::descend);
+  move(params_.search_m_per_s * dir_x_, params_.search_m_per_s * dir_y_, (top_z_m_ + kAboveTop_m - target_to_.z) / kHoldTime_s);
+}
+
+void VirtualSubject::reposition() noexcept {
+  // the experimenter lifts the hand above the bridge, takes it to the start, lets go
+  target_from_ = target_to_;
+  from_ns_ = now_ns_;
+  const double step = kRepositionSpeed_m_per_s * period_s_;
+  const double up_z = std::max(start_m_.z, top_z_m_ + 0.002);
+  if (target_to_.z < up_z) {
+    target_to_.z = std::min(up_z, target_to_.z + step);
+    return;
+  }
+  const double dx = start_m_.x - target_to_.x, dy = start_m_.y - target_to_.y;
+  const double d = std::hypot(dx, dy);
+  if (d > step) {
+    target_to_.x += dx / d * step;
+    target_to_.y += dy / d * step;
+    return;
+  }
+  target_to_ = {start_m_.x, start_m_.y, up_z};
+  segment_ = 0;
+  segment_travel_m_ = turn_rad_ = 0.0;
+  side_cue_ = 0.0;
+  lost_ = false;
+  enter(Phase::settle);
 }
 
 }  // namespace enact::devices

@@ -117,8 +117,18 @@ class VirtualSubject final : public HandSource {
     bool touching() const { return force_up || pins > 0; }
   };
 
-  // one control step: remember `now`, act on the percept a reaction delay old
+  // one control step: remember `now`, act on the percept a reaction delay old (one function
+  // a phase below)
   void control(const Percept& now) noexcept;
+  void settle(const Percept& p) noexcept;
+  void descend(const Percept& p, const Contact& c) noexcept;
+  void follow(const Percept& p, const Contact& c) noexcept;
+  void search(const Percept& p, const Contact& c, bool back_on_top) noexcept;
+  void climb(const Percept& p, const Contact& c, bool back_on_top) noexcept;
+  void over(const Percept& p, const Contact& c, bool back_on_top) noexcept;
+  void reposition() noexcept;
+  // back on the top while searching, climbing or going over: follow again (true)
+  bool landed(const Percept& p, const Contact& c, bool back_on_top, bool need_force) noexcept;
   // the evidence of contact in a percept
   Contact contact(const Percept& p) const noexcept;
   void enter(Phase phase) noexcept;

@@ -61,11 +61,8 @@ When the launcher dies (even by SIGKILL), every node gets SIGTERM and stops clea
 whose node/status stops for 3 s while the others report hangs: it is stopped, as for an exit.
 )";
 
-}  // namespace
-
-int launch(int argc, char** argv) {
-  // --arg may repeat: collect them before the generic parser
-  std::map<std::string, std::string> launch_args;
+// --arg NAME=VALUE (it may repeat) taken out of argv into `launch_args`; the rest returned
+std::vector<char*> take_launch_args(int argc, char** argv, std::map<std::string, std::string>& launch_args) {
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
@@ -78,6 +75,43 @@ int launch(int argc, char** argv) {
     }
     rest.push_back(argv[i]);
   }
+  return rest;
+}
+
+// the graph as it will start: its arguments, and each node's command line
+void print_graph(const launch::LaunchDescription& graph) {
+  for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
+  for (const auto& n : graph.nodes) {
+    std::string line;
+    for (const auto& word : n.argv()) line += (line.empty() ? "" : " ") + word;
+    std::printf("%-5s %s%s: %s\n", n.container ? "rt" : "node", n.name.c_str(), n.required ? " (required)" : n.respawn ? " (respawn)" : "", line.c_str());
+  }
+  std::fflush(stdout);
+}
+
+// every node checks its parameters, as it would at start, before anything starts: the
+// problems said (with the --arg a value came from); true when there is none
+bool graph_accepted(const launch::LaunchDescription& graph, const std::map<std::string, std::string>& launch_args) {
+  const std::vector<std::string> problems = graph::check_graph(graph);
+  for (const std::string& p : problems) {
+    // a node's own check does not know where its value came from
+    std::string from;
+    for (const auto& [arg, value] : p.starts_with("--arg ") ? std::map<std::string, std::string>{} : launch_args) {
+      if (!value.empty() && p.find(value) != std::string::npos) from += "\n  (the value comes from --arg " + arg + "=" + value + ")";
+    }
+    std::fprintf(stderr, "enact launch: %s%s\n", p.c_str(), from.c_str());
+  }
+  if (problems.empty()) return true;
+  std::fprintf(stderr, "enact launch: nothing started (%zu parameter problem%s)\n", problems.size(), problems.size() == 1 ? "" : "s");
+  return false;
+}
+
+}  // namespace
+
+int launch(int argc, char** argv) {
+  // --arg may repeat: collect them before the generic parser
+  std::map<std::string, std::string> launch_args;
+  std::vector<char*> rest = take_launch_args(argc, argv, launch_args);
   const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name", "access", "clock"}, {"check", "allow-remote"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
@@ -96,27 +130,8 @@ int launch(int argc, char** argv) {
   if (name.empty()) throw UsageError("--name needs a name");
   launch::LaunchDescription graph = launch::load_launch(file, launch_args);
   if (const auto clock = clock_option(a)) launch::choose_clock(graph, *clock);
-  for (const auto& arg : graph.args) std::printf("arg   %s = %s%s%s\n", arg.name.c_str(), arg.value.c_str(), arg.description.empty() ? "" : "   # ", arg.description.c_str());
-  for (const auto& n : graph.nodes) {
-    std::string line;
-    for (const auto& word : n.argv()) line += (line.empty() ? "" : " ") + word;
-    std::printf("%-5s %s%s: %s\n", n.container ? "rt" : "node", n.name.c_str(), n.required ? " (required)" : n.respawn ? " (respawn)" : "", line.c_str());
-  }
-  std::fflush(stdout);
-  // every node checks its parameters, as it would at start, before anything starts
-  const std::vector<std::string> problems = graph::check_graph(graph);
-  for (const std::string& p : problems) {
-    // a node's own check does not know where its value came from
-    std::string from;
-    for (const auto& [arg, value] : p.starts_with("--arg ") ? std::map<std::string, std::string>{} : launch_args) {
-      if (!value.empty() && p.find(value) != std::string::npos) from += "\n  (the value comes from --arg " + arg + "=" + value + ")";
-    }
-    std::fprintf(stderr, "enact launch: %s%s\n", p.c_str(), from.c_str());
-  }
-  if (!problems.empty()) {
-    std::fprintf(stderr, "enact launch: nothing started (%zu parameter problem%s)\n", problems.size(), problems.size() == 1 ? "" : "s");
-    return 1;
-  }
+  print_graph(graph);
+  if (!graph_accepted(graph, launch_args)) return 1;
   if (a.flag("check")) {
     std::printf("check: every node accepts its parameters\n");
     return 0;
