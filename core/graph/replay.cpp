@@ -165,18 +165,11 @@ std::string describe(const ReplayStart& s) {
   return began + text;
 }
 
-ResimResult resim(record::Reader& r, const ResimOptions& options) {
-  Traffic traffic = read_traffic(r);
-  std::vector<State>& states = traffic.states;
-  std::map<std::uint64_t, Force>& forces = traffic.forces;
-  std::vector<std::vector<float>>& frames = traffic.frames;
-  std::vector<Change>& changes = traffic.changes;
-  const std::string& sim_publisher = traffic.sim_publisher;
-  // another scene or model replays from the first state, as a fresh simulator would
-  auto [start, keyframe] = find_start(traffic);
-  if (!options.scene.empty() || !options.model.empty()) keyframe = nullptr;
+namespace {
 
-  // the simulator as recorded, with the recorded files, unless overridden
+// the simulator's parameters as recorded (its files from the recording's attachments, into
+// `files`), unless `options` overrides them; what ran goes to `out`
+Params recorded_sim_params(record::Reader& r, const ResimOptions& options, const std::string& sim_publisher, TempFolder& files, ResimResult& out) {
   const record::StringMap recorded = r.metadata("enact.params");
   const SimSource src = find_sim(recorded, sim_publisher);
   Params p("resim");
@@ -184,7 +177,6 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
     if (!src.prefix.empty() && key.rfind(src.prefix, 0) == 0) p.set(key.substr(src.prefix.size()), value);
   }
   if (!src.prefix.empty() && recorded.count(src.rate_key)) p.set("rate_hz", recorded.at(src.rate_key));
-  TempFolder files;
   auto file_param = [&](const std::string& name, const std::string& given) {
     if (!given.empty()) return p.set(name, given);
     const auto data = r.attachment(src.prefix + name);
@@ -197,11 +189,120 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
     throw config::Error(r.path() + ": the recording holds no scene (it was not made from a graph started by `enact launch`)\n"
                                    "  fix: give the scene: enact resim FILE --scene SCENE.yaml");
   }
-  ResimResult out;
   const record::StringMap graph = r.metadata("enact.graph");
   if (graph.count("clock")) out.clock = graph.at("clock");
   out.scene = options.scene.empty() ? (recorded.count(src.prefix + "scene") ? recorded.at(src.prefix + "scene") : "") : options.scene;
   out.model = options.model.empty() ? (recorded.count(src.prefix + "model") ? recorded.at(src.prefix + "model") : "CM1") : options.model;
+  return p;
+}
+
+// one replay in progress: the simulator stepped on the recorded states, compared as it goes
+struct Replay {
+  Replay(Traffic& t, sim::Simulator& s, sim::Reengagement& re, sim::ParamPlanner& pl, ResimResult& o)
+      : traffic(t), sim(s), reengage(re), planner(pl), out(o), t0(t.states.front().stamp_ns) {}
+  Traffic& traffic;
+  sim::Simulator& sim;
+  sim::Reengagement& reengage;
+  sim::ParamPlanner& planner;
+  ResimResult& out;
+  std::int64_t t0;  // the simulator's clock starts here: the first state's stamp, or the keyframe's
+  std::size_t first = 0, next_change = 0, next_frame = 0;
+  msgs::TactileFrame frame;
+
+  void diverge(std::uint64_t seq, const char* topic, std::string field, std::string rec, std::string rep) {
+    if (!out.divergence) out.divergence = Divergence{out.steps, seq, topic, std::move(field), std::move(rec), std::move(rep)};
+  }
+
+  // the simulator as it was after the keyframe's state, the states from the next one, the
+  // simulator's clock from its first state
+  void from_keyframe(const record::Reader& r, const msgs::SimKeyframe& keyframe, const ReplayStart& start) {
+    sim::Keyframe k;
+    sim.save(k);
+    if (!sim::unpack(keyframe.memory(), k)) {
+      throw config::Error(r.path() + ": its keyframe (sim/keyframe) was made by another build of enact or for another scene\n"
+                                     "  fix: replay it with the enact that recorded it");
+    }
+    sim.restore(k);
+    reengage = k.reengage;
+    planner.follow(sim);
+    t0 = k.origin_ns;
+    const std::vector<State>& states = traffic.states;
+    while (first < states.size() && states[first].stamp_ns != start.keyframe_stamp_ns) ++first;
+    ++first;
+    std::erase_if(traffic.changes, [&](const Change& c) { return c.state_seq <= start.keyframe_state_seq; });
+    while (next_frame < traffic.frames.size() && traffic.frame_after[next_frame] <= start.keyframe_state_seq) ++next_frame;
+  }
+
+  // the live changes the simulator applied before the step that first used them
+  void apply_changes(const State& s) {
+    for (; next_change < traffic.changes.size() && traffic.changes[next_change].state_seq <= s.seq; ++next_change) {
+      const Change& c = traffic.changes[next_change];
+      const sim::ParamPlan plan = planner.plan(c.param, c.value, next_change + 1);
+      if (plan.accepted) sim.apply(plan.change, 0);
+      else diverge(s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
+    }
+  }
+
+  void compare_force(const State& s, const Force& recorded, const math::Vec3& replayed) {
+    ++out.forces_compared;
+    const char* axis[3] = {"force.x", "force.y", "force.z"};
+    const double rec[3] = {recorded.force_n.x, recorded.force_n.y, recorded.force_n.z}, rep[3] = {replayed.x, replayed.y, replayed.z};
+    for (int k = 0; k < 3; ++k) {
+      if (!same_bits(rec[k], rep[k])) diverge(s.seq, kForceCommand, axis[k], exact(rec[k]), exact(rep[k]));
+    }
+  }
+
+  void compare_frame(const State& s, std::uint32_t levels) {
+    const physics::Proxy& body = sim.model().proxies[0];
+    fill(frame, body.rows, body.cols, levels);
+    const std::vector<float>& rec = traffic.frames[next_frame];
+    for (int k = 0; k < frame.level_size(); ++k) {
+      const float recorded_level = k < static_cast<int>(rec.size()) ? rec[k] : -1.0f;
+      if (recorded_level != frame.level(k)) {
+        diverge(s.seq, kTactileFrame, "level." + std::to_string(k) + " of frame " + std::to_string(next_frame), config::number(recorded_level),
+                config::number(frame.level(k)));
+      }
+    }
+    ++next_frame;
+    ++out.frames_compared;
+  }
+
+  // one recorded state, as the recorded simulator took it
+  void step(const State& s) {
+    apply_changes(s);
+    const auto f = traffic.forces.find(s.seq);
+    if (f == traffic.forces.end()) {
+      // the answers either side of this state: consecutive in the simulator's stream, so it
+      // answered nothing in between: it never received this state
+      const auto next = traffic.forces.upper_bound(s.seq);
+      if (next != traffic.forces.end() && next != traffic.forces.begin() && std::prev(next)->second.seq + 1 == next->second.seq) {
+        ++out.forces_missing;
+        ++out.states_never_received;
+        return;
+      }
+    }
+    if (s.cut) reengage.interrupt();
+    const std::int64_t t_ns = s.stamp_ns - t0;
+    const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
+    if (f == traffic.forces.end()) ++out.forces_missing;
+    else compare_force(s, f->second, o.force_n);
+    if (o.frame_due && next_frame < traffic.frames.size()) compare_frame(s, o.frame);
+    ++out.steps;
+  }
+};
+
+}  // namespace
+
+ResimResult resim(record::Reader& r, const ResimOptions& options) {
+  Traffic traffic = read_traffic(r);
+  // another scene or model replays from the first state, as a fresh simulator would
+  auto [start, keyframe] = find_start(traffic);
+  if (!options.scene.empty() || !options.model.empty()) keyframe = nullptr;
+
+  // the simulator as recorded, with the recorded files, unless overridden
+  ResimResult out;
+  TempFolder files;
+  Params p = recorded_sim_params(r, options, traffic.sim_publisher, files, out);
   sim::Simulator sim;
   p.declare(*node_table("enact-sim"));
   sim.configure(sim_params(p));
@@ -212,92 +313,20 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   reengage.interrupt();
   out.rate_hz = sim.model().rate_hz;
   out.start = start;
-  // from a keyframe: the simulator as it was after the keyframe's state, the states from the
-  // next one, the simulator's clock from its first state
-  std::size_t first = 0;
-  std::int64_t t0 = states.front().stamp_ns;
   sim::ParamPlanner planner(sim);
-  if (keyframe) {
-    sim::Keyframe k;
-    sim.save(k);
-    if (!sim::unpack(keyframe->memory(), k)) {
-      throw config::Error(r.path() + ": its keyframe (sim/keyframe) was made by another build of enact or for another scene\n"
-                                     "  fix: replay it with the enact that recorded it");
-    }
-    sim.restore(k);
-    reengage = k.reengage;
-    planner.follow(sim);
-    t0 = k.origin_ns;
-    while (first < states.size() && states[first].stamp_ns != start.keyframe_stamp_ns) ++first;
-    ++first;
-    std::erase_if(changes, [&](const Change& c) { return c.state_seq <= start.keyframe_state_seq; });
-  }
+  Replay replay(traffic, sim, reengage, planner, out);
+  if (keyframe) replay.from_keyframe(r, *keyframe, start);
   out.start.keyframe = keyframe != nullptr;
-  out.first_state_seq = first < states.size() ? states[first].seq : 0;
+  out.first_state_seq = replay.first < traffic.states.size() ? traffic.states[replay.first].seq : 0;
 
   // the simulator's live changes, in the order it applied them, each before the step that
   // first used it
-  std::erase_if(changes, [&](const Change& c) { return c.publisher != sim_publisher; });
-  std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.state_seq < b.state_seq; });
-  std::size_t next_change = 0;
-  out.changes = changes.size();
+  std::erase_if(traffic.changes, [&](const Change& c) { return c.publisher != traffic.sim_publisher; });
+  std::stable_sort(traffic.changes.begin(), traffic.changes.end(), [](const Change& a, const Change& b) { return a.state_seq < b.state_seq; });
+  out.changes = traffic.changes.size();
 
   // step on every recorded state, as the recorded simulator did; compare as we go
-  const physics::Proxy& body = sim.model().proxies[0];
-  std::size_t next_frame = 0;
-  msgs::TactileFrame frame;
-  if (keyframe) while (next_frame < frames.size() && traffic.frame_after[next_frame] <= start.keyframe_state_seq) ++next_frame;
-  auto diverge = [&](std::uint64_t step, std::uint64_t seq, const char* topic, std::string field, std::string rec, std::string rep) {
-    if (!out.divergence) out.divergence = Divergence{step, seq, topic, std::move(field), std::move(rec), std::move(rep)};
-  };
-  for (std::size_t i = first; i < states.size(); ++i) {
-    const State& s = states[i];
-    for (; next_change < changes.size() && changes[next_change].state_seq <= s.seq; ++next_change) {
-      const Change& c = changes[next_change];
-      const sim::ParamPlan plan = planner.plan(c.param, c.value, next_change + 1);
-      if (plan.accepted) sim.apply(plan.change, 0);
-      else diverge(out.steps, s.seq, kParamAck, c.param, "applied", "refused: " + plan.reason);
-    }
-    const auto f = forces.find(s.seq);
-    if (f == forces.end()) {
-      // the answers either side of this state: consecutive in the simulator's stream, so it
-      // answered nothing in between: it never received this state
-      const auto next = forces.upper_bound(s.seq);
-      if (next != forces.end() && next != forces.begin() && std::prev(next)->second.seq + 1 == next->second.seq) {
-        ++out.forces_missing;
-        ++out.states_never_received;
-        continue;
-      }
-    }
-    if (s.cut) reengage.interrupt();
-    const std::int64_t t_ns = s.stamp_ns - t0;
-    const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
-    if (f == forces.end()) {
-      ++out.forces_missing;
-    } else {
-      ++out.forces_compared;
-      const math::Vec3& a = f->second.force_n;
-      const char* axis[3] = {"force.x", "force.y", "force.z"};
-      const double rec[3] = {a.x, a.y, a.z}, rep[3] = {o.force_n.x, o.force_n.y, o.force_n.z};
-      for (int k = 0; k < 3; ++k) {
-        if (!same_bits(rec[k], rep[k])) diverge(out.steps, s.seq, kForceCommand, axis[k], exact(rec[k]), exact(rep[k]));
-      }
-    }
-    if (o.frame_due && next_frame < frames.size()) {
-      fill(frame, body.rows, body.cols, o.frame);
-      const std::vector<float>& rec = frames[next_frame];
-      for (int k = 0; k < frame.level_size(); ++k) {
-        const float recorded_level = k < static_cast<int>(rec.size()) ? rec[k] : -1.0f;
-        if (recorded_level != frame.level(k)) {
-          diverge(out.steps, s.seq, kTactileFrame, "level." + std::to_string(k) + " of frame " + std::to_string(next_frame),
-                  config::number(recorded_level), config::number(frame.level(k)));
-        }
-      }
-      ++next_frame;
-      ++out.frames_compared;
-    }
-    ++out.steps;
-  }
+  for (std::size_t i = replay.first; i < traffic.states.size(); ++i) replay.step(traffic.states[i]);
   out.metrics = sim.metrics();
   sim.deactivate();
   return out;
