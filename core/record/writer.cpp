@@ -238,6 +238,70 @@ void Writer::close() {
   fd_ = -1;
 }
 
+void Writer::append_statistics(std::string& s) {
+  append_record(s, Op::statistics, [&](Out& o) {
+    o.u64(written_.messages);
+    o.u16(static_cast<std::uint16_t>(schemas_.size()));
+    o.u32(static_cast<std::uint32_t>(channels_.size()));
+    o.u32(static_cast<std::uint32_t>(attachments_.size()));
+    o.u32(static_cast<std::uint32_t>(metadata_.size()));
+    o.u32(static_cast<std::uint32_t>(chunk_indexes_.size()));
+    o.u64(u64(written_.first_time));
+    o.u64(u64(written_.last_time));
+    const std::size_t at = o.begin_block();
+    for (const auto& [id, n] : written_.channel_counts) {
+      o.u16(id);
+      o.u64(n);
+    }
+    o.end_block(at);
+  });
+}
+
+void Writer::append_chunk_indexes(std::string& s) {
+  for (const ChunkIndex& c : chunk_indexes_) {
+    append_record(s, Op::chunk_index, [&](Out& o) {
+      o.u64(c.start_time);
+      o.u64(c.end_time);
+      o.u64(c.offset);
+      o.u64(c.length);
+      const std::size_t at = o.begin_block();
+      for (const auto& [id, off] : c.index_offsets) {
+        o.u16(id);
+        o.u64(off);
+      }
+      o.end_block(at);
+      o.u64(c.index_length);
+      o.str(mcap_name(options_.compression));
+      o.u64(c.compressed_size);
+      o.u64(c.uncompressed_size);
+    });
+  }
+}
+
+void Writer::append_attachment_indexes(std::string& s) {
+  for (const Index& a : attachments_) {
+    append_record(s, Op::attachment_index, [&](Out& o) {
+      o.u64(a.offset);
+      o.u64(a.length);
+      o.u64(u64(a.log_time));
+      o.u64(u64(a.create_time));
+      o.u64(a.data_size);
+      o.str(a.name);
+      o.str(a.media_type);
+    });
+  }
+}
+
+void Writer::append_metadata_indexes(std::string& s) {
+  for (const Index& m : metadata_) {
+    append_record(s, Op::metadata_index, [&](Out& o) {
+      o.u64(m.offset);
+      o.u64(m.length);
+      o.str(m.name);
+    });
+  }
+}
+
 void Writer::finish() {
   flush();  // drains: data_crc_ now covers every byte before the data end record
   // the data end, the summary and the footer in one write: on a full disk the file ends
@@ -254,66 +318,10 @@ void Writer::finish() {
   };
   group(Op::schema, [&] { for (const auto& r : schemas_) s += r; });
   group(Op::channel, [&] { for (const auto& r : channels_) s += r; });
-  group(Op::statistics, [&] {
-    append_record(s, Op::statistics, [&](Out& o) {
-      o.u64(written_.messages);
-      o.u16(static_cast<std::uint16_t>(schemas_.size()));
-      o.u32(static_cast<std::uint32_t>(channels_.size()));
-      o.u32(static_cast<std::uint32_t>(attachments_.size()));
-      o.u32(static_cast<std::uint32_t>(metadata_.size()));
-      o.u32(static_cast<std::uint32_t>(chunk_indexes_.size()));
-      o.u64(u64(written_.first_time));
-      o.u64(u64(written_.last_time));
-      const std::size_t at = o.begin_block();
-      for (const auto& [id, n] : written_.channel_counts) {
-        o.u16(id);
-        o.u64(n);
-      }
-      o.end_block(at);
-    });
-  });
-  group(Op::chunk_index, [&] {
-    for (const ChunkIndex& c : chunk_indexes_) {
-      append_record(s, Op::chunk_index, [&](Out& o) {
-        o.u64(c.start_time);
-        o.u64(c.end_time);
-        o.u64(c.offset);
-        o.u64(c.length);
-        const std::size_t at = o.begin_block();
-        for (const auto& [id, off] : c.index_offsets) {
-          o.u16(id);
-          o.u64(off);
-        }
-        o.end_block(at);
-        o.u64(c.index_length);
-        o.str(mcap_name(options_.compression));
-        o.u64(c.compressed_size);
-        o.u64(c.uncompressed_size);
-      });
-    }
-  });
-  group(Op::attachment_index, [&] {
-    for (const Index& a : attachments_) {
-      append_record(s, Op::attachment_index, [&](Out& o) {
-        o.u64(a.offset);
-        o.u64(a.length);
-        o.u64(u64(a.log_time));
-        o.u64(u64(a.create_time));
-        o.u64(a.data_size);
-        o.str(a.name);
-        o.str(a.media_type);
-      });
-    }
-  });
-  group(Op::metadata_index, [&] {
-    for (const Index& m : metadata_) {
-      append_record(s, Op::metadata_index, [&](Out& o) {
-        o.u64(m.offset);
-        o.u64(m.length);
-        o.str(m.name);
-      });
-    }
-  });
+  group(Op::statistics, [&] { append_statistics(s); });
+  group(Op::chunk_index, [&] { append_chunk_indexes(s); });
+  group(Op::attachment_index, [&] { append_attachment_indexes(s); });
+  group(Op::metadata_index, [&] { append_metadata_indexes(s); });
   const std::uint64_t summary_offset_start = summary_start + s.size();
   for (const auto& offsets : groups) {
     append_record(s, Op::summary_offset, [&](Out& o) {

@@ -88,6 +88,11 @@ class Writer {
   void append_record(std::string& s, Op op, Fill fill);
   // close() up to the file's end
   void finish();
+  // the summary's records (MCAP: statistics, chunk, attachment and metadata indexes) appended to `s`
+  void append_statistics(std::string& s);
+  void append_chunk_indexes(std::string& s);
+  void append_attachment_indexes(std::string& s);
+  void append_metadata_indexes(std::string& s);
   // sends out_ to the file (adds it to the data-section CRC unless in the summary)
   void drain();
 
