@@ -69,56 +69,56 @@ void require_topics(const record::Reader& r, const std::vector<std::string>& top
   }
 }
 
-}  // namespace
+// what `enact play` was asked to do
+struct PlayOptions {
+  std::string file;
+  std::vector<std::string> topics;           // empty: every topic
+  std::map<std::string, std::string> remap;  // topic -> published as
+  double rate = 1.0, offset_s = 0.0, wait_s = 5.0, delay_s = 0.0;
+  std::string as_node;  // --name: every message from this node
+  bool loop = false, paused = false, check = false, help = false;
 
-int play(int argc, char** argv) {
+  bool wanted(std::string_view topic) const { return topics.empty() || std::find(topics.begin(), topics.end(), topic) != topics.end(); }
+  std::string out_topic(const std::string& topic) const {
+    const auto it = remap.find(topic);
+    return it == remap.end() ? topic : it->second;
+  }
+};
+
+PlayOptions parse_play(int argc, char** argv) {
+  PlayOptions o;
   // list and repeatable options first
-  std::vector<std::string> topics = take_list(argc, argv, "--topics");
-  for (std::string& t : topics) t = topic_name(t);
-  std::map<std::string, std::string> remap;
+  o.topics = take_list(argc, argv, "--topics");
+  for (std::string& t : o.topics) t = topic_name(t);
   for (const std::string& r : take_repeated(argc, argv, "--remap")) {
     const std::size_t at = r.find(":=");
     if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
-    remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
+    o.remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
   }
   const Args a = parse(argc, argv, 2, {"rate", "start-offset", "name", "wait", "delay"}, {"loop", "paused", "check"});
-  if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  o.help = a.flag("help");
+  if (o.help) return o;
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");
-  const double rate = a.number("rate", 1.0), offset_s = a.number("start-offset", 0.0), wait_s = a.number("wait", 5.0), delay_s = a.number("delay", 0.0);
-  if (rate < 0.0 || offset_s < 0.0 || wait_s < 0.0 || delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
-  const std::string as_node = a.get("name", "");
-  record::Reader r(a.positional[0]);
-  require_topics(r, topics);
-  if (a.flag("check")) return 0;  // options and recording are good (enact launch checks its nodes)
-  auto wanted = [&](std::string_view topic) {
-    if (topics.empty()) return true;
-    for (const auto& t : topics) {
-      if (t == topic) return true;
-    }
-    return false;
-  };
-  auto out_topic = [&](const std::string& topic) {
-    const auto it = remap.find(topic);
-    return it == remap.end() ? topic : it->second;
-  };
+  o.file = a.positional[0];
+  o.rate = a.number("rate", 1.0), o.offset_s = a.number("start-offset", 0.0), o.wait_s = a.number("wait", 5.0), o.delay_s = a.number("delay", 0.0);
+  if (o.rate < 0.0 || o.offset_s < 0.0 || o.wait_s < 0.0 || o.delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
+  o.as_node = a.get("name", "");
+  o.loop = a.flag("loop"), o.paused = a.flag("paused"), o.check = a.flag("check");
+  return o;
+}
 
-  // one publisher per recorded node (or one for all, as --name)
-  graph::install_stop_handlers();
+// the publishers of a play: one per recorded node (or one for all, as --name), from the
+// session's endpoints when it runs alone (a graph of its own), else from the launcher's graph
+struct PlayPublishers {
+  const PlayOptions& o;
+  record::Reader& r;
+  graph::GraphSession* session;
   std::map<std::string, std::unique_ptr<bus::BytePublisher>> pubs;
-  std::unique_ptr<graph::GraphSession> session;
-  const bool standalone = std::getenv(launch::kGraphDirEnv) == nullptr;
-  if (standalone) {
-    graph::SessionOptions so;
-    so.supervised = false;
-    so.numbered = true;
-    session = std::make_unique<graph::GraphSession>("play:" + std::filesystem::path(a.positional[0]).filename().string(), a.positional[0], so);
-  }
-  auto publisher = [&](const record::Channel& c) -> bus::BytePublisher& {
+  std::map<std::uint16_t, bus::BytePublisher*> by_channel;
+
+  bus::BytePublisher& publisher(const record::Channel& c) {
     const auto p = c.metadata.find("publisher");
-    const std::string node = !as_node.empty() ? as_node : p != c.metadata.end() && !p->second.empty() ? p->second : "play";
+    const std::string node = !o.as_node.empty() ? o.as_node : p != c.metadata.end() && !p->second.empty() ? p->second : "play";
     auto& slot = pubs[node];
     if (!slot) {
       slot = std::make_unique<bus::BytePublisher>(session ? session->node_endpoint(node) : graph::node_endpoint(node), bus::PublisherOptions{.node = node, .send_hwm = 1000});
@@ -126,44 +126,48 @@ int play(int argc, char** argv) {
     }
     const auto s = r.schemas().find(c.schema_id);
     if (s != r.schemas().end()) {
-      slot->declare(out_topic(c.topic), s->second.name);
-      if (session) session->attach().declare_topic(out_topic(c.topic), s->second.name, node);
+      slot->declare(o.out_topic(c.topic), s->second.name);
+      if (session) session->attach().declare_topic(o.out_topic(c.topic), s->second.name, node);
     }
     return *slot;
-  };
-  std::map<std::uint16_t, bus::BytePublisher*> by_channel;
-  for (const auto& [id, c] : r.channels()) {
-    if (wanted(c.topic)) by_channel[id] = &publisher(c);
   }
-  for (const auto& [node, pub] : pubs) graph::announce_topics(*pub);
-  graph::report_ready();
-  if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";
-  // the subscribers connect: ZeroMQ drops what is sent before they do
-  const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(wait_s * 1e9);
-  auto all_heard = [&] {
+  bus::BytePublisher& of(const record::Channel& c) {
+    auto it = by_channel.find(c.id);
+    if (it == by_channel.end()) it = by_channel.emplace(c.id, &publisher(c)).first;
+    return *it->second;
+  }
+  bool all_heard() const {
     for (const auto& [id, pub] : by_channel) {
-      if (!pub->has_subscribers(out_topic(r.channels().at(id).topic))) return false;
+      if (!pub->has_subscribers(o.out_topic(r.channels().at(id).topic))) return false;
     }
     return true;
-  };
-  // a short grace for subscribers on their way, then the wait is said, and how it ended
-  const std::int64_t grace = std::min(give_up, rt::now_ns() + 200'000'000);
-  while (!all_heard() && rt::now_ns() < grace && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
-  if (!all_heard() && wait_s > 0.0) {
-    std::cerr << "enact play: waiting up to " << config::number(wait_s) << " s for a subscriber of every topic played (--wait S)\n";
+  }
+  // the subscribers connect (ZeroMQ drops what is sent before they do): a short grace for
+  // those on their way, then the wait is said, and how it ended
+  void wait_for_subscribers() const {
+    const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(o.wait_s * 1e9);
+    const std::int64_t grace = std::min(give_up, rt::now_ns() + 200'000'000);
+    while (!all_heard() && rt::now_ns() < grace && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
+    if (all_heard() || o.wait_s <= 0.0) return;
+    std::cerr << "enact play: waiting up to " << config::number(o.wait_s) << " s for a subscriber of every topic played (--wait S)\n";
     while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
     std::cerr << (all_heard() ? "enact play: every topic has a subscriber; playing\n"
                               : "enact play: a topic still has no subscriber; playing anyway (what is sent before one listens is lost)\n");
   }
-  // the recording's span, for the progress: "12.3 / 40.0 s"
-  const auto [first_ns, last_ns] = r.time_span();
-  const double total_s = static_cast<double>(last_ns - first_ns) * 1e-9;
-  const bool tty = isatty(2);
-  TerminalKeys keys(standalone);
+};
+
+// the progress line: the recording's position and span ("12.3 / 40.0 s"), a few times a
+// second on a terminal, every 5 s otherwise, and at once when paused or resumed
+struct PlayProgress {
+  const TerminalKeys& keys;
+  std::int64_t first_ns;
+  double total_s;
+  bool tty = isatty(2);
   std::uint64_t sent = 0;
   std::int64_t last_log = first_ns, next_progress = 0;
   bool paused_shown = false;
-  auto progress = [&](const PlayClock& clock) {
+
+  void show(const PlayClock& clock) {
     const std::int64_t now = rt::now_ns();
     if (now < next_progress && clock.paused() == paused_shown) return;
     next_progress = now + (tty ? 250'000'000 : 5'000'000'000);
@@ -171,39 +175,77 @@ int play(int argc, char** argv) {
     const char* state = clock.paused() ? (keys.active() ? "  paused (Space plays, s steps)" : "  paused") : (keys.active() ? "  (Space pauses)" : "");
     std::fprintf(stderr, tty ? "\renact play: %6.1f / %.1f s  %10llu messages%s\033[K" : "enact play: %.1f / %.1f s, %llu messages%s\n",
                  static_cast<double>(last_log - first_ns) * 1e-9, total_s, static_cast<unsigned long long>(sent), state);
-  };
-  PlayClock clock(rate, keys, [&] { progress(clock); });
-  if (a.flag("paused") && keys.active()) {
+  }
+};
+
+// the recording once from --start-offset, each message at its time (until a stop request)
+void play_once(const PlayOptions& o, record::Reader& r, PlayPublishers& pubs, PlayClock& clock, PlayProgress& progress) {
+  bool started = false;
+  const std::int64_t from_ns = progress.first_ns + static_cast<std::int64_t>(o.offset_s * 1e9);
+  r.for_each([&](const record::Message& m) {
+    if (m.log_time_ns < from_ns || !o.wanted(m.topic)) return true;
+    if (!started) clock.restart(m.log_time_ns), started = true;
+    bus::BytePublisher& pub = pubs.of(*m.channel);
+    if (!clock.wait(m.log_time_ns)) return false;
+    const std::string topic = o.out_topic(std::string(m.topic));
+    // flow control: a full subscriber queue waits, nothing is dropped
+    while (!pub.send(topic, m.schema_name, m.data.data(), m.data.size()) && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 50'000);
+    ++progress.sent;
+    progress.last_log = m.log_time_ns;
+    progress.show(clock);
+    return !graph::stop_requested();
+  });
+}
+
+}  // namespace
+
+int play(int argc, char** argv) {
+  const PlayOptions o = parse_play(argc, argv);
+  if (o.help) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  record::Reader r(o.file);
+  require_topics(r, o.topics);
+  if (o.check) return 0;  // options and recording are good (enact launch checks its nodes)
+
+  graph::install_stop_handlers();
+  std::unique_ptr<graph::GraphSession> session;
+  const bool standalone = std::getenv(launch::kGraphDirEnv) == nullptr;
+  if (standalone) {
+    graph::SessionOptions so;
+    so.supervised = false;
+    so.numbered = true;
+    session = std::make_unique<graph::GraphSession>("play:" + std::filesystem::path(o.file).filename().string(), o.file, so);
+  }
+  PlayPublishers pubs{o, r, session.get(), {}, {}};
+  for (const auto& [id, c] : r.channels()) {
+    if (o.wanted(c.topic)) pubs.of(c);
+  }
+  for (const auto& [node, pub] : pubs.pubs) graph::announce_topics(*pub);
+  graph::report_ready();
+  if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";
+  pubs.wait_for_subscribers();
+
+  const auto [first_ns, last_ns] = r.time_span();
+  TerminalKeys keys(standalone);
+  PlayProgress progress{keys, first_ns, static_cast<double>(last_ns - first_ns) * 1e-9};
+  PlayClock clock(o.rate, keys, [&] { progress.show(clock); });
+  if (o.paused && keys.active()) {
     clock.set_paused(true);
-  } else if (a.flag("paused")) {
+  } else if (o.paused) {
     std::cerr << "enact play: paused; press Enter to play " << r.path() << "\n";
     std::string line;
     std::getline(std::cin, line);
   }
   // --delay: the subscribers settle before the first message (`ros2 bag play --delay`)
-  const std::int64_t delay_end = rt::now_ns() + static_cast<std::int64_t>(delay_s * 1e9);
+  const std::int64_t delay_end = rt::now_ns() + static_cast<std::int64_t>(o.delay_s * 1e9);
   while (rt::now_ns() < delay_end && !graph::stop_requested()) rt::sleep_until_ns(std::min(delay_end, rt::now_ns() + 50'000'000));
-
   do {
-    bool started = false;
-    const std::int64_t from_ns = first_ns + static_cast<std::int64_t>(offset_s * 1e9);
-    r.for_each([&](const record::Message& m) {
-      if (m.log_time_ns < from_ns || !wanted(m.topic)) return true;
-      if (!started) clock.restart(m.log_time_ns), started = true;
-      auto c = by_channel.find(m.channel->id);
-      if (c == by_channel.end()) c = by_channel.emplace(m.channel->id, &publisher(*m.channel)).first;
-      if (!clock.wait(m.log_time_ns)) return false;
-      const std::string topic = out_topic(std::string(m.topic));
-      // flow control: a full subscriber queue waits, nothing is dropped
-      while (!c->second->send(topic, m.schema_name, m.data.data(), m.data.size()) && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 50'000);
-      ++sent;
-      last_log = m.log_time_ns;
-      progress(clock);
-      return !graph::stop_requested();
-    });
-  } while (a.flag("loop") && !graph::stop_requested());
-  if (tty) std::fputs("\n", stderr);
-  std::fprintf(stderr, "enact play: %llu messages republished from %s\n", static_cast<unsigned long long>(sent), r.path().c_str());
+    play_once(o, r, pubs, clock, progress);
+  } while (o.loop && !graph::stop_requested());
+  if (progress.tty) std::fputs("\n", stderr);
+  std::fprintf(stderr, "enact play: %llu messages republished from %s\n", static_cast<unsigned long long>(progress.sent), r.path().c_str());
   for (const auto& d : r.damage()) std::fprintf(stderr, "enact play: %s: %s\n", r.path().c_str(), d.c_str());
   // let the last messages leave before the sockets close
   rt::sleep_until_ns(rt::now_ns() + 200'000'000);
