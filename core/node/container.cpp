@@ -1,4 +1,5 @@
 #include "core/node/container.h"
+#include "core/node/sim_topics.h"
 
 #include <algorithm>
 #include <chrono>
@@ -103,17 +104,12 @@ lock-free queue, applied at the top of a tick, and answered on param/ack.
 container parameters (--param NAME=VALUE; rate_hz is the simulator's rate too):
 )", .plugins = true, .more_help = plugin_help};
 
-struct Container::Io {
+struct Container::Io : SimTopics {
   Io(Container& c)
-      : out(c.host_.out()),
+      : SimTopics(c.host_.out()),
+        out(c.host_.out()),
         state_pub(out, graph::kDeviceState),
-        force_pub(out, graph::kForceCommand),
-        frame_pub(out, graph::kTactileFrame),
         shown_pub(out, graph::kTactileShown),
-        scene_pub(out, graph::kSceneState),
-        event_pub(out, graph::kTaskEvent),
-        status_pub(out, graph::kNodeStatus),
-        keyframe_pub(out, graph::kSimKeyframe),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
         loop(c.simulator_, *c.force_, *c.tactile_, c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
@@ -122,13 +118,7 @@ struct Container::Io {
         cols(c.tactile_->cols()) {}
   bus::BytePublisher& out;
   bus::Publisher<msgs::DeviceState> state_pub;
-  bus::Publisher<msgs::ForceCommand> force_pub;
-  bus::Publisher<msgs::TactileFrame> frame_pub;
   bus::Publisher<msgs::TactileShown> shown_pub;
-  bus::Publisher<msgs::SceneState> scene_pub;
-  bus::Publisher<msgs::TaskEvent> event_pub;
-  bus::Publisher<msgs::NodeStatus> status_pub;
-  bus::Publisher<msgs::SimKeyframe> keyframe_pub;
   graph::ParamPort params;
   graph::TaskStateTracker task_state;
   graph::ColocatedLoop loop;

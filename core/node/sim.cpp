@@ -12,6 +12,7 @@
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/launch/env.h"
+#include "core/node/sim_topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 
@@ -42,15 +43,10 @@ int respawn_count() {
 
 }  // namespace
 
-struct Sim::Io {
+struct Sim::Io : SimTopics {
   explicit Io(Sim& s)
-      : out(s.host_.out()),
-        force_pub(out, graph::kForceCommand),
-        frame_pub(out, graph::kTactileFrame),
-        scene_pub(out, graph::kSceneState),
-        event_pub(out, graph::kTaskEvent),
-        status_pub(out, graph::kNodeStatus),
-        keyframe_pub(out, graph::kSimKeyframe),
+      : SimTopics(s.host_.out()),
+        out(s.host_.out()),
         states(in, graph::kDeviceState),
         ffd_endpoint(graph::node_endpoint(s.ffd_node_)),
         link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.ffd_node_) : ""),
@@ -60,12 +56,6 @@ struct Sim::Io {
     in.connect(ffd_endpoint);
   }
   bus::BytePublisher& out;
-  bus::Publisher<msgs::ForceCommand> force_pub;
-  bus::Publisher<msgs::TactileFrame> frame_pub;
-  bus::Publisher<msgs::SceneState> scene_pub;
-  bus::Publisher<msgs::TaskEvent> event_pub;
-  bus::Publisher<msgs::NodeStatus> status_pub;
-  bus::Publisher<msgs::SimKeyframe> keyframe_pub;
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states;
   // the hop from the FFD driver: its same-host link once it listens (tried each time no
