@@ -14,6 +14,7 @@
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
 #include "core/graph/node_params.h"
+#include "core/graph/param_binding.h"
 #include "core/physics/scene.h"
 
 namespace enact::graph {
@@ -165,21 +166,7 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows,
 
 }  // namespace
 
-sim::SimParams sim_params(const Params& p) {
-  p.declare(sim_table());
-  sim::SimParams s;
-  s.scene = p.text("scene");
-  s.rate_hz = p.number("rate_hz");
-  s.model = p.text("model");
-  s.tactile.period_s = p.number("tactile_period_s");
-  s.tactile.mode = haptics::parse_tactile_mode(p.text("tactile_mode"));
-  s.force = p.flag("force");
-  s.task.min_fall_s = p.number("min_fall_s");
-  s.task.min_recovery_s = p.number("min_recovery_s");
-  s.task.end_progress = p.number("end_progress");
-  s.change_ramp_s = p.number("change_ramp_s");
-  return s;
-}
+sim::SimParams sim_params(const Params& p) { return sim_bindings().read(p); }
 
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   p.declare(force_table());

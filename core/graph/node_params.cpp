@@ -13,6 +13,7 @@
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/logger.h"
+#include "core/graph/param_binding.h"
 #include "core/devices/device_profile.h"
 #include "core/rt/scheduler.h"
 #include "core/sim/reengage.h"
@@ -141,28 +142,45 @@ void check_against(const launch::NodeSpec& n, const std::string& owner, const st
 
 }  // namespace
 
-const ParamTable& sim_table() {
-  static const ParamTable t{
-      {.name = "scene", .type = ParamType::text, .doc = "scene file (YAML)", .required = true},
-      {.name = "rate_hz", .fallback = "0", .min = 0, .max = rt::kMaxRate_hz, .doc = "model rate (0: the scene's; should match the FFD's)"},
-      {.name = "model", .type = ParamType::text, .fallback = kSim.model, .doc = "computer model: CM0 CM1 CM2 CM3 P T PT or a YAML file", .live = true},
-      {.name = "tactile_period_s", .fallback = number(kSim.tactile.period_s), .min = 0, .doc = "tactile frame period (the cells' rise time)"},
-      {.name = "tactile_mode", .type = ParamType::choice, .fallback = "sample", .choices = {"sample", "any"}, .doc = "a frame samples its last step, or any contact since the last frame"},
-      {.name = "force", .type = ParamType::flag, .fallback = "false", .doc = "run a scene that fails the stability check anyway"},
-      {.name = "min_fall_s", .fallback = number(kSim.task.min_fall_s), .min = 0, .doc = "a loss of contact shorter than this is not a fall"},
-      {.name = "min_recovery_s", .fallback = number(kSim.task.min_recovery_s), .min = 0, .doc = "contact regained for less than this does not end a fall"},
-      {.name = "end_progress", .fallback = number(kSim.task.end_progress), .min = 0, .max = 1, .doc = "progress that completes the bridge"},
-      {.name = "reengage_s", .fallback = number(sim::kReengageDefault_s), .min = 0, .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"},
-      {.name = "change_ramp_s", .fallback = number(kSim.change_ramp_s), .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true},
-      {.name = "threshold_m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false},
-      {.name = "stiffness_n_per_m", .min = 0, .doc = "contact stiffness of the body (checked against the stability analysis)", .live = true, .at_start = false},
-      {.name = "damping_n_s_per_m", .min = 0, .doc = "contact damping of the body (checked against the stability analysis)", .live = true, .at_start = false},
-      {.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false},
-      {.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false},
-      {.name = "trial", .type = ParamType::command, .choices = {"start", "stop"}, .doc = "start: a new trial from now; stop: the trial ends", .live = true, .at_start = false},
-  };
-  return t;
+// the tactile frame's mode, a choice of two words
+template <>
+struct ParamCodec<haptics::TactileMode> {
+  static constexpr ParamType type = ParamType::choice;
+  static std::string text(haptics::TactileMode m) { return m == haptics::TactileMode::any ? "any" : "sample"; }
+  static haptics::TactileMode read(const Params& p, const std::string& name) { return haptics::parse_tactile_mode(p.text(name)); }
+};
+
+const ParamBindings<sim::SimParams>& sim_bindings() {
+  using S = sim::SimParams;
+  static const ParamBindings<S> b = [] {
+    ParamBindings<S> t;
+    t.field(&S::scene, {.name = "scene", .doc = "scene file (YAML)", .required = true})
+        .field(&S::rate_hz, {.name = "rate_hz", .min = 0, .max = rt::kMaxRate_hz, .doc = "model rate (0: the scene's; should match the FFD's)"})
+        .field(&S::model, {.name = "model", .doc = "computer model: CM0 CM1 CM2 CM3 P T PT or a YAML file", .live = true})
+        .field([](S& s) -> double& { return s.tactile.period_s; }, {.name = "tactile_period_s", .min = 0, .doc = "tactile frame period (the cells' rise time)"})
+        .field([](S& s) -> haptics::TactileMode& { return s.tactile.mode; },
+               {.name = "tactile_mode", .choices = {"sample", "any"}, .doc = "a frame samples its last step, or any contact since the last frame"})
+        .field(&S::force, {.name = "force", .doc = "run a scene that fails the stability check anyway"})
+        .field([](S& s) -> double& { return s.task.min_fall_s; }, {.name = "min_fall_s", .min = 0, .doc = "a loss of contact shorter than this is not a fall"})
+        .field([](S& s) -> double& { return s.task.min_recovery_s; },
+               {.name = "min_recovery_s", .min = 0, .doc = "contact regained for less than this does not end a fall"})
+        .field([](S& s) -> double& { return s.task.end_progress; }, {.name = "end_progress", .min = 0, .max = 1, .doc = "progress that completes the bridge"})
+        .declared({.name = "reengage_s", .fallback = number(sim::kReengageDefault_s), .min = 0,
+                   .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"})
+        .field(&S::change_ramp_s, {.name = "change_ramp_s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true})
+        .field(&S::reentry_speed_m_per_s, {.name = "reentry_speed_m_per_s", .min = 0, .above_min = true, .doc = "after a live change of the force law, the body comes back out of the objects at most this fast"})
+        .declared({.name = "threshold_m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false})
+        .declared({.name = "stiffness_n_per_m", .min = 0, .doc = "contact stiffness of the body (checked against the stability analysis)", .live = true, .at_start = false})
+        .declared({.name = "damping_n_s_per_m", .min = 0, .doc = "contact damping of the body (checked against the stability analysis)", .live = true, .at_start = false})
+        .declared({.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false})
+        .declared({.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false})
+        .declared({.name = "trial", .type = ParamType::command, .choices = {"start", "stop"}, .doc = "start: a new trial from now; stop: the trial ends", .live = true, .at_start = false});
+    return t;
+  }();
+  return b;
 }
+
+const ParamTable& sim_table() { return sim_bindings().table(); }
 
 const ParamTable& force_table() {
   static const ParamTable t{

@@ -8,10 +8,20 @@
 #include "core/graph/param_table.h"
 #include "core/launch/launch_file.h"
 
+namespace enact::sim {
+struct SimParams;
+}
+
 namespace enact::graph {
 
+template <class Config>
+class ParamBindings;  // param_binding.h
+
+// the simulator's parameters bound to the fields of sim::SimParams (graph::sim_params reads them)
+const ParamBindings<sim::SimParams>& sim_bindings();
+
 // the components of a real-time container (enact-rt) and of the nodes that wrap one
-const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim)
+const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim): sim_bindings()'s table
 const ParamTable& force_table();    // the force device (plugin ffd; enact-ffd)
 const ParamTable& tactile_table();  // the tactile device (plugin tactile; enact-tactile)
 // a component's table by plugin name (nullptr: no such plugin)

@@ -15,11 +15,6 @@ namespace {
 // a contact normal this close to vertical is the top surface
 constexpr double kTopNormalZ = 0.7;
 
-// the fastest a re-entry depth rises back to the model's threshold: the surface pushes the
-// body back out this gently (the bridge: 17 points at 6000 N/m, at most 1 N/ms; 50 mm/s
-// launched the scripted hand off the top in a hostile burst, and it fell back hard)
-constexpr double kReentrySpeed_m_per_s = 0.01;
-
 // a re-entering point's deepest contact still pushes along the same face
 constexpr double kSameFaceCos = 0.999;
 
@@ -245,7 +240,7 @@ void Simulator::reenter_contacts(bool from_scratch) {
     for (const int c : body_pairs_) k = model_.contacts[c].point == p ? std::max(k, model_.contacts[c].stiffness_n_per_m) : k;
     stiffness_n_per_m += k;
   }
-  reentry_step_m_ = kReentrySpeed_m_per_s * model_.dt_s;
+  reentry_step_m_ = params_.reentry_speed_m_per_s * model_.dt_s;
   if (max_step_n_ > 0.0 && stiffness_n_per_m > 0.0) reentry_step_m_ = std::min(reentry_step_m_, max_step_n_ / stiffness_n_per_m);
   for (const int p : body_points_) {
     const int c = deepest_pair_[p];

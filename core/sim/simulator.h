@@ -30,6 +30,11 @@ struct SimParams {
   // live changes never jolt: the force felt before a change blends into the new setting's over
   // this long (longer when the device profile's max_force_step_n_per_ms needs it)
   double change_ramp_s = 0.05;
+  // after a live change of the force law (a model, threshold or stiffness, a reset), the body's
+  // points come back out of what they sank into at most this fast (the bridge: 17 points at 6000 N/m, about 1 N/ms; 50 mm/s
+  // launched the scripted hand off the top in a hostile burst, and it fell back hard); the
+  // device profile's force step limit may make it slower still
+  double reentry_speed_m_per_s = 0.01;
 };
 
 struct StepOutput {

@@ -206,6 +206,41 @@ TEST(SimulatorApply, StiffnessUpNeverReleasesThePenetrationAtOnce) {
   EXPECT_NEAR(last, 3.0 * before, 1e-9 * before);
 }
 
+// reentry_speed_m_per_s (a parameter of enact-sim and enact-rt's sim): a tenth of the speed
+// brings the surface back about ten times more slowly, each step within its bound
+TEST(SimulatorApply, TheReentrySpeedBoundsHowFastTheSurfaceRisesBack) {
+  const test::TempDir dir;
+  const std::string scene = bridge_with_stiffness(dir, "1000");
+  // steps from the change until the new law's force, and the largest rise of one step
+  auto rise = [&](double speed_m_per_s, double& largest_n) {
+    SimParams p = bridge(scene);
+    p.reentry_speed_m_per_s = speed_m_per_s;
+    Rig rig(p);
+    ParamPlanner planner(rig.sim);
+    for (int i = 0; i < 3; ++i) rig.step(kPressed);
+    const double before = rig.step(kPressed).force_n.z;
+    rig.apply(planner, "stiffness_n_per_m", number(3000.0));
+    double last = before;
+    largest_n = 0.0;
+    for (int i = 1; i <= 100000; ++i) {
+      const double f = rig.step(kPressed).force_n.z;
+      largest_n = std::max(largest_n, std::abs(f - last));
+      last = f;
+      if (std::abs(f - 3.0 * before) < 1e-9 * before) return i;
+    }
+    return -1;
+  };
+  double fast_n = 0.0, slow_n = 0.0;
+  const int fast = rise(0.01, fast_n), slow = rise(0.001, slow_n);
+  ASSERT_GT(fast, 0);
+  ASSERT_GT(slow, 0);
+  std::printf("the surface back in %d steps at 10 mm/s (largest step %.4f N), %d at 1 mm/s (%.4f N)\n", fast, fast_n, slow, slow_n);
+  // the rise is the speed's: a tenth of it, a tenth of the largest step, ten times the steps
+  // (give or take the last partial step)
+  EXPECT_NEAR(slow_n, fast_n / 10.0, 0.01 * fast_n / 10.0);
+  EXPECT_NEAR(static_cast<double>(slow) / fast, 10.0, 0.1);
+}
+
 TEST(SimulatorApply, ModelAndThresholdChangeForceAndPins) {
   Rig rig;
   ParamPlanner planner(rig.sim);
