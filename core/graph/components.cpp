@@ -151,14 +151,12 @@ std::unique_ptr<devices::ForceDevice> inner_force_device(const Params& p, const 
   return simulated_force(p);
 }
 
-std::unique_ptr<devices::TactileDevice> metec_tactile(const Params& p, int rows, int cols, double rise_time_s) {
-  devices::metec::MetecParams m;
-  m.rows = rows;
-  m.cols = cols;
-  m.rise_time_s = rise_time_s;
-  m.serial = p.text("serial");
-  m.first_cell = p.integer("first_cell");
-  if (!emulated(p)) return std::make_unique<devices::metec::MetecTactileDevice>(m, std::make_unique<devices::usb::LibusbBus>());
+std::unique_ptr<devices::TactileDevice> metec_tactile(const TactileConfig& c) {
+  devices::metec::MetecParams m = c.metec;
+  m.rows = c.cells.rows;
+  m.cols = c.cells.cols;
+  m.rise_time_s = c.cells.rise_time_s;
+  if (c.transport != "emulator") return std::make_unique<devices::metec::MetecTactileDevice>(m, std::make_unique<devices::usb::LibusbBus>());
   auto bus = std::make_unique<devices::usb::FakeBus>();
   bus->add(devices::usb::emulated_device("metec", std::make_shared<devices::metec::MetecEmulator>(devices::metec::MetecEmulatorParams{})));
   return std::make_unique<devices::metec::MetecTactileDevice>(m, std::move(bus));
@@ -181,18 +179,13 @@ std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
 }
 
 std::unique_ptr<devices::TactileDevice> make_tactile_device(const Params& p) {
-  p.declare(tactile_table());
-  const std::string device = p.text("device");
-  devices::SimulatedTactileParams t;
-  t.rows = p.integer("rows");
-  t.cols = p.integer("cols");
-  t.rise_time_s = p.number("rise_time_s");
+  const TactileConfig c = tactile_bindings().read(p);
   std::unique_ptr<devices::TactileDevice> out;
-  if (device == "metec") {
-    out = metec_tactile(p, t.rows, t.cols, t.rise_time_s);
+  if (c.device == "metec") {
+    out = metec_tactile(c);
   } else {
     refuse_given(p, {"transport", "serial", "first_cell"}, "device=metec");
-    out = std::make_unique<devices::SimulatedTactileDevice>(t);
+    out = std::make_unique<devices::SimulatedTactileDevice>(c.cells);
   }
   out->configure();
   return out;

@@ -13,6 +13,7 @@
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/logger.h"
+#include "core/graph/components.h"
 #include "core/graph/param_binding.h"
 #include "core/devices/device_profile.h"
 #include "core/rt/scheduler.h"
@@ -34,8 +35,6 @@ const devices::SimulatedForceParams kHand{};
 const devices::SafetyParams kSafety{};
 const devices::falcon::FalconParams kFalcon{};
 const devices::inverse3::Inverse3Params kInverse3{};
-const devices::SimulatedTactileParams kCells{};
-const devices::metec::MetecParams kMetec{};
 const graph::LoggerOptions kLogger{};
 
 // what a loop process shares: enact-ffd, enact-rt
@@ -212,18 +211,23 @@ const ParamTable& force_table() {
   return t;
 }
 
-const ParamTable& tactile_table() {
-  static const ParamTable t{
-      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "metec"}, .doc = "simulated, or Metec Braille cells over USB"},
-      {.name = "rows", .type = ParamType::integer, .fallback = std::to_string(kCells.rows), .min = 1, .max = 32, .doc = "pin rows"},
-      {.name = "cols", .type = ParamType::integer, .fallback = std::to_string(kCells.cols), .min = 1, .max = 32, .doc = "pin columns (rows x cols <= 32)"},
-      {.name = "rise_time_s", .fallback = number(kCells.rise_time_s), .min = 0, .above_min = true, .doc = "the cells' full stroke"},
-      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "metec: the machine's USB, or the Metec emulator"},
-      {.name = "serial", .type = ParamType::text, .doc = "metec: the serial number (empty: the first found)"},
-      {.name = "first_cell", .type = ParamType::integer, .fallback = std::to_string(kMetec.first_cell), .min = 0, .doc = "metec: the cell under pin columns 0 and 1"},
-  };
-  return t;
+const ParamBindings<TactileConfig>& tactile_bindings() {
+  using T = TactileConfig;
+  static const ParamBindings<T> b = [] {
+    ParamBindings<T> t;
+    t.field(&T::device, {.name = "device", .type = ParamType::choice, .choices = {"simulated", "metec"}, .doc = "simulated, or Metec Braille cells over USB"})
+        .field([](T& c) -> int& { return c.cells.rows; }, {.name = "rows", .min = 1, .max = 32, .doc = "pin rows"})
+        .field([](T& c) -> int& { return c.cells.cols; }, {.name = "cols", .min = 1, .max = 32, .doc = "pin columns (rows x cols <= 32)"})
+        .field([](T& c) -> double& { return c.cells.rise_time_s; }, {.name = "rise_time_s", .min = 0, .above_min = true, .doc = "the cells' full stroke"})
+        .field(&T::transport, {.name = "transport", .type = ParamType::choice, .choices = {"usb", "emulator"}, .doc = "metec: the machine's USB, or the Metec emulator"})
+        .field([](T& c) -> std::string& { return c.metec.serial; }, {.name = "serial", .doc = "metec: the serial number (empty: the first found)"})
+        .field([](T& c) -> int& { return c.metec.first_cell; }, {.name = "first_cell", .min = 0, .doc = "metec: the cell under pin columns 0 and 1"});
+    return t;
+  }();
+  return b;
 }
+
+const ParamTable& tactile_table() { return tactile_bindings().table(); }
 
 const ParamTable* component_table(const std::string& plugin) {
   if (plugin == "sim") return &sim_table();

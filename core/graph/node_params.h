@@ -19,6 +19,9 @@ class ParamBindings;  // param_binding.h
 
 // the simulator's parameters bound to the fields of sim::SimParams (graph::sim_params reads them)
 const ParamBindings<sim::SimParams>& sim_bindings();
+// the tactile device's, bound to TactileConfig (components.h; make_tactile_device reads them)
+struct TactileConfig;
+const ParamBindings<TactileConfig>& tactile_bindings();
 
 // the components of a real-time container (enact-rt) and of the nodes that wrap one
 const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim): sim_bindings()'s table
