@@ -438,6 +438,57 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
 
 #endif
 
+// the co-located loop's walk over the bridge (launch/bridge_rt.yaml, the scripted hand,
+// observed from its first tick): the largest |force| the model gave the hand, the ticks seen
+// and lost on the way, and the deadlines the loop missed
+struct Walk {
+  double peak_n = 0.0;
+  std::size_t forces = 0;
+  std::uint64_t lost = 0, missed = 0;
+};
+Walk walk_the_bridge(const TempDir& dir, const std::string& name) {
+  constexpr double kWalk_s = 9.5;  // the scripted path lasts 9.2 s
+  Launcher launcher(dir, source_path("launch/bridge_rt.yaml"), 60.0, {"observers=1"}, "", {"--name", name});
+  EXPECT_TRUE(launcher.wait_log("waiting up to", kReadyTimeout_s)) << launcher.log();
+  Observer obs(launcher.endpoint());
+  obs.states.emplace(obs.bytes(), "ffd/state");  // the observer the loop waits for
+  obs.forces.emplace(obs.bytes(), "ffd/force");
+  obs.statuses.emplace(obs.bytes(), "node/status");
+  Observed seen;
+  obs.observe(kWalk_s, seen);
+  Walk w;
+  for (const msgs::ForceCommand& f : seen.forces) {
+    w.peak_n = std::max(w.peak_n, std::sqrt(f.force().x() * f.force().x() + f.force().y() * f.force().y() + f.force().z() * f.force().z()));
+  }
+  w.forces = seen.forces.size();
+  w.lost = obs.forces->counters().lost;
+  for (const msgs::NodeStatus& st : seen.statuses) w.missed = std::max<std::uint64_t>(w.missed, st.deadlines_missed());
+  EXPECT_EQ(launcher.stop(), 0) << launcher.log();
+  return w;
+}
+
+// two graphs on one machine, as a new user tried (#23): the co-located loop walks the bridge
+// beside a running distributed graph, their loops placed by the launcher. A late tick never
+// turns into a jolt: the largest force the model gives the hand is at most the same walk's
+// alone plus the device profile's force step limit over one millisecond (ERGOS: 10 N/ms)
+TEST(Faults, AnotherGraphBesideTheLoopNeverTurnsALateTickIntoAJolt) {
+  constexpr double kStepLimit_n_per_ms = 10.0;  // core/devices/device_profile.cpp, ergos
+  TempDir dir;
+  const Walk alone = walk_the_bridge(dir, "alone");
+  Launcher other(dir, source_path("launch/bridge.yaml"), 60.0, {}, "", {"--name", "other"});
+  ASSERT_TRUE(other.wait_log("enact launch: graph other ready", kReadyTimeout_s)) << other.log();
+  const Walk beside = walk_the_bridge(dir, "beside");
+  std::printf("[ measure ] the walk alone: peak %.2f N over %zu forces seen (%llu lost), %llu deadlines missed; beside a distributed graph: "
+              "peak %.2f N over %zu (%llu lost), %llu missed\n",
+              alone.peak_n, alone.forces, static_cast<unsigned long long>(alone.lost), static_cast<unsigned long long>(alone.missed), beside.peak_n,
+              beside.forces, static_cast<unsigned long long>(beside.lost), static_cast<unsigned long long>(beside.missed));
+  ASSERT_GT(alone.forces, 10000u) << "the walk was not observed";
+  ASSERT_GT(alone.peak_n, 1.0) << "the hand never touched the bridge: nothing to compare";
+  EXPECT_GT(beside.forces, 10000u);
+  EXPECT_LE(beside.peak_n, alone.peak_n + kStepLimit_n_per_ms) << "a late tick turned into a jolt";
+  EXPECT_EQ(other.stop(), 0) << other.log();
+}
+
 // `enact record --all` into FILE with room for 2 MB (about three seconds of every topic)
 RunResult record_onto_a_full_disk(const std::string& file, const std::string& endpoint) {
   return run("bash -c 'ulimit -f 2048; exec " + std::string(ENACT_CLI) + " record --all -o " + file + " --attach " + endpoint + " --duration 30'");
