@@ -13,6 +13,7 @@
 #include "core/devices/usb/libusb.h"
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
+#include "core/graph/device_config.h"
 #include "core/graph/node_params.h"
 #include "core/graph/param_binding.h"
 #include "core/physics/scene.h"
@@ -38,54 +39,50 @@ math::Vec3 start_position(const Params& p, const math::Vec3& otherwise) {
 }
 
 // the hand of a simulated device, or of an emulated one: a scripted path or a virtual subject
-void read_hand(const Params& p, devices::SimulatedForceParams& f) {
-  f.hand_path = p.text("hand_path");
-  f.subject = p.text("subject");
-  f.subject_seed = static_cast<std::uint64_t>(p.integer("subject_seed"));
-  f.noise_seed = static_cast<std::uint64_t>(p.integer("noise_seed"));
+void read_hand(const Params& p, const ForceConfig& c, devices::SimulatedForceParams& f) {
+  f.hand_path = c.hand.hand_path;
+  f.subject = c.hand.subject;
+  f.subject_seed = c.hand.subject_seed;
+  f.noise_seed = c.hand.noise_seed;
   f.start_m = start_position(p, f.start_m);
-  f.hand_stiffness_n_per_m = p.number("hand_stiffness_n_per_m");
-  f.hand_damping_n_s_per_m = p.number("hand_damping_n_s_per_m");
+  f.hand_stiffness_n_per_m = c.hand.hand_stiffness_n_per_m;
+  f.hand_damping_n_s_per_m = c.hand.hand_damping_n_s_per_m;
 }
 
 constexpr std::initializer_list<const char*> kHandParams = {"hand_path", "subject", "subject_seed", "noise_seed", "start_m", "start_scene",
                                                            "hand_stiffness_n_per_m", "hand_damping_n_s_per_m"};
 
 // transport: usb (the machine's bus) or emulator (a fake bus with the device's emulator)
-bool emulated(const Params& p) { return p.text("transport") == "emulator"; }
+bool emulated(const ForceConfig& c) { return c.transport == "emulator"; }
 
 constexpr std::initializer_list<const char*> kFalconParams = {"serial", "firmware", "homing_timeout_s", "max_force_n"};
 constexpr const char* kTransportDevices = "device=falcon or device=inverse3";
 
 constexpr std::initializer_list<const char*> kInverse3Params = {"port", "events_port", "device_id", "origin_m"};
 
-std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p) {
+std::unique_ptr<devices::ForceDevice> simulated_force(const Params& p, const ForceConfig& c) {
   refuse_given(p, {"transport"}, kTransportDevices);
   refuse_given(p, kFalconParams, "device=falcon");
   refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
   refuse_given(p, kInverse3Params, "device=inverse3");
   devices::SimulatedForceParams f;
-  f.profile = p.text("profile");
-  read_hand(p, f);
+  f.profile = c.hand.profile;
+  read_hand(p, c, f);
   return std::make_unique<devices::SimulatedForceDevice>(f);
 }
 
-std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p) {
+std::unique_ptr<devices::ForceDevice> falcon_force(const Params& p, const ForceConfig& c) {
   refuse_given(p, {"profile"}, "device=simulated (the Falcon's profile is 'falcon')");
   refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
   refuse_given(p, kInverse3Params, "device=inverse3");
-  devices::falcon::FalconParams f;
-  f.serial = p.text("serial");
-  f.firmware = p.text("firmware");
-  f.homing_timeout_s = p.number("homing_timeout_s");
-  f.max_force_n = p.number("max_force_n");
-  if (!emulated(p)) {
+  const devices::falcon::FalconParams& f = c.falcon;
+  if (!emulated(c)) {
     refuse_given(p, kHandParams, "transport=emulator (the emulated hand)");
     return std::make_unique<devices::falcon::FalconForceDevice>(f, std::make_unique<devices::usb::LibusbBus>());
   }
   // the emulator: its firmware runs already unless the test of an upload is asked for
   devices::falcon::FalconEmulatorParams e;
-  read_hand(p, e.grip);
+  read_hand(p, c, e.grip);
   e.firmware_running = f.firmware.empty();
   auto bus = std::make_unique<devices::usb::FakeBus>();
   bus->add(devices::usb::emulated_device("falcon", std::make_shared<devices::falcon::FalconEmulator>(e)));
@@ -101,54 +98,50 @@ void refuse_for_vendor(const Params& p) {
   refuse_given(p, kHandParams, "device=simulated or device=falcon with transport=emulator (a real device is held by a person)");
 }
 
-std::unique_ptr<devices::ForceDevice> dhd_force(const Params& p) {
+std::unique_ptr<devices::ForceDevice> dhd_force(const Params& p, const ForceConfig& c) {
   refuse_for_vendor(p);
   refuse_given(p, {"device_name"}, "device=hd");
   devices::vendor::DhdParams d;
-  if (p.has("library")) d.library = p.text("library");
-  if (p.has("profile")) d.profile = p.text("profile");
+  if (p.has("library")) d.library = c.library;
+  if (p.has("profile")) d.profile = c.hand.profile;
   return std::make_unique<devices::vendor::DhdForceDevice>(d);
 }
 
-std::unique_ptr<devices::ForceDevice> hd_force(const Params& p) {
+std::unique_ptr<devices::ForceDevice> hd_force(const Params& p, const ForceConfig& c) {
   refuse_for_vendor(p);
   devices::vendor::HdParams h;
-  if (p.has("library")) h.library = p.text("library");
-  if (p.has("profile")) h.profile = p.text("profile");
-  h.device_name = p.text("device_name");
+  if (p.has("library")) h.library = c.library;
+  if (p.has("profile")) h.profile = c.hand.profile;
+  h.device_name = c.device_name;
   return std::make_unique<devices::vendor::HdForceDevice>(h);
 }
 
 // the Haply Inverse3: through the Inverse Service, or (transport=emulator) an emulated service
 // in this process whose handle the emulator's hand holds
-std::unique_ptr<devices::ForceDevice> inverse3_force(const Params& p) {
+std::unique_ptr<devices::ForceDevice> inverse3_force(const Params& p, const ForceConfig& c) {
   refuse_given(p, kFalconParams, "device=falcon");
   refuse_given(p, {"library", "device_name"}, "device=dhd or device=hd");
-  devices::inverse3::Inverse3Params d;
-  d.port = static_cast<int>(p.integer("port"));
-  d.events_port = static_cast<int>(p.integer("events_port"));
-  d.device_id = p.text("device_id");
-  d.origin_m = p.vec3("origin_m");
-  if (p.has("profile")) d.profile = p.text("profile");
-  if (!emulated(p)) {
+  devices::inverse3::Inverse3Params d = c.inverse3;
+  if (p.has("profile")) d.profile = c.hand.profile;
+  if (!emulated(c)) {
     refuse_given(p, kHandParams, "transport=emulator (the emulated hand)");
     return std::make_unique<devices::inverse3::Inverse3ForceDevice>(d);
   }
   refuse_given(p, {"port", "events_port", "device_id"}, "transport=usb (the emulator takes free ports)");
   devices::inverse3::Inverse3EmulatorParams e;
-  read_hand(p, e.handle);
+  read_hand(p, c, e.handle);
   e.handle.profile = d.profile;
   e.origin_m = d.origin_m;
   return std::make_unique<devices::inverse3::EmulatedInverse3>(d, e);
 }
 
 // the force device named by `device` (a device the table does not name is refused by declare())
-std::unique_ptr<devices::ForceDevice> inner_force_device(const Params& p, const std::string& device) {
-  if (device == "falcon") return falcon_force(p);
-  if (device == "dhd") return dhd_force(p);
-  if (device == "hd") return hd_force(p);
-  if (device == "inverse3") return inverse3_force(p);
-  return simulated_force(p);
+std::unique_ptr<devices::ForceDevice> inner_force_device(const Params& p, const ForceConfig& c) {
+  if (c.device == "falcon") return falcon_force(p, c);
+  if (c.device == "dhd") return dhd_force(p, c);
+  if (c.device == "hd") return hd_force(p, c);
+  if (c.device == "inverse3") return inverse3_force(p, c);
+  return simulated_force(p, c);
 }
 
 std::unique_ptr<devices::TactileDevice> metec_tactile(const TactileConfig& c) {
@@ -167,13 +160,8 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const TactileConfig& c) {
 sim::SimParams sim_params(const Params& p) { return sim_bindings().read(p); }
 
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
-  p.declare(force_table());
-  std::unique_ptr<devices::ForceDevice> inner = inner_force_device(p, p.text("device"));
-  devices::SafetyParams s;
-  s.watchdog_s = p.number("watchdog_s");
-  s.ramp_s = p.number("ramp_s");
-  s.reengage_s = p.number("reengage_s");
-  auto device_ptr = std::make_unique<devices::SafeForceDevice>(std::move(inner), s);
+  const ForceConfig c = force_bindings().read(p);
+  auto device_ptr = std::make_unique<devices::SafeForceDevice>(inner_force_device(p, c), c.safety);
   device_ptr->configure();
   return device_ptr;
 }

@@ -7,8 +7,6 @@
 #include <vector>
 
 #include "core/devices/device.h"
-#include "core/devices/metec/metec_device.h"
-#include "core/devices/simulated_tactile.h"
 #include "core/graph/params.h"
 #include "core/sim/simulator.h"
 
@@ -24,14 +22,6 @@ sim::SimParams sim_params(const Params& p);
 // emulator's hand; origin_m, profile). Parameters of another device or transport are refused.
 // Wrapped in the safety layer (clamp, NaN, watchdog); configured, not yet active
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
-
-// the tactile device's parameters (node_params.h: tactile_bindings(), each bound to a field)
-struct TactileConfig {
-  std::string device = "simulated";       // simulated or metec
-  devices::SimulatedTactileParams cells;  // rows, cols, rise_time_s (both devices)
-  std::string transport = "usb";          // metec: usb or emulator
-  devices::metec::MetecParams metec;      // metec: serial, first_cell
-};
 
 // the tactile device of tactile_bindings() (declared here): simulated, or metec (transport,
 // serial, first_cell); configured, not yet active

@@ -13,7 +13,7 @@
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/graph/logger.h"
-#include "core/graph/components.h"
+#include "core/graph/device_config.h"
 #include "core/graph/param_binding.h"
 #include "core/devices/device_profile.h"
 #include "core/rt/scheduler.h"
@@ -32,9 +32,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // the defaults are the components' own (their structs' initial values)
 const sim::SimParams kSim{};
 const devices::SimulatedForceParams kHand{};
-const devices::SafetyParams kSafety{};
-const devices::falcon::FalconParams kFalcon{};
-const devices::inverse3::Inverse3Params kInverse3{};
 const graph::LoggerOptions kLogger{};
 
 // what a loop process shares: enact-ffd, enact-rt
@@ -181,35 +178,48 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
 
 const ParamTable& sim_table() { return sim_bindings().table(); }
 
-const ParamTable& force_table() {
-  static const ParamTable t{
-      {.name = "device", .type = ParamType::choice, .fallback = "simulated", .choices = {"simulated", "falcon", "dhd", "hd", "inverse3"}, .doc = "simulated; a Novint Falcon over USB; a Force Dimension device (DHD SDK); an OpenHaptics device such as a 3D Systems Touch (HD API); a Haply Inverse3 (Inverse Service)"},
-      {.name = "profile", .type = ParamType::choice, .fallback = kHand.profile, .choices = devices::device_profile_names(), .doc = "device profile (simulated device; dhd: default omega3; hd: default touch; inverse3: default inverse3)"},
-      {.name = "hand_path", .type = ParamType::text, .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"},
-      {.name = "subject", .type = ParamType::text, .doc = "a virtual subject's file (YAML) holds the device instead"},
-      {.name = "subject_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's traits"},
-      {.name = "noise_seed", .type = ParamType::integer, .fallback = "0", .min = 0, .doc = "the virtual subject's motor noise"},
-      {.name = "start_m", .type = ParamType::vec3, .doc = "start position of the end-effector (empty: the body's position_m in `start_scene`, else " + number(kHand.start_m.x) + "," + number(kHand.start_m.y) + "," + number(kHand.start_m.z) + ")"},
-      {.name = "start_scene", .type = ParamType::text, .doc = "the graph's scene file: the end-effector starts where its body is (position_m) unless start_m is given"},
-      {.name = "hand_stiffness_n_per_m", .fallback = number(kHand.hand_stiffness_n_per_m), .min = 0, .doc = "the hand's grip stiffness"},
-      {.name = "hand_damping_n_s_per_m", .fallback = number(kHand.hand_damping_n_s_per_m), .min = 0, .doc = "the hand's grip damping"},
-      {.name = "watchdog_s", .fallback = number(kSafety.watchdog_s), .min = 0, .above_min = true, .doc = "longest time without a command before the force ramps down"},
-      {.name = "ramp_s", .fallback = number(kSafety.ramp_s), .min = 0, .doc = "ramp from the last command to zero"},
-      {.name = "reengage_s", .fallback = number(kSafety.reengage_s), .min = 0, .doc = "ramp from zero back to the commands after an interruption"},
-      {.name = "transport", .type = ParamType::choice, .fallback = "usb", .choices = {"usb", "emulator"}, .doc = "falcon: the machine's USB, or the Falcon emulator; inverse3: the Inverse Service (usb), or its emulator"},
-      {.name = "serial", .type = ParamType::text, .doc = "falcon: the serial number (empty: the first found)"},
-      {.name = "firmware", .type = ParamType::text, .doc = "falcon: the firmware file to upload when none runs"},
-      {.name = "homing_timeout_s", .fallback = number(kFalcon.homing_timeout_s), .min = 0, .above_min = true, .doc = "falcon: how long the user has to home the grip"},
-      {.name = "max_force_n", .fallback = number(kFalcon.max_force_n), .min = 0, .max = 9, .above_min = true, .doc = "falcon: the force is clamped to this"},
-      {.name = "library", .type = ParamType::text, .doc = "dhd, hd: the vendor's library, a file name or path (default libdhd.so, libHD.so)"},
-      {.name = "device_name", .type = ParamType::text, .doc = "hd: the device's name in Touch Setup (empty: the default device)"},
-      {.name = "port", .type = ParamType::integer, .fallback = std::to_string(kInverse3.port), .min = 1, .max = 65535, .doc = "inverse3: the Inverse Service's simulation channel (WebSocket)"},
-      {.name = "events_port", .type = ParamType::integer, .fallback = std::to_string(kInverse3.events_port), .min = 0, .max = 65535, .doc = "inverse3: the Inverse Service's events channel (0: none)"},
-      {.name = "device_id", .type = ParamType::text, .doc = "inverse3: the device's id in the service (empty: the first listed)"},
-      {.name = "origin_m", .type = ParamType::vec3, .fallback = number(kInverse3.origin_m.x) + "," + number(kInverse3.origin_m.y) + "," + number(kInverse3.origin_m.z), .doc = "inverse3: the point of the service's frame that is enact's origin"},
-  };
-  return t;
+const ParamBindings<ForceConfig>& force_bindings() {
+  using F = ForceConfig;
+  static const ParamBindings<F> b = [] {
+    ParamBindings<F> t;
+    t.field(&F::device, {.name = "device", .type = ParamType::choice, .choices = {"simulated", "falcon", "dhd", "hd", "inverse3"},
+                         .doc = "simulated; a Novint Falcon over USB; a Force Dimension device (DHD SDK); an OpenHaptics device such as a 3D Systems Touch (HD "
+                                "API); a Haply Inverse3 (Inverse Service)"})
+        .field([](F& c) -> std::string& { return c.hand.profile; },
+               {.name = "profile", .type = ParamType::choice, .choices = devices::device_profile_names(),
+                .doc = "device profile (simulated device; dhd: default omega3; hd: default touch; inverse3: default inverse3)"})
+        .field([](F& c) -> std::string& { return c.hand.hand_path; }, {.name = "hand_path", .doc = "CSV (t_s,x_m,y_m,z_m) the scripted hand tracks (empty: it holds start_m)"})
+        .field([](F& c) -> std::string& { return c.hand.subject; }, {.name = "subject", .doc = "a virtual subject's file (YAML) holds the device instead"})
+        .field([](F& c) -> std::uint64_t& { return c.hand.subject_seed; }, {.name = "subject_seed", .min = 0, .doc = "the virtual subject's traits"})
+        .field([](F& c) -> std::uint64_t& { return c.hand.noise_seed; }, {.name = "noise_seed", .min = 0, .doc = "the virtual subject's motor noise"})
+        .declared({.name = "start_m", .type = ParamType::vec3,
+                   .doc = "start position of the end-effector (empty: the body's position_m in `start_scene`, else " + ParamCodec<math::Vec3>::text(kHand.start_m) + ")"})
+        .field(&F::start_scene, {.name = "start_scene", .doc = "the graph's scene file: the end-effector starts where its body is (position_m) unless start_m is given"})
+        .field([](F& c) -> double& { return c.hand.hand_stiffness_n_per_m; }, {.name = "hand_stiffness_n_per_m", .min = 0, .doc = "the hand's grip stiffness"})
+        .field([](F& c) -> double& { return c.hand.hand_damping_n_s_per_m; }, {.name = "hand_damping_n_s_per_m", .min = 0, .doc = "the hand's grip damping"})
+        .field([](F& c) -> double& { return c.safety.watchdog_s; },
+               {.name = "watchdog_s", .min = 0, .above_min = true, .doc = "longest time without a command before the force ramps down"})
+        .field([](F& c) -> double& { return c.safety.ramp_s; }, {.name = "ramp_s", .min = 0, .doc = "ramp from the last command to zero"})
+        .field([](F& c) -> double& { return c.safety.reengage_s; }, {.name = "reengage_s", .min = 0, .doc = "ramp from zero back to the commands after an interruption"})
+        .field(&F::transport, {.name = "transport", .type = ParamType::choice, .choices = {"usb", "emulator"},
+                               .doc = "falcon: the machine's USB, or the Falcon emulator; inverse3: the Inverse Service (usb), or its emulator"})
+        .field([](F& c) -> std::string& { return c.falcon.serial; }, {.name = "serial", .doc = "falcon: the serial number (empty: the first found)"})
+        .field([](F& c) -> std::string& { return c.falcon.firmware; }, {.name = "firmware", .doc = "falcon: the firmware file to upload when none runs"})
+        .field([](F& c) -> double& { return c.falcon.homing_timeout_s; },
+               {.name = "homing_timeout_s", .min = 0, .above_min = true, .doc = "falcon: how long the user has to home the grip"})
+        .field([](F& c) -> double& { return c.falcon.max_force_n; }, {.name = "max_force_n", .min = 0, .max = 9, .above_min = true, .doc = "falcon: the force is clamped to this"})
+        .field(&F::library, {.name = "library", .doc = "dhd, hd: the vendor's library, a file name or path (default libdhd.so, libHD.so)"})
+        .field(&F::device_name, {.name = "device_name", .doc = "hd: the device's name in Touch Setup (empty: the default device)"})
+        .field([](F& c) -> int& { return c.inverse3.port; }, {.name = "port", .min = 1, .max = 65535, .doc = "inverse3: the Inverse Service's simulation channel (WebSocket)"})
+        .field([](F& c) -> int& { return c.inverse3.events_port; }, {.name = "events_port", .min = 0, .max = 65535, .doc = "inverse3: the Inverse Service's events channel (0: none)"})
+        .field([](F& c) -> std::string& { return c.inverse3.device_id; }, {.name = "device_id", .doc = "inverse3: the device's id in the service (empty: the first listed)"})
+        .field([](F& c) -> math::Vec3& { return c.inverse3.origin_m; }, {.name = "origin_m", .doc = "inverse3: the point of the service's frame that is enact's origin"});
+    return t;
+  }();
+  return b;
 }
+
+const ParamTable& force_table() { return force_bindings().table(); }
 
 const ParamBindings<TactileConfig>& tactile_bindings() {
   using T = TactileConfig;

@@ -19,8 +19,11 @@ class ParamBindings;  // param_binding.h
 
 // the simulator's parameters bound to the fields of sim::SimParams (graph::sim_params reads them)
 const ParamBindings<sim::SimParams>& sim_bindings();
-// the tactile device's, bound to TactileConfig (components.h; make_tactile_device reads them)
+// the devices', bound to ForceConfig and TactileConfig (device_config.h; make_force_device and
+// make_tactile_device read them)
+struct ForceConfig;
 struct TactileConfig;
+const ParamBindings<ForceConfig>& force_bindings();
 const ParamBindings<TactileConfig>& tactile_bindings();
 
 // the components of a real-time container (enact-rt) and of the nodes that wrap one

@@ -4,6 +4,7 @@
 // `enact param list/dump`, docs/cli.md) comes from the bindings; a row's type and default
 // come from the field (its value in a default-made Config); read() fills a Config from a
 // node's Params. Adding a parameter is a field in the struct and its one line of bindings.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <type_traits>
@@ -33,6 +34,12 @@ struct ParamCodec<int> {
   static constexpr ParamType type = ParamType::integer;
   static std::string text(int v) { return std::to_string(v); }
   static int read(const Params& p, const std::string& name) { return p.integer(name); }
+};
+template <>
+struct ParamCodec<std::uint64_t> {
+  static constexpr ParamType type = ParamType::integer;
+  static std::string text(std::uint64_t v) { return std::to_string(v); }
+  static std::uint64_t read(const Params& p, const std::string& name) { return static_cast<std::uint64_t>(p.integer(name)); }
 };
 template <>
 struct ParamCodec<bool> {
