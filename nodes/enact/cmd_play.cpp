@@ -14,6 +14,7 @@
 #include "core/graph/session.h"
 #include "core/graph/node.h"
 #include "core/graph/params.h"
+#include "core/graph/player.h"
 #include "core/launch/env.h"
 #include "core/config/format.h"
 #include "core/record/reader.h"
@@ -69,92 +70,35 @@ void require_topics(const record::Reader& r, const std::vector<std::string>& top
   }
 }
 
-// what `enact play` was asked to do
-struct PlayOptions {
+// what `enact play` was asked to do: the player's options and the command's own
+struct PlayCommand {
   std::string file;
-  std::vector<std::string> topics;           // empty: every topic
-  std::map<std::string, std::string> remap;  // topic -> published as
-  double rate = 1.0, offset_s = 0.0, wait_s = 5.0, delay_s = 0.0;
-  std::string as_node;  // --name: every message from this node
+  graph::PlayOptions play;
+  double rate = 1.0, delay_s = 0.0;
   bool loop = false, paused = false, check = false, help = false;
-
-  bool wanted(std::string_view topic) const { return topics.empty() || std::find(topics.begin(), topics.end(), topic) != topics.end(); }
-  std::string out_topic(const std::string& topic) const {
-    const auto it = remap.find(topic);
-    return it == remap.end() ? topic : it->second;
-  }
 };
 
-PlayOptions parse_play(int argc, char** argv) {
-  PlayOptions o;
+PlayCommand parse_play(int argc, char** argv) {
+  PlayCommand o;
   // list and repeatable options first
-  o.topics = take_list(argc, argv, "--topics");
-  for (std::string& t : o.topics) t = topic_name(t);
+  o.play.topics = take_list(argc, argv, "--topics");
+  for (std::string& t : o.play.topics) t = topic_name(t);
   for (const std::string& r : take_repeated(argc, argv, "--remap")) {
     const std::size_t at = r.find(":=");
     if (at == std::string::npos || at == 0 || at + 2 == r.size()) throw UsageError("--remap needs FROM:=TO, got '" + r + "'");
-    o.remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
+    o.play.remap[topic_name(r.substr(0, at))] = topic_name(r.substr(at + 2));
   }
   const Args a = parse(argc, argv, 2, {"rate", "start-offset", "name", "wait", "delay"}, {"loop", "paused", "check"});
   o.help = a.flag("help");
   if (o.help) return o;
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");
   o.file = a.positional[0];
-  o.rate = a.number("rate", 1.0), o.offset_s = a.number("start-offset", 0.0), o.wait_s = a.number("wait", 5.0), o.delay_s = a.number("delay", 0.0);
-  if (o.rate < 0.0 || o.offset_s < 0.0 || o.wait_s < 0.0 || o.delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
-  o.as_node = a.get("name", "");
+  o.rate = a.number("rate", 1.0), o.play.offset_s = a.number("start-offset", 0.0), o.play.wait_s = a.number("wait", 5.0), o.delay_s = a.number("delay", 0.0);
+  if (o.rate < 0.0 || o.play.offset_s < 0.0 || o.play.wait_s < 0.0 || o.delay_s < 0.0) throw UsageError("--rate, --start-offset, --wait and --delay must be >= 0");
+  o.play.as_node = a.get("name", "");
   o.loop = a.flag("loop"), o.paused = a.flag("paused"), o.check = a.flag("check");
   return o;
 }
-
-// the publishers of a play: one per recorded node (or one for all, as --name), from the
-// session's endpoints when it runs alone (a graph of its own), else from the launcher's graph
-struct PlayPublishers {
-  const PlayOptions& o;
-  record::Reader& r;
-  graph::GraphSession* session;
-  std::map<std::string, std::unique_ptr<bus::BytePublisher>> pubs;
-  std::map<std::uint16_t, bus::BytePublisher*> by_channel;
-
-  bus::BytePublisher& publisher(const record::Channel& c) {
-    const auto p = c.metadata.find("publisher");
-    const std::string node = !o.as_node.empty() ? o.as_node : p != c.metadata.end() && !p->second.empty() ? p->second : "play";
-    auto& slot = pubs[node];
-    if (!slot) {
-      slot = std::make_unique<bus::BytePublisher>(session ? session->node_endpoint(node) : graph::node_endpoint(node), bus::PublisherOptions{.node = node, .send_hwm = 1000});
-      if (session) session->attach().add_publisher(node, slot->endpoint());
-    }
-    const auto s = r.schemas().find(c.schema_id);
-    if (s != r.schemas().end()) {
-      slot->declare(o.out_topic(c.topic), s->second.name);
-      if (session) session->attach().declare_topic(o.out_topic(c.topic), s->second.name, node);
-    }
-    return *slot;
-  }
-  bus::BytePublisher& of(const record::Channel& c) {
-    auto it = by_channel.find(c.id);
-    if (it == by_channel.end()) it = by_channel.emplace(c.id, &publisher(c)).first;
-    return *it->second;
-  }
-  bool all_heard() const {
-    for (const auto& [id, pub] : by_channel) {
-      if (!pub->has_subscribers(o.out_topic(r.channels().at(id).topic))) return false;
-    }
-    return true;
-  }
-  // the subscribers connect (ZeroMQ drops what is sent before they do): a short grace for
-  // those on their way, then the wait is said, and how it ended
-  void wait_for_subscribers() const {
-    const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(o.wait_s * 1e9);
-    const std::int64_t grace = std::min(give_up, rt::now_ns() + 200'000'000);
-    while (!all_heard() && rt::now_ns() < grace && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
-    if (all_heard() || o.wait_s <= 0.0) return;
-    std::cerr << "enact play: waiting up to " << config::number(o.wait_s) << " s for a subscriber of every topic played (--wait S)\n";
-    while (!all_heard() && rt::now_ns() < give_up && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 5'000'000);
-    std::cerr << (all_heard() ? "enact play: every topic has a subscriber; playing\n"
-                              : "enact play: a topic still has no subscriber; playing anyway (what is sent before one listens is lost)\n");
-  }
-};
 
 // the progress line: the recording's position and span ("12.3 / 40.0 s"), a few times a
 // second on a terminal, every 5 s otherwise, and at once when paused or resumed
@@ -178,35 +122,16 @@ struct PlayProgress {
   }
 };
 
-// the recording once from --start-offset, each message at its time (until a stop request)
-void play_once(const PlayOptions& o, record::Reader& r, PlayPublishers& pubs, PlayClock& clock, PlayProgress& progress) {
-  bool started = false;
-  const std::int64_t from_ns = progress.first_ns + static_cast<std::int64_t>(o.offset_s * 1e9);
-  r.for_each([&](const record::Message& m) {
-    if (m.log_time_ns < from_ns || !o.wanted(m.topic)) return true;
-    if (!started) clock.restart(m.log_time_ns), started = true;
-    bus::BytePublisher& pub = pubs.of(*m.channel);
-    if (!clock.wait(m.log_time_ns)) return false;
-    const std::string topic = o.out_topic(std::string(m.topic));
-    // flow control: a full subscriber queue waits, nothing is dropped
-    while (!pub.send(topic, m.schema_name, m.data.data(), m.data.size()) && !graph::stop_requested()) rt::sleep_until_ns(rt::now_ns() + 50'000);
-    ++progress.sent;
-    progress.last_log = m.log_time_ns;
-    progress.show(clock);
-    return !graph::stop_requested();
-  });
-}
-
 }  // namespace
 
 int play(int argc, char** argv) {
-  const PlayOptions o = parse_play(argc, argv);
+  const PlayCommand o = parse_play(argc, argv);
   if (o.help) {
     std::fputs(kHelp, stdout);
     return 0;
   }
   record::Reader r(o.file);
-  require_topics(r, o.topics);
+  require_topics(r, o.play.topics);
   if (o.check) return 0;  // options and recording are good (enact launch checks its nodes)
 
   graph::install_stop_handlers();
@@ -218,14 +143,10 @@ int play(int argc, char** argv) {
     so.numbered = true;
     session = std::make_unique<graph::GraphSession>("play:" + std::filesystem::path(o.file).filename().string(), o.file, so);
   }
-  PlayPublishers pubs{o, r, session.get(), {}, {}};
-  for (const auto& [id, c] : r.channels()) {
-    if (o.wanted(c.topic)) pubs.of(c);
-  }
-  for (const auto& [node, pub] : pubs.pubs) graph::announce_topics(*pub);
+  graph::Player player(r, o.play, session.get());
   graph::report_ready();
   if (session) std::cerr << "enact play: graph " << session->name() << ": observers attach at " << session->endpoint() << "\n";
-  pubs.wait_for_subscribers();
+  player.wait_for_subscribers([](const std::string& line) { std::cerr << "enact play: " << line << "\n"; });
 
   const auto [first_ns, last_ns] = r.time_span();
   TerminalKeys keys(standalone);
@@ -241,8 +162,13 @@ int play(int argc, char** argv) {
   // --delay: the subscribers settle before the first message (`ros2 bag play --delay`)
   const std::int64_t delay_end = rt::now_ns() + static_cast<std::int64_t>(o.delay_s * 1e9);
   while (rt::now_ns() < delay_end && !graph::stop_requested()) rt::sleep_until_ns(std::min(delay_end, rt::now_ns() + 50'000'000));
+  const graph::PlayTiming timing{[&](std::int64_t t) { clock.restart(t); }, [&](std::int64_t t) { return clock.wait(t); }};
   do {
-    play_once(o, r, pubs, clock, progress);
+    player.play_once(timing, [&](std::int64_t log_ns) {
+      ++progress.sent;
+      progress.last_log = log_ns;
+      progress.show(clock);
+    });
   } while (o.loop && !graph::stop_requested());
   if (progress.tty) std::fputs("\n", stderr);
   std::fprintf(stderr, "enact play: %llu messages republished from %s\n", static_cast<unsigned long long>(progress.sent), r.path().c_str());
