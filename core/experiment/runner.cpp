@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -162,6 +163,12 @@ class TrialRun {
     launch::SupervisorOptions options;
     options.ready_timeout_s = 20.0;
     options.on_ready = [this] { ready_.store(true); };
+    // a node that ended cleanly: the clock master at the trial's end (its TRIAL_END says so,
+    // unless it came before this runner's subscription reached the attach point: a simulated
+    // trial can end that soon); watch() stops the graph once the logger had time to drain
+    options.on_exit = [this](const launch::NodeSpec&, int status) {
+      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) clean_exit_ns_.store(rt::now_ns());
+    };
     int code = 0;
     {
       const OutputTo to_log(log_);
@@ -215,6 +222,8 @@ class TrialRun {
         announce(msgs::TaskEvent::TRIAL_START, "");
       }
       if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END) stop_graph();
+      const std::int64_t exited_ns = clean_exit_ns_.load();
+      if (exited_ns != 0 && !stop_sent_.load() && rt::now_ns() - exited_ns > static_cast<std::int64_t>(kDrain_s * 1e9)) stop_graph();
       if (!announced) continue;
       trial_s_ = since(start);
       if (person) {
@@ -277,6 +286,7 @@ class TrialRun {
   Progress progress_;
   std::string recording_, log_;
   std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
+  std::atomic<std::int64_t> clean_exit_ns_{0};  // when a node of the graph last ended cleanly (0: none has)
   std::atomic<bool> aborted_{false};
   bool simulated_ = false;  // the trial graph's clock
   std::atomic<double> trial_s_{0.0};

@@ -201,6 +201,7 @@ struct Graph {
   // scheduled again
   bool handle_exit(Child& c) {
     log << "enact launch: '" << c.spec->name << "' (" << c.spec->source << ") " << describe(c.status) << "\n";
+    if (options.on_exit) options.on_exit(*c.spec, c.status);
     if (c.spec->required) {
       log << "enact launch: required process '" << c.spec->name << "' is gone, stopping the graph\n";
       return false;

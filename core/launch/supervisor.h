@@ -28,6 +28,8 @@ struct SupervisorOptions {
   std::function<void()> on_ready;
   // a process declared a topic it publishes (on its ready pipe)
   std::function<void(const NodeSpec& node, const std::string& topic, const std::string& type)> on_topic;
+  // a process exited (its wait status), before the graph acts on it (from the supervisor's thread)
+  std::function<void(const NodeSpec& node, int status)> on_exit;
   // set from any thread: the graph stops in order, as on SIGTERM (checked every 50 ms)
   const std::atomic<bool>* stop = nullptr;
   // polled while the graph runs (about every 50 ms): the names of processes that hang (e.g.

@@ -5,9 +5,16 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <sys/wait.h>
+
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
@@ -15,12 +22,15 @@
 #include "core/experiment/experiment.h"
 #include "core/experiment/runner.h"
 #include "core/launch/supervisor.h"
+#include "core/math/random.h"
+#include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
+                        [--seed S] [--replicates N [--jobs J]]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
 condition in a seeded random or balanced order, with optional familiarisation and practice
@@ -58,6 +68,12 @@ options:
                         many each real-time trial missed
   --plan                print the plan (trial order, seeds), check every trial graph's
                         parameters (as a run does first), and run nothing
+  --seed S              the plan's seed instead of the file's (subjects' traits, noise, orders)
+  --replicates N        virtual subjects, simulated time: N independent replicates of the whole
+                        experiment (replicate k: fresh subjects and noise from a seed derived
+                        from the file's and k), into DIR/replicate_001 ... each resumable, J at
+                        once (--jobs, default: one per CPU); then scripts/power.py DIR gives the
+                        virtual baseline's power against the number of subjects
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
 )";
@@ -240,10 +256,92 @@ int discrimination_run(const Args& a, FILE* term) {
   return r.interrupted ? 130 : 0;
 }
 
+// replicate k's seed: independent of the file's and of every other replicate's
+// (under 10^15: a --seed given as a number reads back exactly)
+std::uint64_t replicate_seed(std::uint64_t seed, int k) { return math::derive_seed(seed, 0x5265706c00ULL + static_cast<std::uint64_t>(k)) % 1'000'000'000'000'000ULL; }
+
+// `enact experiment FILE --seed S --out DIR [--subjects N] [--conditions ...] --clock
+// simulated` in a child process, its output into DIR/run.log
+pid_t start_replicate(const Args& a, const std::string& file, std::uint64_t seed, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> args = {"/proc/self/exe", "experiment", file, "--clock", "simulated", "--seed", std::to_string(seed), "--out", dir};
+  for (const char* o : {"subjects", "conditions"}) {
+    if (a.has(o)) args.insert(args.end(), {std::string("--") + o, a.get(o)});
+  }
+  const std::string log = dir + "/run.log";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    sigset_t all;
+    sigfillset(&all);
+    sigprocmask(SIG_UNBLOCK, &all, nullptr);
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+    }
+    std::vector<char*> argv;
+    for (auto& x : args) argv.push_back(x.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  if (pid < 0) throw std::runtime_error("cannot start a replicate: " + std::string(std::strerror(errno)));
+  return pid;
+}
+
+// --replicates N: the whole experiment N times with fresh seeds, J at once, each resumable in
+// its folder; Ctrl-C stops them (each resumes where it stopped)
+int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const std::string& out) {
+  const double n = a.number("replicates", 0.0);
+  const double jobs_given = a.number("jobs", static_cast<double>(std::max(1u, std::thread::hardware_concurrency())));
+  if (n < 1 || n != static_cast<int>(n) || jobs_given < 1 || jobs_given != static_cast<int>(jobs_given)) throw UsageError("--replicates and --jobs need a whole number >= 1");
+  if (!spec.virtual_subjects()) throw UsageError(spec.file + ": replicates need virtual subjects (people cannot be replicated); the file has none");
+  if (a.has("clock") && a.get("clock") != "simulated") throw UsageError("replicates run in simulated time: leave out --clock, or give --clock simulated");
+  const int count = static_cast<int>(n), jobs = static_cast<int>(jobs_given);
+  std::map<pid_t, int> running;
+  int next = 1, done = 0, failed = 0;
+  const std::int64_t start_ns = rt::now_ns();
+  std::fprintf(stderr, "enact experiment: %d replicates of %s (%zu subjects x %zu conditions each), %d at once, into %s/replicate_NNN\n", count, spec.name.c_str(),
+               spec.subjects.size(), spec.conditions.size(), jobs, out.c_str());
+  bool stopping = false;
+  while ((next <= count && !stopping) || !running.empty()) {
+    while (!stopping && next <= count && static_cast<int>(running.size()) < jobs) {
+      char dir[32];
+      std::snprintf(dir, sizeof dir, "/replicate_%03d", next);
+      running[start_replicate(a, spec.file, replicate_seed(spec.seed, next), out + dir)] = next;
+      ++next;
+    }
+    if (!stopping && experiment::take_stop_signal()) {
+      stopping = true;
+      for (const auto& [pid, k] : running) kill(pid, SIGTERM);
+      std::fprintf(stderr, "enact experiment: stopping; the replicates running stop after their trial (run the same command again to resume)\n");
+    }
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid <= 0) {
+      rt::sleep_until_ns(rt::now_ns() + 100'000'000);
+      continue;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    ok ? ++done : ++failed;
+    char dir[32];
+    std::snprintf(dir, sizeof dir, "/replicate_%03d", it->second);
+    std::fprintf(stderr, "enact experiment: replicate %d %s (%d of %d done, %.0f s)%s\n", it->second, ok ? "done" : "did not finish", done, count,
+                 static_cast<double>(rt::now_ns() - start_ns) * 1e-9, ok ? "" : ("; see " + out + dir + "/run.log").c_str());
+    running.erase(it);
+  }
+  if (stopping) return 130;
+  std::fprintf(stderr, "enact experiment: %d replicates done%s; power: /usr/bin/python3 scripts/power.py %s\n", done,
+               failed ? (", " + std::to_string(failed) + " did not finish (run again to resume them)").c_str() : "", out.c_str());
+  return failed ? 1 : 0;
+}
+
 }  // namespace
 
 int experiment_run(int argc, char** argv) {
-  const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out", "clock"}, {"plan"});
+  const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out", "clock", "seed", "replicates", "jobs"}, {"plan"});
   if (a.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -263,9 +361,15 @@ int experiment_run(int argc, char** argv) {
     experiment::override_subjects(spec, static_cast<int>(n));
   }
   if (a.has("conditions")) experiment::override_conditions(spec, split_commas(a.get("conditions")));
+  if (a.has("seed")) {
+    const double seed = a.number("seed", 0.0);
+    if (seed < 0 || seed != std::floor(seed) || seed >= 1e15) throw UsageError("--seed needs a whole number from 0 to 10^15");
+    spec.seed = static_cast<std::uint64_t>(seed);
+  }
+  const std::string out = a.get("out", "results/" + spec.name);
+  if (a.has("replicates")) return replicates_run(a, spec, out);
   spec.clock = clock_option(a);
   const std::vector<experiment::Trial> plan = experiment::make_plan(spec);
-  const std::string out = a.get("out", "results/" + spec.name);
   if (a.flag("plan")) print_plan(spec, plan);
   // every trial graph's nodes check their parameters before any trial starts
   const std::vector<std::string> problems = experiment::check_trial_graphs(spec, plan, out);
