@@ -43,6 +43,7 @@ constexpr const char* kRunnerNode = "experiment";
 // the clock master stops itself at the limit; the runner stops the rest of the graph this
 // long after, once the logger has received the last messages in flight
 constexpr double kDrain_s = 1.0;
+constexpr std::int64_t kDrainNs = static_cast<std::int64_t>(kDrain_s * 1e9);
 // a trial that reached its limit but for this long is taken as stopped by it: a loaded
 // machine can stall the loop for tens of ms, and the clock master skips the ticks it missed
 constexpr double kLimitSlack_s = 0.5;
@@ -167,7 +168,8 @@ class TrialRun {
     // unless it came before this runner's subscription reached the attach point: a simulated
     // trial can end that soon); watch() stops the graph once the logger had time to drain
     options.on_exit = [this](const launch::NodeSpec&, int status) {
-      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) clean_exit_ns_.store(rt::now_ns());
+      std::int64_t none = 0;
+      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) ended_ns_.compare_exchange_strong(none, rt::now_ns());
     };
     int code = 0;
     {
@@ -221,9 +223,15 @@ class TrialRun {
         announce(msgs::TaskEvent::CONDITION, to_string(trial_.kind));
         announce(msgs::TaskEvent::TRIAL_START, "");
       }
-      if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END) stop_graph();
-      const std::int64_t exited_ns = clean_exit_ns_.load();
-      if (exited_ns != 0 && !stop_sent_.load() && rt::now_ns() - exited_ns > static_cast<std::int64_t>(kDrain_s * 1e9)) stop_graph();
+      // the trial's end: the simulator's TRIAL_END, or the clock master gone. In real time the
+      // graph stops at once; in simulated time the loop ran ahead of the logger, which gets
+      // the drain time to take what is still on its way before it is stopped
+      if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END) {
+        std::int64_t none = 0;
+        ended_ns_.compare_exchange_strong(none, rt::now_ns() - (simulated_ ? 0 : kDrainNs));
+      }
+      const std::int64_t ended_ns = ended_ns_.load();
+      if (ended_ns != 0 && !stop_sent_.load() && rt::now_ns() - ended_ns >= kDrainNs) stop_graph();
       if (!announced) continue;
       trial_s_ = since(start);
       if (person) {
@@ -286,7 +294,7 @@ class TrialRun {
   Progress progress_;
   std::string recording_, log_;
   std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
-  std::atomic<std::int64_t> clean_exit_ns_{0};  // when a node of the graph last ended cleanly (0: none has)
+  std::atomic<std::int64_t> ended_ns_{0};  // when the trial ended (TRIAL_END, or a node ended cleanly); 0: not yet
   std::atomic<bool> aborted_{false};
   bool simulated_ = false;  // the trial graph's clock
   std::atomic<double> trial_s_{0.0};
