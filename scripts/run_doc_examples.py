@@ -13,9 +13,10 @@ Its settings (shell words):
   timeout=S            the block may take S seconds (default 60); then it is stopped and fails
   replace FROM TO      run the block with every FROM written TO (a shorter duration for CI);
                        FROM must be in the block
-  beside COMMAND       COMMAND (a graph: enact launch ...) runs in another terminal while the
-                       block runs: started first, the block starts once its graph is in the
-                       registry, stopped after it as by Ctrl-C; it must then exit 0
+  beside COMMAND       COMMAND (enact launch ...) runs in another terminal while the block
+                       runs: started first, the block starts once it says its graph is ready
+                       ("enact launch: graph NAME ready"), stopped after it as by Ctrl-C; it
+                       must then exit 0
   display              the block runs on a display of its own (xvfb-run), for the live viewer
   output               the comment lines right after a command, and a plain ``` block right
                        after this one, are its expected output: each must be a line of the
@@ -55,8 +56,9 @@ FENCE = re.compile(r'^(\s*)(`{3,}|~{3,})\s*(\S*)')
 MARKER = re.compile(r'^\s*<!--\s*runnable(?::(.*?))?\s*-->\s*$')
 SHELLS = ('sh', 'bash', 'shell')
 EXPECTED_EXIT = re.compile(r'^(?P<command>[^#]*\S)\s+#.*\(exit (?P<status>\d+)\)\s*$')
+READY = re.compile(r'^enact launch: graph \S+ ready', re.M)  # what a beside graph says once every node is up
 DEFAULT_TIMEOUT_S = 60.0
-STOP_GRACE_S = 5.0
+STOP_GRACE_S = 10.0
 
 
 class MarkerError(Exception):
@@ -99,10 +101,9 @@ def parse_settings(block, text, where):
             except ValueError:
                 raise MarkerError(f'{where}: the runnable marker: {word} is not a number of seconds\n  fix: e.g. timeout=90')
         elif word in ('replace', 'beside'):
-            needed = 2 if word == 'replace' else 1
+            needed, usage = (2, 'replace "FROM" "TO"') if word == 'replace' else (1, 'beside "enact launch FILE"')
             if len(words) < needed:
-                raise MarkerError(f'{where}: the runnable marker: {word} needs {needed} quoted argument(s)\n'
-                                  f'  fix: {word} "FROM" "TO"' if word == 'replace' else f'  fix: beside "enact launch FILE"')
+                raise MarkerError(f'{where}: the runnable marker: {word} needs {needed} quoted word(s)\n  fix: {usage}')
             args, words = words[:needed], words[needed:]
             if word == 'replace':
                 block.replace.append(tuple(args))
@@ -248,31 +249,27 @@ class Folder:
         else:
             shutil.rmtree(self.base, ignore_errors=True)
 
-    def graph_running(self):
-        return any((self.base / 'registry').glob('*.yaml'))
-
 
 def start(command, folder, block, log):
-    """a process group of its own in the folder, its output into log"""
+    """a process group of its own in the folder, its output into the file log"""
     env = dict(folder.env, ENACT_TEST_NAME=f'docs example {block.where}')
-    return subprocess.Popen(command, cwd=folder.top, env=env, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                            start_new_session=True)
+    with open(log, 'wb') as out:
+        return subprocess.Popen(command, cwd=folder.top, env=env, stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                start_new_session=True)
 
 
 def read_log(log):
-    log.flush()
-    log.seek(0)
-    return log.read().decode('utf-8', 'replace')
+    return log.read_bytes().decode('utf-8', 'replace')
 
 
-def start_beside(block, folder, log):
-    """the block's other terminal, once its graph is in the registry; (process, None) or (None, the failure)"""
+def start_beside(block, log, folder):
+    """the block's other terminal, once its graph is ready; (process, None) or (None, the failure)"""
     process = start(['bash', '-c', block.beside], folder, block, log)
     deadline = time.monotonic() + block.timeout_s
-    while not folder.graph_running():
+    while not READY.search(read_log(log)):
         if process.poll() is not None or time.monotonic() > deadline:
             stop_group(process)
-            return None, f'{block.where}: beside "{block.beside}": no graph appeared (exit {process.returncode})\n{read_log(log)}'
+            return None, f'{block.where}: beside "{block.beside}": its graph did not say it was ready (exit {process.returncode})\n{read_log(log)}'
         time.sleep(0.05)
     return process, None
 
@@ -288,28 +285,29 @@ def run_block(block, folder):
     shell = ['bash', '-e', '-o', 'pipefail', '-c',
              '_lines=$2; set -T; trap \'if [ "$BASHPID" = "$$" ]; then echo "$LINENO" >>"$_lines"; fi\' DEBUG; source "$1"',
              'bash', str(files['sh']), str(files['lines'])]
+    if block.display and not shutil.which('xvfb-run'):
+        return f'{block.where}: the block needs a display (xvfb-run), and there is none\n  fix: apt-get install xvfb\n'
     if block.display:
         shell = ['xvfb-run', '-a', '-s', '-screen 0 1280x800x24 -nolisten tcp'] + shell
-    with open(files['log'], 'w+b') as log, open(files['beside'], 'w+b') as beside_log:
-        beside, failure = start_beside(block, folder, beside_log) if block.beside else (None, None)
-        if failure:
-            return failure
-        process = start(shell, folder, block, log)
-        try:
-            status = process.wait(timeout=block.timeout_s)
-            problem = None if status == 0 else f'exited {status}'
-        except subprocess.TimeoutExpired:
-            problem = f'still ran after timeout={block.timeout_s:g} s'
-        stop_group(process)
-        output = read_log(log)
-        if problem is None and block.output:
-            missing = missing_output(expected_output(block), output)
-            problem = None if missing is None else f'printed no line "{missing[1]}" (its output, as {block.file}:{missing[0]} shows it)'
-        if beside:
-            stop_group(beside, signal.SIGINT)
-            if beside.returncode != 0:
-                problem = problem or f'ran, but beside "{block.beside}" exited {beside.returncode} when stopped'
-                output += f'\n  (beside "{block.beside}" printed:)\n{read_log(beside_log)}'
+    beside, failure = start_beside(block, files['beside'], folder) if block.beside else (None, None)
+    if failure:
+        return failure
+    process = start(shell, folder, block, files['log'])
+    try:
+        status = process.wait(timeout=block.timeout_s)
+        problem = None if status == 0 else f'exited {status}'
+    except subprocess.TimeoutExpired:
+        problem = f'still ran after timeout={block.timeout_s:g} s'
+    stop_group(process)
+    output = read_log(files['log'])
+    if problem is None and block.output:
+        missing = missing_output(expected_output(block), output)
+        problem = None if missing is None else f'printed no line "{missing[1]}" (its output, as {block.file}:{missing[0]} shows it)'
+    if beside:
+        stop_group(beside, signal.SIGINT)
+        if beside.returncode != 0:
+            problem = problem or f'ran, but beside "{block.beside}" exited {beside.returncode} when stopped'
+            output += f'\n  (beside "{block.beside}" printed:)\n{read_log(files["beside"])}'
     return None if problem is None else describe(block, problem, files['lines'], output)
 
 

@@ -214,13 +214,13 @@ class RunsWhatIsRight(Pages):
         self.assertEqual(status, 0, out)
 
     def test_beside_runs_a_graph_while_the_block_runs_and_stops_it_as_ctrl_c(self):
-        # a stand-in graph: registers itself, and answers Ctrl-C by writing "stopped"
-        graph = ('echo "name: g" > "$ENACT_REGISTRY/g.yaml"; trap "echo stopped > stopped.txt; exit 0" INT; '
-                 'while true; do sleep 0.1; done')
+        # a stand-in for enact launch: says its graph is ready once up, answers Ctrl-C by writing "stopped"
+        graph = ('trap "echo stopped > stopped.txt; exit 0" INT; sleep 0.5; echo up > up.txt; '
+                 'echo "enact launch: graph g ready; observers attach at tcp://127.0.0.1:1" >&2; while true; do sleep 0.1; done')
         self.page('a.md', f"""\
             <!-- runnable: beside '{graph}' -->
             ```sh
-            test -e "$ENACT_REGISTRY/g.yaml"
+            grep -x up up.txt
             test ! -e stopped.txt
             ```
 
@@ -233,7 +233,7 @@ class RunsWhatIsRight(Pages):
         self.assertEqual(status, 0, out)
 
     def test_beside_that_fails_when_stopped_fails_the_block(self):
-        graph = 'echo "name: g" > "$ENACT_REGISTRY/g.yaml"; trap "exit 3" INT; while true; do sleep 0.1; done'
+        graph = 'trap "exit 3" INT; echo "enact launch: graph g ready" >&2; while true; do sleep 0.1; done'
         self.page('a.md', f"""\
             <!-- runnable: beside '{graph}' -->
             ```sh
