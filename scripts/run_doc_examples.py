@@ -356,8 +356,25 @@ def list_blocks(files):
     print(f'all: {counts[0]} runnable, {counts[1]} not marked')
 
 
+def load(root, names):
+    """each file's sh blocks; MarkerError for a marker the runner cannot follow, before anything runs"""
+    files = {name: blocks_of(root, name) for name in names}
+    for block in (b for blocks in files.values() for b in blocks if b.runnable):
+        script_of(block)  # a replacement that is not in the block
+    return files
+
+
+def up_to(blocks, relative, line):
+    """the runnable blocks of a file up to the one covering line (FILE:LINE)"""
+    last = next((b for b in blocks if line.isdigit() and b.covers(int(line))), None)
+    if last is None or not last.runnable:
+        raise MarkerError(f'{relative}:{line}: no runnable block there (--list shows them)')
+    return blocks[:blocks.index(last) + 1]
+
+
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0], usage=__doc__.split('\n')[2][7:])
+    head, usage, rest = __doc__.split('\n', 3)[0], __doc__.split('\n')[2][7:], __doc__.split('\n', 3)[3]
+    parser = argparse.ArgumentParser(description=head, usage=usage, epilog=rest, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('files', nargs='*', help='markdown files (default: README.md and docs/*.md)')
     parser.add_argument('--root', default=str(ROOT), help='the repository (default: this script\'s ..)')
     parser.add_argument('--build', default=os.environ.get('ENACT_BUILD_DIR'), help='the build folder (default $ENACT_BUILD_DIR, else ROOT/build)')
@@ -372,24 +389,15 @@ def main():
     if only_file:
         names = [only_file]
     try:
-        files = {name: blocks_of(root, name) for name in names}
-        for blocks in files.values():
-            for block in blocks:
-                if block.runnable:
-                    script_of(block)  # a replacement that is not in the block: refused before anything runs
+        files = load(root, names)
+        if only_line:
+            files = {only_file: up_to(files[only_file], only_file, only_line)}
     except (MarkerError, OSError) as e:
         print(e, file=sys.stderr)
         return 2
     if args.list:
         list_blocks(files)
         return 0
-    if only_line:
-        blocks = files[only_file]
-        last = next((b for b in blocks if b.covers(int(only_line))), None)
-        if last is None or not last.runnable:
-            print(f'{only_file}:{only_line}: no runnable block there (--list shows them)', file=sys.stderr)
-            return 2
-        files = {only_file: blocks[:blocks.index(last) + 1]}
     if not build.is_dir():
         print(f'{build}: no build folder\n  fix: build first (scripts/build.sh), or give --build DIR', file=sys.stderr)
         return 2
