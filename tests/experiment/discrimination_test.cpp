@@ -79,6 +79,14 @@ TEST(Discrimination, TheExampleLoadsAsWritten) {
   for (const auto& [subject, by] : jnd) EXPECT_NEAR(by.at("CM1") / by.at("CM0"), 0.75, 1e-12) << subject;
 }
 
+TEST(Discrimination, TheDeviceExampleRunsPeopleOnTheTrialGraph) {
+  const DiscriminationSpec spec = load_discrimination(test::source_path("launch/experiments/stiffness_discrimination_device.yaml"));
+  EXPECT_FALSE(spec.virtual_observers) << "no virtual_observers: people";
+  EXPECT_EQ(spec.launch, test::source_path("launch/experiments/trial_rt.yaml"));
+  EXPECT_EQ(spec.interval_s, 2.0);
+  for (const DiscriminationBlock& b : make_blocks(spec)) EXPECT_TRUE(std::isnan(b.observer.function.threshold)) << "no observer's JND";
+}
+
 TEST(Discrimination, TheManifestIsWrittenBeforeTheFirstTrial) {
   const test::TempDir dir;
   const DiscriminationSpec spec = small_example();
