@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "core/bus/typed.h"
 #include "core/config/format.h"
@@ -40,30 +42,35 @@ launch::LaunchDescription trial_graph(const DiscriminationSpec& spec, const Cond
   return load_trial_graph(spec.launch, a, spec.clock);
 }
 
-// the graph's clock as the runner sees it, from the device states: a tick's stamp is its
-// deadline, n / rate_hz after the first, so any two give the period
+// the graph's clock as the runner sees it, from the device states: the stamp of each recent
+// tick (a loop that missed deadlines skips ticks: its seqs run behind its stamps)
 class GraphTime {
  public:
+  GraphTime() : kept_(kKept) {}
   void saw(const msgs::DeviceState& s) {
     if (!seen_) first_seq_ = s.header().seq(), first_ns_ = s.header().stamp_ns();
     seen_ = true;
     seq_ = s.header().seq();
     now_ns_ = s.header().stamp_ns();
     buttons_ = s.buttons();
+    kept_[seq_ % kKept] = {seq_, now_ns_};
   }
-  bool known() const { return seen_ && seq_ > first_seq_; }
+  bool seen() const { return seen_; }
   std::uint64_t seq() const { return seq_; }
   std::int64_t now_ns() const { return now_ns_; }
   std::uint32_t buttons() const { return buttons_; }
-  // the stamp of tick `seq` (the latest seen while the period is not known yet)
+  // the stamp of tick `seq`: as received, else from the latest at the mean period so far
   std::int64_t at(std::uint64_t seq) const {
-    return known() ? now_ns_ + std::llround((static_cast<double>(seq) - static_cast<double>(seq_)) * period_ns()) : now_ns_;
+    const auto& [kept_seq, kept_ns] = kept_[seq % kKept];
+    if (kept_seq == seq) return kept_ns;
+    if (seq_ <= first_seq_) return now_ns_;
+    const double period_ns = static_cast<double>(now_ns_ - first_ns_) / static_cast<double>(seq_ - first_seq_);
+    return now_ns_ + std::llround((static_cast<double>(seq) - static_cast<double>(seq_)) * period_ns);
   }
-  // ticks in `s` seconds (known() only)
-  std::uint64_t ticks(double s) const { return static_cast<std::uint64_t>(std::ceil(s * 1e9 / period_ns() - 1e-6)); }
 
  private:
-  double period_ns() const { return static_cast<double>(now_ns_ - first_ns_) / static_cast<double>(seq_ - first_seq_); }
+  static constexpr std::size_t kKept = 1 << 15;  // 6.5 s at 5 kHz
+  std::vector<std::pair<std::uint64_t, std::int64_t>> kept_;  // (seq, stamp) by seq % kKept
   bool seen_ = false;
   std::uint64_t first_seq_ = 0, seq_ = 0;
   std::int64_t first_ns_ = 0, now_ns_ = 0;
@@ -159,7 +166,7 @@ class GraphTrial {
                trial_.procedure + ": level " + config::number(trial_.level) + ", reference in interval " + std::to_string(trial_.reference_interval));
       set_interval(params, 1);
     }
-    if (phase_ == Phase::exploring && time_.known() && time_.seq() >= start_seq_ + time_.ticks(spec_.interval_s)) {
+    if (phase_ == Phase::exploring && time_.seen() && time_.now_ns() - start_ns_ >= std::llround(spec_.interval_s * 1e9)) {
       if (interval_ == 1) {
         set_interval(params, 2);
       } else {
@@ -217,7 +224,7 @@ class GraphTrial {
     if (interval_ == 2) announce(msgs::TaskEvent::INTERVAL_END, at_ns, "interval 1 ended" + seq);
     announce(msgs::TaskEvent::INTERVAL_START, at_ns, "interval " + std::to_string(interval_) + ": " + value_text(interval_) + " from" + seq);
     if (person_) ui_.note("interval " + std::to_string(interval_));
-    start_seq_ = answer.state_seq;
+    start_ns_ = at_ns;
     phase_ = Phase::exploring;
   }
 
@@ -243,7 +250,7 @@ class GraphTrial {
   Phase phase_ = Phase::starting;
   GraphTime time_;
   int interval_ = 0;               // the interval set or running
-  std::uint64_t start_seq_ = 0;    // its first tick
+  std::int64_t start_ns_ = 0;      // its first tick's stamp
   std::int64_t end_ns_ = 0;        // the last interval's end
   int chosen_ = 0;
   double response_time_s_ = 0.0;
@@ -259,7 +266,9 @@ class GraphTrial {
 std::string trial_stem(const Presentation& trial) {
   char number[16];
   std::snprintf(number, sizeof number, "_t%03zu", trial.trial + 1);
-  return "s" + file_safe(trial.block->subject) + "_" + file_safe(trial.block->condition.label) + number;
+  std::string stem = "s";
+  stem += file_safe(trial.block->subject) + "_" + file_safe(trial.block->condition.label) + number;
+  return stem;
 }
 
 GraphAnswer run_graph_trial(const DiscriminationSpec& spec, const Presentation& trial, const std::string& folder, AnswerSource& answers, RunnerUi& ui) {
