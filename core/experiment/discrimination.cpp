@@ -9,6 +9,7 @@
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
+#include "core/experiment/discrimination_graph.h"
 #include "core/experiment/plan_file.h"
 #include "core/experiment/results.h"
 #include "core/math/random.h"
@@ -131,7 +132,7 @@ std::string exact(double v) {
 }  // namespace
 
 const char* const kDiscriminationTrialsHeader =
-    "subject,condition,order,procedure,trial,parameter,reference,comparison,level,reference_interval,chosen_interval,correct";
+    "subject,condition,order,procedure,trial,parameter,reference,comparison,level,reference_interval,chosen_interval,correct,response_time_s";
 const char* const kDiscriminationSummaryHeader =
     "subject,condition,order,trials,jnd,jnd_low,jnd_high,bootstrap_low,bootstrap_high,weber_fraction,lapse,spread,true_jnd";
 
@@ -144,7 +145,7 @@ DiscriminationSpec load_discrimination(const std::string& path) {
   const YAML::Node root = config::load_file(path);
   const config::Map m(root, path, "discrimination experiment",
                       {"name", "description", "kind", "seed", "subjects", "conditions", "order", "parameter", "reference", "procedures",
-                       "virtual_observers", "analysis"});
+                       "virtual_observers", "analysis", "graph", "launch_args", "interval_s", "answer_limit_s"});
   DiscriminationSpec s;
   s.file = fs::absolute(path).lexically_normal().string();
   s.name = m.text("name", fs::path(path).stem().string());
@@ -170,12 +171,21 @@ DiscriminationSpec load_discrimination(const std::string& path) {
     }
     s.procedures.push_back(p);
   }
-  // who answers: virtual observers (people need the device trial, not built yet)
-  if (!m.has("virtual_observers")) {
-    m.fail("kind", "a discrimination experiment with people needs the two-interval device trial, which enact does not run yet",
-           "give virtual_observers: {weber_fraction: ..., exponent: ..., lapse: ...} to run it with virtual subjects");
+  // who answers: virtual observers, or people
+  s.virtual_observers = m.has("virtual_observers");
+  if (s.virtual_observers) s.observers = read_observers(m, s.conditions);
+  // where: each trial in its graph (the default), or no graph at all (virtual observers only)
+  if (!m.has("graph")) {
+    m.fail("kind", "a discrimination experiment names its trials' graph",
+           "write graph: trial_rt.yaml (each trial in the co-located trial graph, a launch file relative to this file), or graph: false (virtual observers, no graph)");
   }
-  s.observers = read_observers(m, s.conditions);
+  if (m.text("graph") == "false") {
+    if (!s.virtual_observers) m.fail("graph", "graph: false runs virtual observers only: people explore the intervals on a graph", "write graph: trial_rt.yaml, or give virtual_observers");
+  } else {
+    read_trial_graph(m, {"model", "recording", "limit_s"}, s.launch, s.launch_args);
+  }
+  s.interval_s = m.positive("interval_s", s.interval_s);
+  s.answer_limit_s = m.positive("answer_limit_s", s.answer_limit_s);
   // the analysis
   if (m.has("analysis")) {
     const config::Map a(m.get("analysis"), path, "analysis", {"shape", "exponent", "max_lapse", "bootstrap"});
@@ -210,7 +220,8 @@ std::vector<DiscriminationBlock> make_blocks(const DiscriminationSpec& spec) {
       b.condition = spec.conditions[order[i]];
       b.order = static_cast<int>(i + 1);
       b.seed = math::derive_seed(subject_stream, 1 + order[i]);
-      const double weber = spec.observers.weber_fraction.at(b.condition.label) * std::exp(spec.observers.weber_sd_log * z);
+      // people: no observer (its JND unknown)
+      const double weber = spec.virtual_observers ? spec.observers.weber_fraction.at(b.condition.label) * std::exp(spec.observers.weber_sd_log * z) : NAN;
       b.observer.function = {psychophysics::Shape::weibull, weber * spec.reference, spec.observers.exponent, 0.5, spec.observers.lapse};
       b.observer.seed = math::derive_seed(b.seed, 1);
       blocks.push_back(b);
@@ -254,8 +265,8 @@ std::map<std::string, std::vector<Told>> read_trials(const std::string& path, co
       continue;
     }
     const std::vector<std::string> c = cells(line);
-    const auto procedure = std::find_if(spec.procedures.begin(), spec.procedures.end(), [&](const ProcedureSpec& p) { return c.size() == 12 && p.label == c[3]; });
-    if (c.size() != 12 || procedure == spec.procedures.end()) {
+    const auto procedure = std::find_if(spec.procedures.begin(), spec.procedures.end(), [&](const ProcedureSpec& p) { return c.size() == 13 && p.label == c[3]; });
+    if (c.size() != 13 || procedure == spec.procedures.end()) {
       throw config::Error(path + ":" + std::to_string(n) + ": a damaged row (" + line + ")\n  fix: delete this row and those after it: their trials run again");
     }
     out[c[0] + "," + c[1]].push_back({static_cast<std::size_t>(procedure - spec.procedures.begin()), std::stod(c[8]), c[11] == "1"});
@@ -281,7 +292,11 @@ std::string manifest_text(const DiscriminationSpec& spec, const std::string& fil
   for (const ProcedureSpec& p : spec.procedures) m += " " + p.label;
   m += std::string("\nanalysis: ") + psychophysics::to_string(spec.fit.shape) + ", exponent " + (spec.fit.spread > 0.0 ? number(spec.fit.spread) : "fitted") +
        ", lapse in [0, " + number(spec.fit.free_lapse ? spec.fit.max_lapse : 0.0) + "], bootstrap " + std::to_string(spec.bootstrap_replicates) +
-       ", 95 % profile-likelihood and bootstrap intervals\nblocks: subject,condition,order,seed,observer_jnd\n";
+       ", 95 % profile-likelihood and bootstrap intervals\ntrials: " +
+       (spec.on_graph() ? "each in its graph " + spec.launch + ", clock " + (spec.clock ? rt::to_string(*spec.clock) : "of the launch file") +
+                              ", intervals of " + number(spec.interval_s) + " s"
+                        : std::string("no graph")) +
+       ", answered by " + (spec.virtual_observers ? "virtual observers" : "people") + "\nblocks: subject,condition,order,seed,observer_jnd\n";
   for (const DiscriminationBlock& b : blocks) {
     m += b.subject + "," + b.condition.label + "," + std::to_string(b.order) + "," + std::to_string(b.seed) + "," + number(b.observer.function.threshold) + "\n";
   }
@@ -327,8 +342,54 @@ std::string summarise(const DiscriminationSpec& spec, const DiscriminationBlock&
 
 }  // namespace
 
+AnswerSource::~AnswerSource() = default;
+
+int ObserverAnswers::answer(const Presentation& trial, std::uint32_t) {
+  return trial.block->observer.chosen_interval(trial.trial, trial.level, trial.larger_interval());
+}
+
+int PersonAnswers::answer(const Presentation&, std::uint32_t buttons) {
+  // a button counts when pressed, not while held
+  const std::uint32_t pressed = buttons & ~last_buttons_;
+  last_buttons_ = buttons;
+  const int key = ui_.interval_answer();
+  if (key == 1 || key == 2) return key;
+  return (pressed & 1u) ? 1 : (pressed & 2u) ? 2 : 0;
+}
+
+namespace {
+
+// the block as a trial of the runner's user interface (its prompt before the block)
+Trial prompt_of(const DiscriminationBlock& b) {
+  Trial t;
+  t.subject = b.subject;
+  t.subject_index = b.subject_index;
+  t.condition = b.condition;
+  t.order = b.order;
+  return t;
+}
+
+// the next trial of a block: its procedure's level, and the reference's interval drawn from
+// the block's seed and the trial's index
+Presentation present(const DiscriminationSpec& spec, const DiscriminationBlock& b, psychophysics::Interleaved& set) {
+  Presentation p;
+  p.block = &b;
+  p.trial = set.trials;
+  const std::size_t k = set.next();
+  p.procedure = spec.procedures[k].label;
+  p.level = set.procedures[k]->next_level();
+  math::Random coin(math::derive_seed(b.seed, 1000 + set.trials));
+  p.reference_interval = 1 + static_cast<int>(coin.below(2));
+  return p;
+}
+
+// consecutive failed trials after which the run stops
+constexpr int kMaxFailures = 3;
+
+}  // namespace
+
 DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::string& out, RunnerUi& ui, std::size_t max_trials) {
-  fs::create_directories(out);
+  fs::create_directories(out + (spec.on_graph() ? "/trials" : ""));
   const std::vector<DiscriminationBlock> blocks = make_blocks(spec);
   check_same_plan(spec, out, blocks);
   DiscriminationRun run;
@@ -336,7 +397,12 @@ DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::
   run.summary = out + "/summary.csv";
   const std::map<std::string, std::vector<Told>> told = read_trials(run.trials, spec);
   std::string summary = std::string(kDiscriminationSummaryHeader) + "\n";
+  // whoever answers, through the one interface
+  ObserverAnswers observers;
+  PersonAnswers people(ui);
+  AnswerSource& answers = spec.virtual_observers ? static_cast<AnswerSource&>(observers) : people;
   bool complete = true;
+  int failures = 0;
   for (const DiscriminationBlock& b : blocks) {
     psychophysics::Interleaved set = make_procedures(spec, b);
     // resume: replay what trials.csv holds for this block
@@ -353,24 +419,37 @@ DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::
       set.trials = held->second.size();
       if (set.finished()) ++run.blocks_done_before;
     }
+    // with people, the experimenter starts each block
+    if (!set.finished() && !run.interrupted && !spec.virtual_observers && !ui.start_trial(prompt_of(b))) run.interrupted = true;
     // the block's trials, each recorded before the next
     while (!set.finished() && !run.interrupted) {
       if (take_stop_signal() || (max_trials > 0 && run.trials_run >= max_trials)) {
         run.interrupted = true;
         break;
       }
-      const std::size_t k = set.next();
-      const double level = set.procedures[k]->next_level();
-      math::Random coin(math::derive_seed(b.seed, 1000 + set.trials));
-      const int reference_interval = 1 + static_cast<int>(coin.below(2));
-      const int larger = 3 - reference_interval;
-      const int chosen = b.observer.chosen_interval(set.trials, level, larger);
-      const bool correct = chosen == larger;
+      const Presentation p = present(spec, b, set);
+      const GraphAnswer a = spec.on_graph() ? run_graph_trial(spec, p, out + "/trials", answers, ui)
+                                            : GraphAnswer{GraphAnswer::Outcome::answered, answers.answer(p, 0), NAN, ""};
+      if (a.outcome == GraphAnswer::Outcome::interrupted) {
+        run.interrupted = true;
+        break;
+      }
+      if (a.outcome == GraphAnswer::Outcome::failed) {
+        ++run.failed;
+        ui.note("subject " + b.subject + ", " + b.condition.label + ", trial " + std::to_string(p.trial + 1) + ": " + a.problem + "; it runs again");
+        if (++failures >= kMaxFailures) {
+          ui.note("stopping: " + std::to_string(failures) + " trials failed in a row");
+          run.interrupted = true;
+        }
+        continue;
+      }
+      failures = 0;
+      const bool correct = a.chosen == p.larger_interval();
       append_line(run.trials, kDiscriminationTrialsHeader,
-                  b.subject + "," + b.condition.label + "," + std::to_string(b.order) + "," + spec.procedures[k].label + "," +
-                      std::to_string(set.trials + 1) + "," + spec.parameter + "," + config::number(spec.reference) + "," +
-                      config::number(spec.reference + level) + "," + exact(level) + "," + std::to_string(reference_interval) + "," +
-                      std::to_string(chosen) + "," + (correct ? "1" : "0"));
+                  b.subject + "," + b.condition.label + "," + std::to_string(b.order) + "," + p.procedure + "," + std::to_string(p.trial + 1) + "," +
+                      spec.parameter + "," + config::number(spec.reference) + "," + config::number(spec.reference + p.level) + "," + exact(p.level) + "," +
+                      std::to_string(p.reference_interval) + "," + std::to_string(a.chosen) + "," + (correct ? "1" : "0") + "," +
+                      config::number(a.response_time_s));
       set.tell(correct);
       ++run.trials_run;
     }

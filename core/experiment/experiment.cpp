@@ -40,12 +40,6 @@ Condition condition(const std::string& file, const YAML::Node& at, const std::st
   }
 }
 
-// letters, digits, '-' and '_' only: safe in a file name
-std::string safe(const std::string& text) {
-  std::string out;
-  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
-  return out;
-}
 
 std::vector<std::string> numbered(int count) {
   std::vector<std::string> ids;
@@ -125,25 +119,33 @@ ExperimentSpec load_experiment(const std::string& path) {
   s.familiarisation_s = m.positive("familiarisation_s", 0.0, true);
   s.practice_s = m.positive("practice_s", 0.0, true);
   // the graph of a trial: a launch file, checked now with the arguments the runner gives it
-  s.launch = beside(path, m.text("graph"));
-  if (!fs::is_regular_file(s.launch)) m.fail("graph", "no launch file " + s.launch, "give the trial's launch file, relative to the experiment file (e.g. trial_rt.yaml: co-located, trial.yaml: distributed)");
+  std::vector<std::string> needed{"model", "recording", "limit_s"};
+  if (s.virtual_subjects()) needed.insert(needed.end(), {"subject", "subject_seed", "noise_seed"});
+  read_trial_graph(m, needed, s.launch, s.launch_args);
+  return s;
+}
+
+void read_trial_graph(const config::Map& m, const std::vector<std::string>& needed, std::string& launch,
+                      std::vector<std::pair<std::string, std::string>>& args) {
+  const std::string& path = m.file();
+  launch = beside(path, m.text("graph"));
+  if (!fs::is_regular_file(launch)) m.fail("graph", "no launch file " + launch, "give the trial's launch file, relative to the experiment file (e.g. trial_rt.yaml: co-located, trial.yaml: distributed)");
   if (m.has("launch_args")) {
-    const YAML::Node args = m.get("launch_args");
-    if (!args.IsMap()) m.fail("launch_args", "launch_args must be a mapping", "write launch_args: {rate_hz: 5000}");
-    for (const auto& kv : args) {
+    const YAML::Node given = m.get("launch_args");
+    if (!given.IsMap()) m.fail("launch_args", "launch_args must be a mapping", "write launch_args: {rate_hz: 5000}");
+    for (const auto& kv : given) {
       if (!kv.second.IsScalar()) config::fail(path, kv.second, "launch argument '" + kv.first.Scalar() + "' must be a single value", "write NAME: VALUE");
-      s.launch_args.emplace_back(kv.first.Scalar(), kv.second.Scalar());
+      args.emplace_back(kv.first.Scalar(), kv.second.Scalar());
     }
   }
   try {
     // the arguments only: the executables are found when a trial starts
-    const launch::LaunchDescription declared = launch::load_launch(s.launch, {}, [](const std::string& exec) { return exec; });
-    std::vector<std::string> needed{"model", "recording", "limit_s"};
-    if (s.virtual_subjects()) needed.insert(needed.end(), {"subject", "subject_seed", "noise_seed"});
-    for (const auto& [name, value] : s.launch_args) needed.push_back(name);
-    for (const std::string& name : needed) {
+    const launch::LaunchDescription declared = launch::load_launch(launch, {}, [](const std::string& exec) { return exec; });
+    std::vector<std::string> all = needed;
+    for (const auto& [name, value] : args) all.push_back(name);
+    for (const std::string& name : all) {
       const bool has = std::any_of(declared.args.begin(), declared.args.end(), [&](const launch::ArgSpec& a) { return a.name == name; });
-      if (!has) m.fail("graph", "the launch file " + s.launch + " declares no argument '" + name + "'",
+      if (!has) m.fail("graph", "the launch file " + launch + " declares no argument '" + name + "'",
                        "give a trial launch file declaring model, recording and limit_s (and subject, subject_seed, noise_seed for virtual subjects)");
     }
   } catch (const config::Error& e) {
@@ -151,7 +153,12 @@ ExperimentSpec load_experiment(const std::string& path) {
     if (what.rfind(path, 0) == 0) throw;
     m.fail("graph", "the launch file does not load: " + what, "fix the launch file");
   }
-  return s;
+}
+
+std::string file_safe(const std::string& text) {
+  std::string out;
+  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+  return out;
 }
 
 std::vector<std::string> subjects_numbered(int count) {
@@ -207,7 +214,7 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
     const bool number = std::all_of(id.begin(), id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
     char padded[16];
     std::snprintf(padded, sizeof padded, "%0*lld", width, number ? config::parse_integer(id).value_or(0) : 0LL);
-    const std::string subject_stem = "s" + (number ? std::string(padded) : safe(id));
+    const std::string subject_stem = "s" + (number ? std::string(padded) : file_safe(id));
     const std::uint64_t subject_stream = math::derive_seed(spec.seed, 2 * s + 1);
     const std::vector<std::size_t> order = condition_order(spec.order, spec.conditions.size(), s, spec.seed);
     auto add = [&](std::size_t c, int position, TrialKind kind, double limit_s) {
@@ -221,7 +228,7 @@ std::vector<Trial> make_plan(const ExperimentSpec& spec) {
       t.limit_s = limit_s;
       t.subject_seed = static_cast<std::uint32_t>(subject_stream % kSeedRange);
       t.noise_seed = static_cast<std::uint32_t>(math::derive_seed(subject_stream, 3 * c + static_cast<std::size_t>(kind)) % kSeedRange);
-      t.file_stem = subject_stem + "_" + safe(t.condition.label) + "_" + to_string(kind);
+      t.file_stem = subject_stem + "_" + file_safe(t.condition.label) + "_" + to_string(kind);
       plan.push_back(t);
     };
     if (spec.familiarisation_s > 0.0) add(order.front(), 0, TrialKind::familiarisation, spec.familiarisation_s);

@@ -2,6 +2,7 @@
 // The keys bridge and discrimination experiment files share, read the same way (private to
 // core/experiment): file:line errors with the fix.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/config/yaml.h"
@@ -15,5 +16,12 @@ std::vector<std::string> read_subjects(const config::Map& m);
 std::vector<Condition> read_conditions(const config::Map& m);
 // `order`: random (default) or balanced
 Order read_order(const config::Map& m);
+// `text` with letters, digits, '-' and '_' only (others become '_'): safe in a file name
+std::string file_safe(const std::string& text);
+// `graph` (the trial's launch file, relative to the file, absolute in `launch`) and
+// `launch_args` (into `args`), checked: the launch file loads and declares the arguments
+// `needed` and every one of launch_args
+void read_trial_graph(const config::Map& m, const std::vector<std::string>& needed, std::string& launch,
+                      std::vector<std::pair<std::string, std::string>>& args);
 
 }  // namespace enact::experiment

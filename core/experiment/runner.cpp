@@ -1,35 +1,23 @@
 #include "core/experiment/runner.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <stdlib.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <set>
-#include <sstream>
-#include <thread>
 
-#include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
 #include "core/config/format.h"
 #include "core/config/yaml.h"
 #include "core/experiment/results.h"
-#include "core/graph/logger.h"
-#include "core/graph/registry.h"
-#include "core/graph/session.h"
+#include "core/experiment/trial_graph.h"
 #include "core/graph/topics.h"
 #include "core/graph/node_params.h"
 #include "core/launch/launch_file.h"
-#include "core/launch/realtime.h"
-#include "core/rt/profile.h"
-#include "core/launch/supervisor.h"
-#include "core/record/mcap.h"
+#include "core/rt/clock.h"
 #include "msgs/task_event.pb.h"
 
 namespace enact::experiment {
@@ -38,8 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// the runner's own node name on the bus (it publishes trial start, condition and resets)
-constexpr const char* kRunnerNode = "experiment";
 // the clock master stops itself at the limit; the runner stops the rest of the graph this
 // long after, once the logger has received the last messages in flight
 constexpr double kDrain_s = 1.0;
@@ -51,35 +37,6 @@ constexpr double kLimitSlack_s = 0.5;
 constexpr int kMaxFailures = 3;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// stdout and stderr (fds 1 and 2) go to a file while this lives: the graph's processes
-// inherit them
-struct OutputTo {
-  int saved_out = -1, saved_err = -1;
-  explicit OutputTo(const std::string& path) {
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
-    const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-    if (fd < 0) throw config::Error(path + ": cannot write the trial's log\n  fix: check the folder's permissions");
-    saved_out = fcntl(1, F_DUPFD_CLOEXEC, 3);
-    saved_err = fcntl(2, F_DUPFD_CLOEXEC, 3);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    close(fd);
-  }
-  ~OutputTo() {
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
-    dup2(saved_out, 1);
-    dup2(saved_err, 2);
-    close(saved_out);
-    close(saved_err);
-  }
-  OutputTo(const OutputTo&) = delete;
-  OutputTo& operator=(const OutputTo&) = delete;
-};
 
 // the launch arguments of a trial's graph
 std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {
@@ -97,9 +54,7 @@ std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, c
 
 // a trial's graph, from the experiment's trial launch file, on the run's clock
 launch::LaunchDescription trial_graph(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {
-  launch::LaunchDescription graph = launch::load_launch(spec.launch, trial_arguments(spec, trial, recording));
-  if (spec.clock) launch::choose_clock(graph, *spec.clock);
-  return graph;
+  return load_trial_graph(spec.launch, trial_arguments(spec, trial, recording), spec.clock);
 }
 
 enum class Outcome : std::uint8_t { done, aborted, interrupted, failed };
@@ -144,43 +99,8 @@ class TrialRun {
     fs::remove(recording_, ec);  // an abandoned attempt
     launch::LaunchDescription graph = trial_graph(spec_, trial_, recording_);
     simulated_ = graph.clock == rt::GraphClock::simulated;
-    // the real-time profile, before the trial's threads start (they inherit it); said in the
-    // trial's log
-    std::ostringstream realtime_said;
-    graph.realtime.other_loops = graph::running_loops();
-    const auto realtime = launch::apply_realtime(graph, realtime_said);
-    // the trial's graph: watched and adjusted live like any other, by its name
-    // (numbered when the same experiment runs twice on this machine)
-    graph::SessionOptions session_options;
-    session_options.numbered = true;
-    session_options.loop_cpus = rt::cpu_list(realtime->loop_cpus());
-    graph::GraphSession session(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch, session_options);
-    session_ = &session;
-    // the runner's publisher, bound before the attach point connects to it
-    bus::BytePublisher out(session.node_endpoint(kRunnerNode), {.node = kRunnerNode});
-    session.attach().add_publisher(kRunnerNode, out.endpoint());
-    session.attach().declare_topic<msgs::TaskEvent>(graph::kTaskEvent, kRunnerNode);
-
-    launch::SupervisorOptions options;
-    options.ready_timeout_s = 20.0;
-    options.on_ready = [this] { ready_.store(true); };
-    // a node that ended cleanly: the clock master at the trial's end (its TRIAL_END says so,
-    // unless it came before this runner's subscription reached the attach point: a simulated
-    // trial can end that soon); watch() stops the graph once the logger had time to drain
-    options.on_exit = [this](const launch::NodeSpec&, int status) {
-      std::int64_t none = 0;
-      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) ended_ns_.compare_exchange_strong(none, rt::now_ns());
-    };
-    int code = 0;
-    {
-      const OutputTo to_log(log_);
-      std::cerr << realtime_said.str();
-      std::thread monitor([&] { watch(out, session.endpoint()); });
-      code = session.run(graph, spec_.launch, options, std::cerr);
-      finished_.store(true);
-      monitor.join();
-    }
-    session_ = nullptr;
+    const int code = run_trial_graph(spec_.name + "/" + trial_.subject + "_" + trial_.condition.label, spec_.launch, std::move(graph), log_,
+                                     [this](GraphRun& g) { watch(g); });
     return outcome(code);
   }
 
@@ -188,18 +108,18 @@ class TrialRun {
 
  private:
   // stop the graph: the supervisor stops it in order
-  void stop_graph() {
+  void stop_graph(GraphRun& g) {
     stop_sent_.store(true);
-    session_->stop();
+    g.stop();
   }
 
   // the runner's side of the trial, while the supervisor runs the graph: announce it, watch
   // for the simulator's end of the trial, take the experimenter's commands, show progress
-  void watch(bus::BytePublisher& out, const std::string& attach_endpoint) {
-    bus::Publisher<msgs::TaskEvent> publish(out, graph::kTaskEvent);
+  void watch(GraphRun& g) {
+    bus::Publisher<msgs::TaskEvent> publish(g.out, graph::kTaskEvent);
     bus::ByteSubscriber in;
     bus::Subscriber<msgs::TaskEvent> events(in, graph::kTaskEvent);
-    in.connect(attach_endpoint);
+    in.connect(g.endpoint);
     msgs::TaskEvent event;
     auto announce = [&](msgs::TaskEvent::Kind kind, const std::string& detail) {
       event.Clear();
@@ -213,25 +133,27 @@ class TrialRun {
     };
     const bool person = !spec_.virtual_subjects();
     bool announced = false;
+    std::int64_t ended_ns = 0;  // when the trial ended (0: not yet)
     Clock::time_point start = Clock::now(), shown = start;
-    while (!finished_.load()) {
+    while (!g.finished()) {
       // announced once the attach point forwards task/event from here (this thread's own
       // subscription reached it: so did the logger's, made before the graph was ready)
-      if (ready_.load() && !announced && out.has_subscribers(graph::kTaskEvent)) {
+      if (g.ready() && !announced && g.out.has_subscribers(graph::kTaskEvent)) {
         announced = true;
         start = Clock::now();
         announce(msgs::TaskEvent::CONDITION, to_string(trial_.kind));
         announce(msgs::TaskEvent::TRIAL_START, "");
       }
-      // the trial's end: the simulator's TRIAL_END, or the clock master gone. In real time the
-      // graph stops at once; in simulated time the loop ran ahead of the logger, which gets
-      // the drain time to take what is still on its way before it is stopped
-      if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END) {
-        std::int64_t none = 0;
-        ended_ns_.compare_exchange_strong(none, rt::now_ns() - (simulated_ ? 0 : kDrainNs));
+      // the trial's end: the simulator's TRIAL_END, or the clock master gone (its TRIAL_END
+      // may come before this thread's subscription reached the attach point: a simulated
+      // trial can end that soon). In real time the graph stops at once; in simulated time the
+      // loop ran ahead of the logger, which gets the drain time to take what is still on its
+      // way before it is stopped
+      if (events.receive(event, 20) && event.header().source() != kRunnerNode && event.kind() == msgs::TaskEvent::TRIAL_END && ended_ns == 0) {
+        ended_ns = rt::now_ns() - (simulated_ ? 0 : kDrainNs);
       }
-      const std::int64_t ended_ns = ended_ns_.load();
-      if (ended_ns != 0 && !stop_sent_.load() && rt::now_ns() - ended_ns >= kDrainNs) stop_graph();
+      if (ended_ns == 0) ended_ns = g.clean_exit_ns();
+      if (ended_ns != 0 && !stop_sent_.load() && rt::now_ns() - ended_ns >= kDrainNs) stop_graph(g);
       if (!announced) continue;
       trial_s_ = since(start);
       if (person) {
@@ -239,11 +161,11 @@ class TrialRun {
         if (command == TrialCommand::reset) announce(msgs::TaskEvent::RESET, "the experimenter repositioned the subject at the start");
         if (command == TrialCommand::abort) {
           aborted_ = true;
-          stop_graph();
+          stop_graph(g);
         }
       }
       // the clock master ends the trial at its limit; in real time a stalled one is stopped
-      if (!simulated_ && trial_s_ > trial_.limit_s + kDrain_s) stop_graph();
+      if (!simulated_ && trial_s_ > trial_.limit_s + kDrain_s) stop_graph(g);
       if (since(shown) >= 1.0) {
         shown = Clock::now();
         progress_.current = &trial_;
@@ -293,12 +215,10 @@ class TrialRun {
   RunnerUi& ui_;
   Progress progress_;
   std::string recording_, log_;
-  std::atomic<bool> ready_{false}, finished_{false}, stop_sent_{false};
-  std::atomic<std::int64_t> ended_ns_{0};  // when the trial ended (TRIAL_END, or a node ended cleanly); 0: not yet
+  std::atomic<bool> stop_sent_{false};
   std::atomic<bool> aborted_{false};
   bool simulated_ = false;  // the trial graph's clock
   std::atomic<double> trial_s_{0.0};
-  graph::GraphSession* session_ = nullptr;  // while run() runs
 };
 
 }  // namespace

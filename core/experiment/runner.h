@@ -54,6 +54,9 @@ class RunnerUi {
   // with people: after a subject's last measured trial, the rank of each condition label
   // (1 = preferred); an empty map skips the ranking
   virtual std::map<std::string, int> ranking(const std::string& subject, const std::vector<Condition>& conditions) = 0;
+  // with people, in a discrimination trial once its intervals are over: 1 or 2 when the
+  // person named that interval, 0 while not yet; polled about every 20 ms, never blocks
+  virtual int interval_answer() = 0;
   // about once a second, and after each trial
   virtual void progress(const Progress& progress) = 0;
   // a line for the person running the experiment (trial outcomes, problems)

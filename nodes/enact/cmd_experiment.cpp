@@ -52,9 +52,15 @@ Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
 
 A file with `kind: discrimination` (docs/experiments.md, "Discrimination experiments") runs two-interval
 discrimination trials about a live parameter (e.g. stiffness_n_per_m) under constant
-stimuli, staircases or QUEST, answered by virtual observers, into DIR/trials.csv (one row
-per trial, at once) and DIR/summary.csv (per subject and condition: the fitted JND, its
-profile-likelihood and bootstrap 95 % intervals, the Weber fraction). Run again to resume.
+stimuli, staircases or QUEST. Each trial runs in its own graph (the file's graph), recorded
+to DIR/trials/<subject>_<condition>_t<N>.mcap: two intervals, each a live setting of the
+parameter explored for interval_s, then the answer, each a task/event in the recording.
+Virtual observers answer at once; people (no virtual_observers) are asked before each
+condition (Enter: start, q: stop) and answer each trial with 1 or 2 + Enter, or the
+device's button 1 or 2. graph: false runs virtual observers without a graph. Results:
+DIR/trials.csv (one row per trial, at once, with the response time) and DIR/summary.csv
+(per subject and condition: the fitted JND, its profile-likelihood and bootstrap 95 %
+intervals, the Weber fraction). Run again to resume.
 Then: scripts/psychophysics.py plot DIR/trials.csv --out DIR/figures
 
 options:
@@ -62,8 +68,8 @@ options:
   --conditions A,B,...  these conditions instead of the file's (presets or model files)
   --out DIR             results folder (default: results/<name of the experiment>)
   --clock CLOCK         the trial graphs' clock, over their launch file's: simulated runs
-                        each trial as fast as the machine goes (virtual subjects, simulated
-                        devices, the co-located graph), the same trial as in real time
+                        each trial as fast as the machine goes (virtual subjects or
+                        observers, simulated devices, the co-located graph), the same trial as in real time
                         without a missed deadline; results.csv's missed_deadlines says how
                         many each real-time trial missed
   --plan                print the plan (trial order, seeds), check every trial graph's
@@ -116,6 +122,14 @@ class TerminalUi final : public experiment::RunnerUi {
     if (line == "a") return experiment::TrialCommand::abort;
     note("commands during a trial: r (the subject was put back at the start), a (abort the trial)");
     return experiment::TrialCommand::none;
+  }
+
+  int interval_answer() override {
+    std::string line;
+    if (!read_line(line, 0)) return 0;
+    if (line == "1" || line == "2") return line[0] - '0';
+    note("answer 1 or 2 (+ Enter): the interval you name");
+    return 0;
   }
 
   std::map<std::string, int> ranking(const std::string& subject, const std::vector<experiment::Condition>& conditions) override {
@@ -224,16 +238,18 @@ void print_plan(const experiment::ExperimentSpec& spec, const std::vector<experi
 }
 
 void print_blocks(const experiment::DiscriminationSpec& spec) {
-  std::printf("discrimination %s: %zu subjects, %zu conditions, %s %s around %s, %zu procedures interleaved, virtual observers\n", spec.name.c_str(),
+  std::printf("discrimination %s: %zu subjects, %zu conditions, %s %s around %s, %zu procedures interleaved, %s, %s\n", spec.name.c_str(),
               spec.subjects.size(), spec.conditions.size(), spec.order == experiment::Order::random ? "random" : "balanced", spec.parameter.c_str(),
-              config::number(spec.reference).c_str(), spec.procedures.size());
+              config::number(spec.reference).c_str(), spec.procedures.size(), spec.virtual_observers ? "virtual observers" : "people",
+              spec.on_graph() ? ("each trial in graph " + spec.launch).c_str() : "no graph");
   std::printf("%-10s %-12s %-6s %s\n", "subject", "condition", "order", "observer's JND");
   for (const auto& b : experiment::make_blocks(spec)) {
     std::printf("%-10s %-12s %-6d %s\n", b.subject.c_str(), b.condition.label.c_str(), b.order, config::number(b.observer.function.threshold).c_str());
   }
 }
 
-// a discrimination experiment: no graph, every answer from the virtual observers
+// a discrimination experiment: each trial in its graph (or none, graph: false), answered by
+// virtual observers or people
 int discrimination_run(const Args& a, FILE* term) {
   experiment::DiscriminationSpec spec = experiment::load_discrimination(a.positional[0]);
   if (a.has("conditions")) throw UsageError("--conditions is for bridge experiments; edit the discrimination file's conditions");
@@ -242,18 +258,24 @@ int discrimination_run(const Args& a, FILE* term) {
     if (n != static_cast<int>(n)) throw UsageError("--subjects needs a whole number");
     spec.subjects = experiment::subjects_numbered(static_cast<int>(n));
   }
-  if (a.flag("plan")) {
-    print_blocks(spec);
-    return 0;
-  }
+  spec.clock = clock_option(a);
+  if (!spec.virtual_observers && spec.clock == rt::GraphClock::simulated) throw UsageError("people explore the intervals in real time: --clock simulated is for virtual observers");
   const std::string out = a.get("out", "results/" + spec.name);
+  if (a.flag("plan")) print_blocks(spec);
+  // every trial graph's nodes check their parameters before any trial starts
+  const std::vector<std::string> problems = experiment::check_discrimination_graphs(spec, out);
+  for (const std::string& p : problems) std::fprintf(stderr, "enact experiment: %s\n", p.c_str());
+  if (!problems.empty()) throw config::Error(spec.file + ": a trial graph's nodes refuse their parameters (above); nothing ran");
+  if (a.flag("plan")) return 0;
   TerminalUi ui(term);
+  if (!spec.virtual_observers) ui.note("people: the experimenter starts each subject's condition; after each trial's two intervals the subject answers 1 or 2");
   const experiment::DiscriminationRun r = experiment::run_discrimination(spec, out, ui);
   ui.note(std::to_string(r.trials_run) + " trials run" + (r.blocks_done_before ? ", " + std::to_string(r.blocks_done_before) + " blocks done before" : "") +
-          "; trials: " + r.trials +
+          (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") + "; trials: " + r.trials +
           (r.interrupted ? "\nstopped before the end: run the same command again to resume"
                          : "\nsummary: " + r.summary + "\nfigures: scripts/psychophysics.py plot " + r.trials + " --out " + out + "/figures"));
-  return r.interrupted ? 130 : 0;
+  if (r.interrupted) return r.failed ? 1 : 130;
+  return 0;
 }
 
 // replicate k's seed: independent of the file's and of every other replicate's

@@ -1,7 +1,9 @@
-// Discrimination experiments: the shipped example loads and runs end to end (through the
-// library and the command line), every trial is recorded with its randomised reference
-// interval, an interrupted run resumes to the same files as an uninterrupted one, a folder
-// of another experiment is refused, and bad files are refused with file:line and the fix.
+// Discrimination experiments without a graph (graph: false): the shipped example loads and
+// runs end to end (through the library and the command line), every trial is recorded with
+// its randomised reference interval, an interrupted run resumes to the same files as an
+// uninterrupted one, a folder of another experiment is refused, bad files are refused with
+// file:line and the fix, and a person's answer comes from the keyboard or a button press.
+// On the graph: discrimination_graph_test.cpp.
 #include "core/experiment/discrimination.h"
 
 #include <gtest/gtest.h>
@@ -22,10 +24,18 @@ class QuietUi final : public RunnerUi {
  public:
   bool start_trial(const Trial&) override { return true; }
   TrialCommand poll(const Trial&) override { return TrialCommand::none; }
+  // the keys typed, one per poll (0: none)
+  int interval_answer() override {
+    if (keys.empty()) return 0;
+    const int key = keys.front();
+    keys.erase(keys.begin());
+    return key;
+  }
   std::map<std::string, int> ranking(const std::string&, const std::vector<Condition>&) override { return {}; }
   void progress(const Progress&) override {}
   void note(const std::string&) override { ++notes; }
   int notes = 0;
+  std::vector<int> keys;
 };
 
 const std::string kExample = "launch/experiments/stiffness_discrimination.yaml";
@@ -60,11 +70,21 @@ TEST(Discrimination, TheExampleLoadsAsWritten) {
   EXPECT_EQ(spec.procedures[0].kind, ProcedureSpec::Kind::quest);
   EXPECT_EQ(spec.procedures[0].quest.max_trials, 60);
   EXPECT_EQ(spec.fit.spread, 3.5);
+  EXPECT_FALSE(spec.on_graph()) << "graph: false: the observers answer without a graph";
+  EXPECT_TRUE(spec.virtual_observers);
   // a paired design: each subject's JND in CM1 is 0.12 / 0.16 of its JND in CM0
   std::map<std::string, std::map<std::string, double>> jnd;
   for (const DiscriminationBlock& b : make_blocks(spec)) jnd[b.subject][b.condition.label] = b.observer.function.threshold;
   EXPECT_EQ(jnd.size(), 12u);
   for (const auto& [subject, by] : jnd) EXPECT_NEAR(by.at("CM1") / by.at("CM0"), 0.75, 1e-12) << subject;
+}
+
+TEST(Discrimination, TheDeviceExampleRunsPeopleOnTheTrialGraph) {
+  const DiscriminationSpec spec = load_discrimination(test::source_path("launch/experiments/stiffness_discrimination_device.yaml"));
+  EXPECT_FALSE(spec.virtual_observers) << "no virtual_observers: people";
+  EXPECT_EQ(spec.launch, test::source_path("launch/experiments/trial_rt.yaml"));
+  EXPECT_EQ(spec.interval_s, 2.0);
+  for (const DiscriminationBlock& b : make_blocks(spec)) EXPECT_TRUE(std::isnan(b.observer.function.threshold)) << "no observer's JND";
 }
 
 TEST(Discrimination, TheManifestIsWrittenBeforeTheFirstTrial) {
@@ -97,7 +117,8 @@ TEST(Discrimination, RecordsEveryTrialAndFitsEveryBlock) {
   ASSERT_EQ(trials.size(), 360u);
   std::map<std::string, int> interval_count;
   for (const auto& r : trials) {
-    ASSERT_EQ(r.size(), 12u);
+    ASSERT_EQ(r.size(), 13u);
+    EXPECT_EQ(r[12], "nan") << "no graph: no response time";
     EXPECT_EQ(r[5], "stiffness_n_per_m");
     EXPECT_NEAR(std::stod(r[7]), 600.0 + std::stod(r[8]), 1e-6) << "comparison = reference + level";
     EXPECT_TRUE(r[9] == "1" || r[9] == "2");
@@ -174,6 +195,7 @@ subjects: 2
 conditions: [CM0]
 parameter: damping_n_s_per_m
 reference: 2.0
+graph: false
 procedures:
   - {label: ascending, kind: staircase, start: 0.05, step_sizes: [0.2, 0.1], reversals: 8}
   - {label: descending, kind: staircase, start: 1.0, down: 3, step_sizes: [0.2, 0.1], reversals: 8}
@@ -208,19 +230,23 @@ const std::string kQuest = "procedures:\n  - {kind: quest, guess: 90}\n";
 const std::string kObservers = "virtual_observers: {weber_fraction: 0.15}\n";
 
 TEST(Discrimination, BadFilesAreRefusedWithTheLineAndTheFix) {
-  EXPECT_EQ(refusal(kGood + kQuest + kObservers), "");
+  const std::string fast = "graph: false\n";
+  EXPECT_EQ(refusal(kGood + kQuest + kObservers + fast), "");
   struct Case {
     std::string text, says, line;
   };
   const std::vector<Case> cases{
-      {"kind: discrimination\nsubjects: 2\nconditions: [CM0]\nparameter: mass_kg\nreference: 1\n" + kQuest + kObservers, "not a numeric live parameter", ":4:"},
-      {kGood + "procedures:\n  - {kind: bisection}\n" + kObservers, "is not quest, staircase or constant", ":7:"},
-      {kGood + "procedures:\n  - {kind: staircase, start: 100, step_sizes: [0.1, -1]}\n" + kObservers, "step sizes must be > 0", ":7:"},
-      {kGood + "procedures:\n  - {kind: quest, guess: 90}\n  - {kind: quest, guess: 50}\n" + kObservers, "used twice", ":8:"},
-      {kGood + kQuest, "with people", ":1:"},
-      {kGood + kQuest + "virtual_observers: {weber_fraction: [0.1, 0.2, 0.3]}\n", "one per condition", ":8:"},
-      {kGood + kQuest + kObservers + "analysis: {shape: gaussian, exponent: 3}\n", "has no exponent", ":9:"},
-      {kGood + kQuest + kObservers + "stop_rule: 3\n", "stop_rule", ":9:"},
+      {"kind: discrimination\nsubjects: 2\nconditions: [CM0]\nparameter: mass_kg\nreference: 1\n" + kQuest + kObservers + fast, "not a numeric live parameter", ":4:"},
+      {kGood + "procedures:\n  - {kind: bisection}\n" + kObservers + fast, "is not quest, staircase or constant", ":7:"},
+      {kGood + "procedures:\n  - {kind: staircase, start: 100, step_sizes: [0.1, -1]}\n" + kObservers + fast, "step sizes must be > 0", ":7:"},
+      {kGood + "procedures:\n  - {kind: quest, guess: 90}\n  - {kind: quest, guess: 50}\n" + kObservers + fast, "used twice", ":8:"},
+      {kGood + kQuest + fast, "runs virtual observers only", ":8:"},
+      {kGood + kQuest + kObservers, "names its trials' graph", ":1:"},
+      {kGood + kQuest + kObservers + "graph: nowhere.yaml\n", "no launch file", ":9:"},
+      {kGood + kQuest + kObservers + fast + "interval_s: 0\n", "interval_s", ":10:"},
+      {kGood + kQuest + "virtual_observers: {weber_fraction: [0.1, 0.2, 0.3]}\n" + fast, "one per condition", ":8:"},
+      {kGood + kQuest + kObservers + "analysis: {shape: gaussian, exponent: 3}\n" + fast, "has no exponent", ":9:"},
+      {kGood + kQuest + kObservers + "stop_rule: 3\n" + fast, "stop_rule", ":9:"},
   };
   for (const Case& c : cases) {
     const std::string e = refusal(c.text);
@@ -228,6 +254,46 @@ TEST(Discrimination, BadFilesAreRefusedWithTheLineAndTheFix) {
     EXPECT_NE(e.find("bad.yaml" + c.line), std::string::npos) << e;
     EXPECT_NE(e.find("fix:"), std::string::npos) << e;
   }
+}
+
+TEST(Discrimination, APersonAnswersWithAKeyOrAButtonPress) {
+  const DiscriminationSpec spec = small_example();
+  const std::vector<DiscriminationBlock> blocks = make_blocks(spec);
+  Presentation trial;
+  trial.block = &blocks[0];
+  QuietUi ui;
+  PersonAnswers person(ui);
+  // nothing typed, nothing pressed: no answer yet
+  EXPECT_EQ(person.answer(trial, 0), 0);
+  ui.keys = {2};
+  EXPECT_EQ(person.answer(trial, 0), 2) << "the key typed";
+  // button 0 names interval 1, button 1 interval 2, when pressed, not while held
+  EXPECT_EQ(person.answer(trial, 1u), 1);
+  EXPECT_EQ(person.answer(trial, 1u), 0) << "held";
+  EXPECT_EQ(person.answer(trial, 0), 0) << "released";
+  EXPECT_EQ(person.answer(trial, 2u), 2);
+  // a button held before the question does not answer it
+  PersonAnswers late(ui);
+  EXPECT_EQ(late.answer(trial, 1u), 0);
+}
+
+TEST(Discrimination, AnObserverAnswersAsItsPsychometricFunctionSays) {
+  const DiscriminationSpec spec = small_example();
+  const std::vector<DiscriminationBlock> blocks = make_blocks(spec);
+  ObserverAnswers observer;
+  Presentation trial;
+  trial.block = &blocks[0];
+  // far above its JND it names the comparison's interval, but for its lapses (2 %)
+  int correct = 0;
+  for (std::size_t i = 0; i < 400; ++i) {
+    trial.trial = i;
+    trial.level = 10.0 * blocks[0].observer.function.threshold;
+    trial.reference_interval = 1 + static_cast<int>(i % 2);
+    const int chosen = observer.answer(trial, 0);
+    EXPECT_EQ(chosen, blocks[0].observer.chosen_interval(i, trial.level, trial.larger_interval()));
+    correct += chosen == trial.larger_interval();
+  }
+  EXPECT_GT(correct, 380) << "psi = 0.5 + (1 - 0.5 - lapse) F: 98 % of 400";
 }
 
 TEST(Discrimination, TheCommandLineRunsTheExampleEndToEnd) {
