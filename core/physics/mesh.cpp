@@ -154,38 +154,38 @@ Mesh build_mesh(std::vector<Vec3> vertices_m, const std::vector<std::array<int, 
 Mesh heightfield_mesh(const std::vector<double>& heights_m, int rows, int cols, double cell_m, const Vec3& centre_m, double bottom_z_m) {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
-  // the top grid, then the base under each boundary vertex, then the base's centre
+  // the top grid, then the same grid at the base: small triangles only, so that the
+  // hierarchy's boxes stay small (one large base triangle would widen every box holding it)
   const double x0 = centre_m.x - 0.5 * (cols - 1) * cell_m, y0 = centre_m.y + 0.5 * (rows - 1) * cell_m;
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) vertices.push_back({x0 + c * cell_m, y0 - r * cell_m, centre_m.z + heights_m[r * cols + c]});
-  }
-  auto top = [cols](int r, int c) { return r * cols + c; };
-  for (int r = 0; r + 1 < rows; ++r) {
-    for (int c = 0; c + 1 < cols; ++c) {
-      // seen from above, row r is north of row r + 1: counter-clockwise is west, south, east
-      triangles.push_back({top(r, c), top(r + 1, c), top(r + 1, c + 1)});
-      triangles.push_back({top(r, c), top(r + 1, c + 1), top(r, c + 1)});
+  for (int layer = 0; layer < 2; ++layer) {
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) vertices.push_back({x0 + c * cell_m, y0 - r * cell_m, layer == 0 ? centre_m.z + heights_m[r * cols + c] : bottom_z_m});
     }
   }
-  // the boundary, counter-clockwise seen from above: down the west side, east along the south,
-  // up the east side, west along the north
-  std::vector<int> ring;
-  for (int r = 0; r + 1 < rows; ++r) ring.push_back(top(r, 0));
-  for (int c = 0; c + 1 < cols; ++c) ring.push_back(top(rows - 1, c));
-  for (int r = rows - 1; r > 0; --r) ring.push_back(top(r, cols - 1));
-  for (int c = cols - 1; c > 0; --c) ring.push_back(top(0, c));
-  const int first_base = static_cast<int>(vertices.size());
-  for (int k : ring) vertices.push_back({vertices[k].x, vertices[k].y, bottom_z_m});
-  const int base_centre = static_cast<int>(vertices.size());
-  vertices.push_back({centre_m.x, centre_m.y, bottom_z_m});
-  const int n = static_cast<int>(ring.size());
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    // the wall under the boundary edge ring[i] -> ring[j] (outside on its right seen from above)
-    triangles.push_back({ring[i], first_base + i, first_base + j});
-    triangles.push_back({ring[i], first_base + j, ring[j]});
-    // the base, seen from below
-    triangles.push_back({base_centre, first_base + j, first_base + i});
+  auto top = [cols](int r, int c) { return r * cols + c; };
+  auto base = [rows, cols](int r, int c) { return (rows + r) * cols + c; };
+  for (int r = 0; r + 1 < rows; ++r) {
+    for (int c = 0; c + 1 < cols; ++c) {
+      // seen from above, row r is north of row r + 1: counter-clockwise is west, south, east;
+      // the base is seen from below
+      triangles.push_back({top(r, c), top(r + 1, c), top(r + 1, c + 1)});
+      triangles.push_back({top(r, c), top(r + 1, c + 1), top(r, c + 1)});
+      triangles.push_back({base(r, c), base(r + 1, c + 1), base(r + 1, c)});
+      triangles.push_back({base(r, c), base(r, c + 1), base(r + 1, c + 1)});
+    }
+  }
+  // the walls under the boundary, counter-clockwise seen from above: down the west side, east
+  // along the south, up the east side, west along the north (the outside on the right)
+  std::vector<std::pair<int, int>> ring;
+  for (int r = 0; r + 1 < rows; ++r) ring.push_back({r, 0});
+  for (int c = 0; c + 1 < cols; ++c) ring.push_back({rows - 1, c});
+  for (int r = rows - 1; r > 0; --r) ring.push_back({r, cols - 1});
+  for (int c = cols - 1; c > 0; --c) ring.push_back({0, c});
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const auto [ri, ci] = ring[i];
+    const auto [rj, cj] = ring[(i + 1) % ring.size()];
+    triangles.push_back({top(ri, ci), base(ri, ci), base(rj, cj)});
+    triangles.push_back({top(ri, ci), base(rj, cj), top(rj, cj)});
   }
   return build_mesh(std::move(vertices), triangles);
 }

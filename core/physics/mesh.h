@@ -57,7 +57,7 @@ Mesh build_mesh(std::vector<Vec3> vertices_m, const std::vector<std::array<int, 
 
 // a closed solid over a grid of heights (row-major, rows x cols, row 0 at +y, column 0 at -x,
 // centred on centre_m's x and y; heights above centre_m.z) down to bottom_z_m: two triangles
-// per cell on top, vertical walls and a flat base
+// per cell on top and on the flat base, vertical walls; 4 N M + 4 (N + M) triangles for N x M cells
 Mesh heightfield_mesh(const std::vector<double>& heights_m, int rows, int cols, double cell_m, const Vec3& centre_m,
                       double bottom_z_m);
 

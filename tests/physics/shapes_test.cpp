@@ -211,7 +211,7 @@ TEST(SceneObjects, AHeightMapIsTwoTrianglesPerCellOverItsGrid) {
   const Model m = scene_with(dir, "  - {name: ground, type: heightmap, file: heights.csv, cell_m: 0.01, center_m: [0, 0, 0.001], bottom_z_m: 0}\n");
   ASSERT_EQ(m.objects[0].shape, "heightmap");
   const Mesh& mesh = m.meshes[m.objects[0].mesh];
-  EXPECT_EQ(mesh.triangles.size(), 2u * 4u + 3u * 8u);  // top, then a wall and a base triangle per boundary edge
+  EXPECT_EQ(mesh.triangles.size(), 2u * 4u * 2u + 2u * 8u);  // 2 a cell on top and on the base, 2 a wall
   // the flat cells: 5 mm high (center_m z + 4 mm), the depth straight below it
   const Probe flat = probe(m, 0, {0.006, -0.004, 0.0045});
   EXPECT_NEAR(flat.depth_m, 0.0005, 1e-12);
