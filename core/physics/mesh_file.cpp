@@ -11,6 +11,8 @@
 #include <sstream>
 #include <tuple>
 
+#include <png.h>
+
 #include "core/config/yaml.h"
 
 namespace enact::physics {
@@ -164,6 +166,23 @@ Mesh load_mesh(const std::string& path, double scale, const math::Mat3& rotation
   } catch (const MeshProblem& p) {
     fail(p.triangle < 0 ? path : soup.where[p.triangle], p.what(), p.fix);
   }
+}
+
+// a 16-bit grayscale PNG: row 0 at the top (+y), each pixel's value times max_height_m / 65535
+HeightGrid read_png_heights(const std::string& path, double max_height_m) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) fail(path, std::string("cannot read it as a PNG: ") + image.message, "give a 16-bit grayscale PNG");
+  if (image.format != PNG_FORMAT_LINEAR_Y) {
+    png_image_free(&image);
+    fail(path, "the PNG is not 16-bit grayscale", "save it as 16-bit grayscale (one channel, no alpha): 8 bits give only 256 heights");
+  }
+  std::vector<png_uint_16> pixels(PNG_IMAGE_SIZE(image) / sizeof(png_uint_16));
+  if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr)) fail(path, std::string("cannot read the PNG: ") + image.message, "give a 16-bit grayscale PNG");
+  HeightGrid grid{{}, static_cast<int>(image.height), static_cast<int>(image.width)};
+  for (png_uint_16 p : pixels) grid.heights_m.push_back(p * (max_height_m / 65535.0));
+  if (grid.rows < 2 || grid.cols < 2) fail(path, "a height map needs at least 2 x 2 pixels", "give a larger image");
+  return grid;
 }
 
 HeightGrid read_heights(const std::string& path) {

@@ -1,6 +1,6 @@
 #pragma once
 // Reading the solids of scene objects from files: triangle meshes (binary STL, ASCII STL,
-// OBJ) and grids of heights (CSV). Errors are config::Error naming the file, the line (or
+// OBJ) and grids of heights (CSV, 16-bit PNG). Errors are config::Error naming the file, the line (or
 // the triangle of a binary STL) and the fix.
 #include <string>
 
@@ -20,5 +20,8 @@ struct HeightGrid {
   int cols = 0;
 };
 HeightGrid read_heights(const std::string& path);
+// a grid of heights from a 16-bit grayscale PNG: row 0 the top row, a pixel's value times
+// max_height_m / 65535
+HeightGrid read_png_heights(const std::string& path, double max_height_m);
 
 }  // namespace enact::physics

@@ -203,14 +203,18 @@ struct Loader {
     model.meshes.push_back(load_mesh(beside_scene(m), m.positive("scale", 1.0), rotation, vec(m.vec3("center_m", {0, 0, 0}))));
   }
 
-  // a height map: a closed solid over a grid of heights from a CSV file, down to bottom_z_m
+  // a height map: a closed solid over a grid of heights from a CSV file or a 16-bit PNG (its
+  // pixel values up to max_height_m), down to bottom_z_m
   void heightmap(const Map& m, Object& o) {
-    const std::string csv = beside_scene(m);
-    const HeightGrid grid = read_heights(csv);
+    const std::string source = beside_scene(m);
+    const bool png = source.size() > 4 && source.compare(source.size() - 4, 4, ".png") == 0;
+    if (png && !m.has("max_height_m")) m.fail("file", "a PNG height map needs max_height_m", "add max_height_m: the height (m) of the pixel value 65535");
+    if (!png && m.has("max_height_m")) m.fail("max_height_m", "max_height_m is for PNG height maps", "remove it: a CSV gives its heights in metres");
+    const HeightGrid grid = png ? read_png_heights(source, m.positive("max_height_m")) : read_heights(source);
     const Vec3 centre = vec(m.vec3("center_m", {0, 0, 0}));
     const double bottom = m.number("bottom_z_m", centre.z);
     for (double h : grid.heights_m) {
-      if (centre.z + h <= bottom) m.fail("bottom_z_m", "a height of " + csv + " is at or below bottom_z_m", "put bottom_z_m below the lowest height (center_m z + height)");
+      if (centre.z + h <= bottom) m.fail("bottom_z_m", "a height of " + source + " is at or below bottom_z_m", "put bottom_z_m below the lowest height (center_m z + height)");
     }
     o.mesh = static_cast<int>(model.meshes.size());
     model.meshes.push_back(heightfield_mesh(grid.heights_m, grid.rows, grid.cols, m.positive("cell_m"), centre, bottom));
@@ -231,7 +235,7 @@ struct Loader {
   void objects(const Map& scene) {
     for (const auto& n : scene.list("objects")) {
       Map m(n, file, "object", {"name", "type", "point_m", "normal", "center_m", "half_extents_m", "rpy_deg", "boxes",
-                                "points_m", "width_m", "bottom_z_m", "top_z_m", "file", "scale", "cell_m", "radius_m", "from_m", "to_m"});
+                                "points_m", "width_m", "bottom_z_m", "top_z_m", "file", "scale", "cell_m", "max_height_m", "radius_m", "from_m", "to_m"});
       Object o;
       o.name = m.text("name");
       check_new_name(m, o.name);

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include <png.h>
+
 #include "tests/physics/models.h"
 #include "tests/support/refusal.h"
 
@@ -229,6 +231,38 @@ TEST(SceneObjects, AHeightMapIsTwoTrianglesPerCellOverItsGrid) {
   const std::string error = test::error_of([&] { scene_with(dir, "  - {name: g, type: heightmap, file: bad.csv, cell_m: 0.01}\n"); });
   EXPECT_NE(error.find("bad.csv:2: this row has 1 heights, the first had 2"), std::string::npos) << error;
   EXPECT_NE(error.find("fix:"), std::string::npos) << error;
+}
+
+// a grayscale PNG of w x h pixels, 16 bits (or 8)
+void write_png(const std::string& path, int w, int h, const std::vector<std::uint16_t>& values, bool sixteen_bits = true) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(w);
+  image.height = static_cast<png_uint_32>(h);
+  image.format = sixteen_bits ? PNG_FORMAT_LINEAR_Y : PNG_FORMAT_GRAY;
+  std::vector<std::uint8_t> bytes(values.begin(), values.end());
+  const void* data = sixteen_bits ? static_cast<const void*>(values.data()) : static_cast<const void*>(bytes.data());
+  ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, data, 0, nullptr)) << image.message;
+}
+
+TEST(SceneObjects, AHeightMapReadsA16BitPng) {
+  const test::TempDir dir;
+  // 3 x 2 pixels: the top row (+y) at full scale (8 mm), the bottom row at a quarter
+  write_png(dir.file("h.png"), 3, 2, {65535, 65535, 65535, 16384, 16384, 16384});
+  const Model m = scene_with(dir, "  - {name: g, type: heightmap, file: h.png, cell_m: 0.01, max_height_m: 0.008}\n");
+  // the middle, under the slope from 2 mm (y = -5 mm) up to 8 mm (y = +5 mm): 5 mm high at y = 0
+  const double at_middle_m = 0.008 * 16384.0 / 65535.0 + 0.5 * (0.008 - 0.008 * 16384.0 / 65535.0);
+  const Vec3 n = models::unit({0.0, -(0.008 - 0.008 * 16384.0 / 65535.0), 0.01});
+  const Probe p = probe(m, 0, Vec3{0.002, 0.0, at_middle_m} - n * 0.0003);
+  EXPECT_NEAR(p.depth_m, 0.0003, 1e-12);
+  expect_near(p.normal, n, 1e-12);
+  // 8 bits, and a PNG without its scale: refused with the fix
+  write_png(dir.file("h8.png"), 3, 2, {255, 255, 255, 64, 64, 64}, false);
+  const std::string eight = test::error_of([&] { scene_with(dir, "  - {name: g, type: heightmap, file: h8.png, cell_m: 0.01, max_height_m: 0.008}\n"); });
+  EXPECT_NE(eight.find("h8.png: the PNG is not 16-bit grayscale\n  fix: save it as 16-bit grayscale"), std::string::npos) << eight;
+  const std::string unscaled = test::error_of([&] { scene_with(dir, "  - {name: g, type: heightmap, file: h.png, cell_m: 0.01}\n"); });
+  EXPECT_NE(unscaled.find("scene.yaml:4:"), std::string::npos) << unscaled;
+  EXPECT_NE(unscaled.find("fix: add max_height_m"), std::string::npos) << unscaled;
 }
 
 TEST(SceneObjects, TheShippedShapesScenePushesOutOfEachOfItsObjects) {
