@@ -24,8 +24,8 @@ packages=(
   cmake ninja-build g++ pkg-config
   # bus: ZeroMQ + cppzmq, Protobuf + protoc
   libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
-  # devices, config
-  libusb-1.0-0-dev libyaml-cpp-dev
+  # devices, config; height maps from 16-bit PNG
+  libusb-1.0-0-dev libyaml-cpp-dev libpng-dev
   # the Foxglove bridge: WebSocket server over standalone asio, JSON
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev
   # recordings: MCAP chunk compression and CRC-32

@@ -371,6 +371,107 @@ bool boxes_may_overlap(const Box& a, const Box& b) {
   return true;
 }
 
+// a contact pushed out of a solid through its nearest surface point, `depth_m` below it along
+// `normal`; 0 (no contact) when the point is not inside
+double push_out(double depth_m, const Vec3& normal, ContactState& contact) {
+  contact.active = depth_m > 0.0;
+  contact.depth_m = contact.active ? depth_m : 0.0;
+  if (contact.active) contact.normal = contact.entry_normal = normal;
+  return contact.depth_m;
+}
+
+// a point against a mesh at its nearest point (on one triangle): inside when it is behind the
+// pseudo-normal there; pushed out along the face normal, or straight to the nearest point on
+// an edge or a vertex (inside a concave edge)
+double push_from(const Mesh& mesh, const MeshHit& hit, const Vec3& x, ContactState& contact) {
+  const bool inside = dot(x - hit.closest_m, hit.pseudo_normal) < 0.0;
+  if (!inside || !(hit.distance_m > 0.0)) return push_out(0.0, Vec3{}, contact);
+  const Vec3 normal = hit.on_face ? mesh.triangles[hit.triangle].normal : (hit.closest_m - x) * (1.0 / hit.distance_m);
+  return push_out(hit.distance_m, normal, contact);
+}
+
+// a point against a mesh: the nearest triangle through the hierarchy, or the held one while
+// the point stays within its hold (then the search would find the same)
+double mesh_contact(const Mesh& mesh, const Vec3& x, ContactState& contact, bool hold) {
+  const Vec3 moved = x - contact.hold_at_m;
+  if (hold && contact.triangle >= 0 && dot(moved, moved) < contact.hold_r2) {
+    if (!contact.active) return 0.0;
+    const double depth = push_from(mesh, nearest_on(mesh, contact.triangle, x), x, contact);
+    if (!contact.active) contact.hold_r2 = 0.0;  // left through it: no outside hold is planned
+    return depth;
+  }
+  const MeshHit hit = nearest(mesh, x);
+  const double depth = push_from(mesh, hit, x, contact);
+  // outside, the surface is hit.distance_m away; inside, every other triangle is farther than
+  // the runner-up and the point's distances change at most as fast as it moves
+  const double radius = (contact.active ? 0.5 * (hit.runner_up_m - hit.distance_m) : hit.distance_m) - kHoldTolerance_m;
+  contact.triangle = hit.triangle;
+  contact.hold_at_m = x;
+  contact.hold_r2 = radius > 0.0 ? radius * radius : 0.0;
+  return depth;
+}
+
+// the nearest point of a capsule's axis to x
+Vec3 on_axis(const Object& capsule, const Vec3& x) {
+  const Vec3 axis = capsule.axis_to_m - capsule.axis_from_m;
+  const double length2 = dot(axis, axis);
+  const double t = length2 > 0.0 ? std::clamp(dot(x - capsule.axis_from_m, axis) / length2, 0.0, 1.0) : 0.0;
+  return capsule.axis_from_m + axis * t;
+}
+
+// a point against a capsule (or a sphere): pushed straight away from its axis
+double capsule_contact(const Object& capsule, const Vec3& x, ContactState& contact) {
+  const Vec3 out = x - on_axis(capsule, x);
+  const double r = norm(out);
+  return push_out(capsule.radius_m - r, r > 0.0 ? out * (1.0 / r) : capsule.axis_normal, contact);
+}
+
+// an axis-aligned box around an object that is not a plane
+void bounds(const Model& m, const Object& o, Vec3& low, Vec3& high) {
+  if (o.type == ObjectType::mesh) {
+    low = m.meshes[o.mesh].nodes[0].low_m;
+    high = m.meshes[o.mesh].nodes[0].high_m;
+    return;
+  }
+  if (o.type == ObjectType::capsule) {
+    const Vec3 r{o.radius_m, o.radius_m, o.radius_m};
+    low = Vec3{std::min(o.axis_from_m.x, o.axis_to_m.x), std::min(o.axis_from_m.y, o.axis_to_m.y), std::min(o.axis_from_m.z, o.axis_to_m.z)} - r;
+    high = Vec3{std::max(o.axis_from_m.x, o.axis_to_m.x), std::max(o.axis_from_m.y, o.axis_to_m.y), std::max(o.axis_from_m.z, o.axis_to_m.z)} + r;
+    return;
+  }
+  // a union of boxes: how far its boxes reach along each world axis, both ways
+  double lo[3], hi[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vec3 e{axis == 0 ? 1.0 : 0.0, axis == 1 ? 1.0 : 0.0, axis == 2 ? 1.0 : 0.0};
+    lo[axis] = kInfinity;
+    hi[axis] = -kInfinity;
+    for (int i = o.first_box; i < o.first_box + o.box_count; ++i) {
+      lo[axis] = std::min(lo[axis], -reach_along(m.boxes[i], -e));
+      hi[axis] = std::max(hi[axis], reach_along(m.boxes[i], e));
+    }
+  }
+  low = {lo[0], lo[1], lo[2]};
+  high = {hi[0], hi[1], hi[2]};
+}
+
+// objects_overlap for meshes and capsules: their bounding boxes (a plane: some corner below it)
+bool bounds_overlap(const Model& m, const Object& a, const Object& b) {
+  if (a.type == ObjectType::plane && b.type == ObjectType::plane) return true;
+  if (b.type == ObjectType::plane) return bounds_overlap(m, b, a);
+  Vec3 low_b, high_b;
+  bounds(m, b, low_b, high_b);
+  if (a.type == ObjectType::plane) {
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 p{corner & 1 ? high_b.x : low_b.x, corner & 2 ? high_b.y : low_b.y, corner & 4 ? high_b.z : low_b.z};
+      if (dot(a.plane_normal, p - a.plane_point_m) < -kTolerance_m) return true;
+    }
+    return false;
+  }
+  Vec3 low_a, high_a;
+  bounds(m, a, low_a, high_a);
+  return low_a.x < high_b.x && low_b.x < high_a.x && low_a.y < high_b.y && low_b.y < high_a.y && low_a.z < high_b.z && low_b.z < high_a.z;
+}
+
 }  // namespace
 
 void Model::index_boxes() {
@@ -394,6 +495,8 @@ void Model::index_boxes() {
 
 bool apart(const Model& model, const Object& object, const Vec3& centre_m, double radius_m) {
   if (object.type == ObjectType::plane) return dot(object.plane_normal, centre_m - object.plane_point_m) > radius_m;
+  if (object.type == ObjectType::mesh) return distance_to_bounds(model.meshes[object.mesh], centre_m) > radius_m;
+  if (object.type == ObjectType::capsule) return norm(centre_m - on_axis(object, centre_m)) > object.radius_m + radius_m;
   for (int i = object.first_box; i < object.first_box + object.box_count; ++i) {
     const Box& box = model.boxes[i];
     const Vec3 local = box.rotation.transpose_times(centre_m - box.center_m);
@@ -404,6 +507,8 @@ bool apart(const Model& model, const Object& object, const Vec3& centre_m, doubl
 }
 
 bool objects_overlap(const Model& m, const Object& a, const Object& b) {
+  const auto bounded = [](const Object& o) { return o.type == ObjectType::mesh || o.type == ObjectType::capsule; };
+  if (bounded(a) || bounded(b)) return bounds_overlap(m, a, b);
   if (a.type == ObjectType::plane && b.type == ObjectType::plane) return true;
   if (a.type == ObjectType::plane || b.type == ObjectType::plane) {
     const Object& plane = a.type == ObjectType::plane ? a : b;
@@ -423,6 +528,8 @@ bool objects_overlap(const Model& m, const Object& a, const Object& b) {
 
 double update_contact(const Model& model, const Object& object, const Vec3& x_prev, const Vec3& x, double skin_m,
                       ContactState& contact, bool hold) {
+  if (object.type == ObjectType::mesh) return mesh_contact(model.meshes[object.mesh], x, contact, hold);
+  if (object.type == ObjectType::capsule) return capsule_contact(object, x, contact);
   if (object.type == ObjectType::plane) {
     const double depth = dot(object.plane_normal, object.plane_point_m - x);
     contact.active = depth > 0.0;

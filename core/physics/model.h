@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/math/vec3.h"
+#include "core/physics/mesh.h"
 
 namespace enact::physics {
 
@@ -79,7 +80,9 @@ struct Box {
   std::uint8_t exposed = 0;   // bit f: no other box of the union can cover face f (set by index_boxes)
 };
 
-enum class ObjectType : std::uint8_t { plane, boxes };
+// a rigid object is a plane, a union of boxes (a box, a path), a closed triangle mesh (a mesh
+// file, a height map) or a capsule (a sphere: a capsule of zero length)
+enum class ObjectType : std::uint8_t { plane, boxes, mesh, capsule };
 
 // a polyline centerline, kept for objects built as a path (the bridge): tools place paths on it
 struct PathGeometry {
@@ -98,6 +101,12 @@ struct Object {
   int box_count = 0;
   bool is_path = false;      // boxes built from a path: `path` holds its centerline
   PathGeometry path;
+  int mesh = -1;             // mesh: index into Model::meshes
+  Vec3 axis_from_m;          // capsule: its axis, from one end to the other (equal: a sphere)
+  Vec3 axis_to_m;
+  double radius_m = 0.0;     // capsule: the distance of its surface from the axis
+  Vec3 axis_normal;          // capsule: the push on a point exactly on the axis (unit)
+  std::string shape;         // the scene's type: (plane, box, union, path, mesh, heightmap, sphere, capsule)
   int line = 0;
 };
 
@@ -158,6 +167,7 @@ struct Model {
   std::vector<Link> links;
   std::vector<Box> boxes;
   std::vector<Object> objects;
+  std::vector<Mesh> meshes;
   std::vector<ContactPair> contacts;
   std::vector<Proxy> proxies;
 

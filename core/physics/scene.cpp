@@ -1,9 +1,11 @@
 #include "core/physics/scene.h"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "core/config/yaml.h"
+#include "core/physics/mesh_file.h"
 
 namespace enact::physics {
 namespace {
@@ -185,10 +187,55 @@ struct Loader {
     }
   }
 
+  // a file an object names, relative to the scene file
+  std::string beside_scene(const Map& m) const {
+    const std::filesystem::path name = m.text("file");
+    const std::string path = name.is_absolute() ? name.string() : (std::filesystem::path(file).parent_path() / name).string();
+    if (!std::filesystem::is_regular_file(path)) m.fail("file", "there is no file " + path, "give the file's path relative to the scene file");
+    return path;
+  }
+
+  // a closed triangle mesh from a file, scaled, rotated and placed
+  void mesh(const Map& m, Object& o) {
+    const auto rpy = m.vec3("rpy_deg", {0, 0, 0});
+    const Mat3 rotation = rotation_rpy(rpy[0] * kDegree, rpy[1] * kDegree, rpy[2] * kDegree);
+    o.mesh = static_cast<int>(model.meshes.size());
+    model.meshes.push_back(load_mesh(beside_scene(m), m.positive("scale", 1.0), rotation, vec(m.vec3("center_m", {0, 0, 0}))));
+  }
+
+  // a height map: a closed solid over a grid of heights from a CSV file or a 16-bit PNG (its
+  // pixel values up to max_height_m), down to bottom_z_m
+  void heightmap(const Map& m, Object& o) {
+    const std::string source = beside_scene(m);
+    const bool png = source.size() > 4 && source.compare(source.size() - 4, 4, ".png") == 0;
+    if (png && !m.has("max_height_m")) m.fail("file", "a PNG height map needs max_height_m", "add max_height_m: the height (m) of the pixel value 65535");
+    if (!png && m.has("max_height_m")) m.fail("max_height_m", "max_height_m is for PNG height maps", "remove it: a CSV gives its heights in metres");
+    const HeightGrid grid = png ? read_png_heights(source, m.positive("max_height_m")) : read_heights(source);
+    const Vec3 centre = vec(m.vec3("center_m", {0, 0, 0}));
+    const double bottom = m.number("bottom_z_m", centre.z);
+    for (double h : grid.heights_m) {
+      if (centre.z + h <= bottom) m.fail("bottom_z_m", "a height of " + source + " is at or below bottom_z_m", "put bottom_z_m below the lowest height (center_m z + height)");
+    }
+    o.mesh = static_cast<int>(model.meshes.size());
+    model.meshes.push_back(heightfield_mesh(grid.heights_m, grid.rows, grid.cols, m.positive("cell_m"), centre, bottom));
+  }
+
+  // a capsule from_m -> to_m (a sphere: one centre), its surface radius_m from the axis
+  void capsule(const Map& m, Object& o, bool sphere) {
+    o.axis_from_m = vec(m.vec3(sphere ? "center_m" : "from_m"));
+    o.axis_to_m = sphere ? o.axis_from_m : vec(m.vec3("to_m"));
+    o.radius_m = m.positive("radius_m");
+    const Vec3 axis = o.axis_to_m - o.axis_from_m;
+    if (!sphere && norm(axis) <= 0.0) m.fail("to_m", "the capsule's ends are the same point", "give two different ends, or use type: sphere");
+    // on the axis itself: up for a sphere, else the horizontal (or x) direction across the axis
+    const Vec3 across = std::abs(axis.z) < 0.9 * norm(axis) ? Vec3{-axis.y, axis.x, 0.0} : Vec3{axis.z, 0.0, -axis.x};
+    o.axis_normal = sphere ? Vec3{0, 0, 1} : across * (1.0 / norm(across));
+  }
+
   void objects(const Map& scene) {
     for (const auto& n : scene.list("objects")) {
       Map m(n, file, "object", {"name", "type", "point_m", "normal", "center_m", "half_extents_m", "rpy_deg", "boxes",
-                                "points_m", "width_m", "bottom_z_m", "top_z_m"});
+                                "points_m", "width_m", "bottom_z_m", "top_z_m", "file", "scale", "cell_m", "max_height_m", "radius_m", "from_m", "to_m"});
       Object o;
       o.name = m.text("name");
       check_new_name(m, o.name);
@@ -211,9 +258,16 @@ struct Loader {
       } else if (type == "path") {
         o.type = ObjectType::boxes;
         path(m, o);
+      } else if (type == "mesh" || type == "heightmap") {
+        o.type = ObjectType::mesh;
+        type == "mesh" ? mesh(m, o) : heightmap(m, o);
+      } else if (type == "sphere" || type == "capsule") {
+        o.type = ObjectType::capsule;
+        capsule(m, o, type == "sphere");
       } else {
-        m.fail("type", "unknown object type '" + type + "'", "use plane, box, union or path");
+        m.fail("type", "unknown object type '" + type + "'", "use plane, box, union, path, mesh, heightmap, sphere or capsule");
       }
+      o.shape = type;
       o.box_count = static_cast<int>(model.boxes.size()) - o.first_box;
       model.objects.push_back(o);
     }

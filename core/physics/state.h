@@ -18,6 +18,9 @@ struct ContactState {
   double depth_m = 0.0;   // penetration below that face (> 0 while active)
   int box = -1;           // the box and face pushing now (boxes only; -1 for planes)
   int face = -1;
+  // meshes: the triangle nearest last step. Its hold (hold_at_m, hold_r2): outside, the point
+  // cannot reach the surface; inside, no other triangle can become nearer
+  int triangle = -1;
   // the boxes of the object within a margin of `near_at_m` (bit i: box first_box + i): while
   // the point stays within that margin of near_at_m it can only be inside these
   std::uint64_t near_boxes = 0;

@@ -276,10 +276,12 @@ void accumulate_forces(const Model& m, State& s) {
         contact_force(m, m.contacts[k], s);
         continue;
       }
-      // what update_contact would find: the point is in no box and above every plane
+      // what update_contact would find: the point is in no box or mesh and above every plane
+      // (a mesh's hold, planned inside, no longer holds)
       s.contacts[k].active = false;
       s.contacts[k].depth_m = 0.0;
       s.contacts[k].anchored = false;
+      s.contacts[k].hold_r2 = 0.0;
     }
   }
 }

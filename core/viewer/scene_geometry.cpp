@@ -16,19 +16,35 @@ void grow(task::Point2& lo, task::Point2& hi, double x, double y) {
   hi = {std::max(hi.x_m, x), std::max(hi.y_m, y)};
 }
 
+// a mesh seen from above: its triangles that face up (a triangle is a face whose last corner
+// is repeated)
+void add_mesh_faces(const physics::Mesh& mesh, SceneGeometry& g) {
+  for (const physics::Triangle& t : mesh.triangles) {
+    if (t.normal.z <= 0.0) continue;
+    TopFace f;
+    for (int i = 0; i < 4; ++i) {
+      const math::Vec3& v = mesh.vertices_m[t.v[std::min(i, 2)]];
+      f.corner[i] = {v.x, v.y};
+      f.top_z_m = i == 0 ? v.z : std::max(f.top_z_m, v.z);
+    }
+    g.faces.push_back(f);
+  }
+}
+
 }  // namespace
 
 SceneGeometry geometry_of(const physics::Model& m) {
   SceneGeometry g;
   g.name = m.name;
   const int surface = m.task_surface.empty() ? -1 : m.find_object(m.task_surface);
-  // the boxes' top faces
+  // the boxes' top faces, the meshes' faces that look up
   for (std::size_t o = 0; o < m.objects.size(); ++o) {
     const physics::Object& obj = m.objects[o];
     if (obj.type == physics::ObjectType::plane) {
       if (obj.plane_normal.z > 0.99) g.floor_z_m = std::max(g.floor_z_m, obj.plane_point_m.z);
       continue;
     }
+    if (obj.type == physics::ObjectType::mesh) add_mesh_faces(m.meshes[obj.mesh], g);
     for (int b = obj.first_box; b < obj.first_box + obj.box_count; ++b) {
       const physics::Box& box = m.boxes[b];
       const math::Vec3& h = box.half_extents_m;

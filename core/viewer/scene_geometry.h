@@ -1,7 +1,8 @@
 #pragma once
 // What the viewer draws of a scene, taken from its file (the same file the simulator
-// loaded; `enact-viewer --scene`): the rigid boxes seen from above, the task path and its
-// top surface, the floor, the device workspace, and the exploratory body's grid.
+// loaded; `enact-viewer --scene`): the rigid boxes and meshes seen from above (spheres and
+// capsules are not drawn), the task path and its top surface, the floor, the device
+// workspace, and the exploratory body's grid.
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ struct SceneGeometry {
   // else the boxes and the body's start with a margin
   task::Point2 view_min_m, view_max_m;
   double floor_z_m = 0.0;             // the highest plane under the body (0 without one)
-  std::vector<TopFace> faces;         // every box of every box object
+  std::vector<TopFace> faces;         // every box of every box object, every upward mesh triangle
   bool has_path = false;              // the scene has a task path
   task::Polyline path;                // its centreline
   double path_width_m = 0.0;

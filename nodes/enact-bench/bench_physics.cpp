@@ -18,6 +18,7 @@
 
 #include "core/haptics/computer_model.h"
 #include "core/physics/contact.h"
+#include "core/physics/mesh.h"
 #include "core/physics/scene.h"
 #include "core/sim/offline.h"
 #include "core/physics/state.h"
@@ -70,6 +71,14 @@ repetitions of all benchmarks interleaved in a random order):
                       distance in which no other face can take over
   chain       N = 10, 100, 1000 masses in a line of springs, one end fixed (cordis):
               ns per step and per element (mass + link)
+  mesh        one step of the bridge's body (CM1, 44 kHz) against a closed triangle
+              mesh instead of the bridge: a height field of 1 mm bumps on a 60 mm
+              square, 4 N^2 + 8 N triangles for N cells a side (96, 1020, 9996 and
+              99852), the body walking over it in a Lissajous figure, 0.2 to 0.8 mm into
+              the plateau (JSON mesh_rows); each row's cost against the previous one's
+              and the ratio of their log(triangles): the hierarchy's search grows with
+              log(triangles), plus one test per triangle within a point's depth, more
+              on a finer mesh (docs/physics.md, "Meshes, height maps, spheres and capsules")
 
 errors (deterministic, no damping added):
   oscillator  m = 0.01 kg, f0 = 50 Hz, released from A = 1 mm at rest, 1 s:
@@ -107,6 +116,8 @@ options:
 )";
 
 constexpr std::array kChainMasses{10, 100, 1000};
+// the mesh rows: cells a side of the height field (4 N^2 + 8 N triangles)
+constexpr std::array kMeshCells{4, 15, 49, 157};
 // the bounce's step timed at this rate, restarted every simulated second (a decaying
 // bounce would reach denormal numbers, the plain contact gains energy)
 constexpr double kBounceTiming_hz = 1000.0;
@@ -185,6 +196,48 @@ Model bridge(const std::string& scene, const std::vector<Vec3>& start) {
   if (!start.empty()) m.points[m.proxies[0].point].position_m = start.front() + Vec3{0.0, 0.0, 1e-3};
   return m;
 }
+
+// ---- the mesh rows ----
+
+// a 60 mm square height field of 1 mm bumps (one every 21 mm) on a 5 mm plateau, `cells` a side
+physics::Mesh bumpy_field(int cells) {
+  const double cell_m = 0.06 / cells;
+  std::vector<double> heights;
+  for (int r = 0; r <= cells; ++r) {
+    for (int c = 0; c <= cells; ++c) heights.push_back(0.005 + 0.001 * std::sin(r * cell_m * 300.0) * std::sin(c * cell_m * 300.0));
+  }
+  return physics::heightfield_mesh(heights, cells + 1, cells + 1, cell_m, {0, 0, 0}, 0.0);
+}
+
+// the bridge model (body, contact parameters, CM1) with the field instead of its objects:
+// the body's pairs with its first object, now the field
+Model on_field(Model m, physics::Mesh field) {
+  const int first = m.contacts.front().object;
+  std::erase_if(m.contacts, [first](const physics::ContactPair& c) { return c.object != first; });
+  for (physics::ContactPair& c : m.contacts) c.object = 0;
+  physics::Object o;
+  o.name = "field";
+  o.type = physics::ObjectType::mesh;
+  o.shape = "mesh";
+  o.mesh = 0;
+  m.objects = {o};
+  m.boxes.clear();
+  m.meshes = {std::move(field)};
+  m.task_surface.clear();
+  return m;
+}
+
+// the walk over the field: a Lissajous figure over 40 x 40 mm, 0.2 to 0.8 mm into the plateau
+std::vector<Vec3> field_motion(double rate_hz) {
+  std::vector<Vec3> motion(steps_in(10.0, rate_hz));
+  for (std::size_t n = 0; n < motion.size(); ++n) {
+    const double phase = 2.0 * std::numbers::pi * static_cast<double>(n) / rate_hz;
+    motion[n] = {0.02 * std::sin(0.3 * phase), 0.02 * std::sin(0.2 * phase), 0.0045 + 0.0003 * std::sin(1.1 * phase)};
+  }
+  return motion;
+}
+
+std::string mesh_name(int cells) { return "mesh/" + std::to_string(4 * cells * cells + 8 * cells); }
 
 struct GridContacts {
   double mean = 0.0;      // grid masses touching, mean over the motion
@@ -279,7 +332,7 @@ std::string bounce_name(Integrator integrator, bool passive) {
 }
 
 void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& motion, const Model& path_model,
-                         const std::vector<Vec3>& path_motion) {
+                         const std::vector<Vec3>& path_motion, const std::vector<Model>& fields, const std::vector<Vec3>& field_walk) {
   for (Integrator integrator : kIntegrators) {
     for (double rate_hz : kRates_hz) {
       const Model m = oscillator(integrator, rate_hz, 0.0);
@@ -308,6 +361,11 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
   for (int masses : kChainMasses) {
     const Model m = chain(masses, kBridgeRate_hz);
     benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
+  }
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    benchmark::RegisterBenchmark(mesh_name(kMeshCells[k]).c_str(), [&fields, &field_walk, k](benchmark::State& t) {
+      step_loop(t, fields[k], field_walk, field_walk.size(), false);
+    });
   }
 }
 
@@ -342,6 +400,11 @@ struct Row {
   double realtime_factor() const { return 1e9 / rate_hz / ns_per_step; }
 };
 
+struct MeshRow {
+  int triangles = 0;
+  double ns_per_step = 0.0;
+};
+
 struct ChainRow {
   int masses = 0;
   double ns_per_step = 0.0;
@@ -367,6 +430,7 @@ struct Results {
   Settings settings;
   std::vector<Row> rows;
   std::vector<ChainRow> chain;
+  std::vector<MeshRow> mesh;
   std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
   std::vector<reference::SweepRow> bridge_rows;
@@ -444,6 +508,16 @@ void print_table(const Results& r) {
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
+  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
+    const MeshRow& w = r.mesh[k];
+    std::printf("mesh %-7d %.1f ns per step", w.triangles, w.ns_per_step);
+    if (k > 0) {
+      const MeshRow& before = r.mesh[k - 1];
+      std::printf(" (x%.2f the %d-triangle row's; log(triangles) x%.2f)", w.ns_per_step / before.ns_per_step, before.triangles,
+                  std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before.triangles)));
+    }
+    std::printf("\n");
+  }
   std::printf("machine      %s, %s, %d cores; times are wall-clock medians of %d repetitions (min %g s each)\n",
               r.machine.arch.c_str(), r.machine.cpu.c_str(), r.machine.cores, r.settings.repetitions, r.settings.min_time_s);
 }
@@ -462,6 +536,13 @@ void write_json(const Results& r, const std::string& path) {
   j.key("chain").begin_array();
   for (const ChainRow& w : r.chain) {
     j.begin_object().field("masses", w.masses).field("ns_per_step", w.ns_per_step).field("ns_per_element", w.ns_per_element()).end_object();
+  }
+  j.end_array().key("mesh_rows").begin_array();
+  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
+    const MeshRow& w = r.mesh[k];
+    j.begin_object().field("triangles", w.triangles).field("ns_per_step", w.ns_per_step);
+    if (k > 0) j.field("ratio_to_previous", w.ns_per_step / r.mesh[k - 1].ns_per_step);
+    j.end_object();
   }
   j.end_array().key("rows").begin_array();
   for (const Row& w : r.rows) {
@@ -521,9 +602,13 @@ Results run_physics(const Settings& settings, const std::string& scene) {
                                         [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
                                         settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
-               kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size(), settings.repetitions);
+               kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size() + kMeshCells.size(), settings.repetitions);
+  std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");
+  std::vector<Model> fields;
+  for (int cells : kMeshCells) fields.push_back(on_field(bridge_model, bumpy_field(cells)));
+  const std::vector<Vec3> field_walk = field_motion(kBridgeRate_hz);
   MedianReporter reporter;
-  register_benchmarks(bridge_model, motion, path_model, path_motion);
+  register_benchmarks(bridge_model, motion, path_model, path_motion, fields, field_walk);
   run_benchmarks(settings, reporter);
   for (Row& w : r.rows) w.ns_per_step = reporter.median_ns(oscillator_name(w.integrator, w.rate_hz));
   for (Integrator integrator : kIntegrators) {
@@ -536,6 +621,9 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   r.bridge_no_hold_ns = reporter.median_ns("bridge_no_hold");
   r.bridge_cull_test_ns = reporter.median_ns("bridge_cull_test");
   for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    r.mesh.push_back({static_cast<int>(fields[k].meshes[0].triangles.size()), reporter.median_ns(mesh_name(kMeshCells[k]))});
+  }
   return r;
 }
 

@@ -68,7 +68,10 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
   j.field("stable", r.stable()).field("passive", r.passive());
   j.key("objects").begin_array();
   for (const auto& o : m.objects) {
-    j.begin_object().field("name", o.name).field("type", o.type == physics::ObjectType::plane ? "plane" : o.is_path ? "path" : "boxes");
+    const bool boxes = o.type == physics::ObjectType::boxes && !o.is_path;
+    j.begin_object().field("name", o.name).field("type", boxes ? "boxes" : o.is_path ? "path" : o.type == physics::ObjectType::plane ? "plane" : o.shape);
+    if (o.type == physics::ObjectType::mesh) j.field("triangles", static_cast<double>(m.meshes[o.mesh].triangles.size()));
+    if (o.type == physics::ObjectType::capsule) j.field("radius_m", o.radius_m);
     if (o.is_path) {
       j.key("centerline_m").begin_array();
       for (const auto& p : o.path.centerline_m) j.begin_array().value(p.x).value(p.y).end_array();

@@ -90,10 +90,10 @@ TEST_F(BadScene, UnknownObjectType) {
       "  - {name: m1, mass_kg: 0.01, position_m: [0, 0, 0.01]}\n"
       "objects:\n"
       "  - name: ball\n"
-      "    type: sphere\n"
+      "    type: cone\n"
       "    center_m: [0, 0, 0]\n");
   expect_refused(r, scene_, 6);
-  EXPECT_NE(r.err.find("sphere"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cone"), std::string::npos) << r.err;
 }
 
 TEST_F(BadScene, MissingFile) {

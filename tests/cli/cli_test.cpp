@@ -118,6 +118,18 @@ TEST(CliCheck, JsonHasTheGeometry) {
   EXPECT_EQ(py.exit_code, 0) << py.err;
 }
 
+// the example scene of objects beyond boxes: stable and passive, each object named by its type
+TEST(CliCheck, AcceptsMeshesHeightMapsSpheresAndCapsules) {
+  const RunResult r = enact("check " + source_path("launch/scenes/shapes.yaml") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* type : {"heightmap", "mesh", "sphere", "capsule", "plane"}) {
+    EXPECT_NE(r.out.find(std::string("\"type\": \"") + type + "\""), std::string::npos) << type;
+  }
+  EXPECT_NE(r.out.find("\"triangles\": 320"), std::string::npos) << r.out;  // 8 x 8 cells: 4 a cell, 4 a boundary edge
+  EXPECT_NE(r.out.find("\"stable\": true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"passive\": true"), std::string::npos) << r.out;
+}
+
 // a scene without a task (two boxes with a gap) is summarised without the task's columns,
 // and its metrics file has no task metrics; the bridge keeps them
 TEST(CliSimulate, ASceneWithoutATaskHasNoTaskColumns) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/haptics/computer_model.h"
+#include "core/physics/contact.h"
 #include "core/physics/scene.h"
 #include "core/physics/state.h"
 #include "core/sim/offline.h"
@@ -107,6 +108,50 @@ inline int add_plane(Model& m, const std::string& name, Vec3 point_m, Vec3 norma
   o.plane_normal = normal;
   m.objects.push_back(o);
   return static_cast<int>(m.objects.size()) - 1;
+}
+
+// a closed mesh object; returns its index
+inline int add_mesh(Model& m, const std::string& name, Mesh mesh) {
+  Object o;
+  o.name = name;
+  o.type = ObjectType::mesh;
+  o.mesh = static_cast<int>(m.meshes.size());
+  m.meshes.push_back(std::move(mesh));
+  m.objects.push_back(o);
+  return static_cast<int>(m.objects.size()) - 1;
+}
+
+// an axis-aligned box as 12 triangles (two per face, wound outwards)
+inline Mesh box_mesh(Vec3 centre, Vec3 half) {
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back(centre + Vec3{i & 1 ? half.x : -half.x, i & 2 ? half.y : -half.y, i & 4 ? half.z : -half.z});
+  return build_mesh(corners, {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 4, 6}, {0, 6, 2},
+                              {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3}});
+}
+
+// a capsule (a sphere when the ends are equal) pushing a point on its axis along `axis_normal`
+inline int add_capsule(Model& m, const std::string& name, Vec3 from_m, Vec3 to_m, double radius_m, Vec3 axis_normal) {
+  Object o;
+  o.name = name;
+  o.type = ObjectType::capsule;
+  o.axis_from_m = from_m;
+  o.axis_to_m = to_m;
+  o.radius_m = radius_m;
+  o.axis_normal = axis_normal;
+  m.objects.push_back(o);
+  return static_cast<int>(m.objects.size()) - 1;
+}
+
+// what a fresh contact pair with object `o` finds at x (the full search, no hold): the depth
+// and, in contact, the normal
+struct Probe {
+  double depth_m = 0.0;
+  Vec3 normal;
+};
+inline Probe probe(const Model& m, int o, const Vec3& x) {
+  ContactState c;
+  const double depth = update_contact(m, m.objects[o], x, x, 0.001, c, false);
+  return {depth, c.active ? c.normal : Vec3{}};
 }
 
 inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0, 0, false, {}}); }

@@ -79,6 +79,22 @@ TEST(SceneGeometry, TheBridgeIsThreeTopFacesAlongItsPath) {
   EXPECT_NEAR(g.grid_offsets_m[0].y, 1.5 * 0.00245, 1e-12);
 }
 
+// a scene of meshes: the upward triangles of the height map (2 a cell) and of the wedge (its
+// slope) seen from above, each with the corners of a mesh triangle
+TEST(SceneGeometry, MeshesAreTheirUpwardTrianglesSeenFromAbove) {
+  const physics::Model m = physics::load_scene(test::source_path("launch/scenes/shapes.yaml"));
+  const SceneGeometry g = geometry_of(m);
+  ASSERT_EQ(g.faces.size(), 2u * 8u * 8u + 2u);
+  const physics::Mesh& wedge = m.meshes[m.objects[m.find_object("wedge")].mesh];
+  const TopFace& slope = g.faces.back();
+  EXPECT_NEAR(slope.top_z_m, 0.005, 1e-12);  // the wedge's high edge
+  for (const task::Point2& c : slope.corner) {
+    const bool a_vertex = std::any_of(wedge.vertices_m.begin(), wedge.vertices_m.end(),
+                                      [&](const math::Vec3& v) { return std::abs(v.x - c.x_m) < 1e-12 && std::abs(v.y - c.y_m) < 1e-12; });
+    EXPECT_TRUE(a_vertex) << c.x_m << ", " << c.y_m;
+  }
+}
+
 // an ImGui frame with no window and no renderer: enough to fill draw lists
 class Headless : public ::testing::Test {
  protected:
