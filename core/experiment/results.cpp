@@ -61,10 +61,62 @@ void keep_or_check(const std::string& path, const std::string& text, const std::
 const char* const kResultsHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines";
 const char* const kPracticeHeader = "subject,condition,order,falls,time_total_s,time_out_s,ratio,completed,missed_deadlines,kind";
 
+namespace {
+
+// the bridge task's metrics of a recorded trial from its events (with their publishers),
+// the simulator `sim`, the keyframe it is taken up from (if any) and its device states' span
+task::Metrics metrics_of(const std::vector<std::pair<std::string, msgs::TaskEvent>>& events, const std::string& sim, const std::optional<msgs::SimKeyframe>& from,
+                         std::int64_t first_ns, std::int64_t last_ns) {
+  // the simulator's events, in the order it reported them; the runner's own (trial start,
+  // reset, condition) carry no metric. A live `sim.trial start` or `sim.reset` begins a new
+  // trial there, `sim.trial stop` ends it (not completed). A fall that begins or ends on the
+  // very step that completes the bridge is not reported (BridgeTask keeps it): then falls
+  // can be one short.
+  task::Metrics metrics;
+  std::int64_t start_ns = first_ns, end_ns = -1, fall_ns = -1, out_ns = 0;
+  if (from) {
+    start_ns = from->trial_start_ns();
+    metrics.falls = from->falls();
+    out_ns = from->closed_out_ns();
+    fall_ns = from->fall_since_ns() != 0 ? from->fall_since_ns() : -1;
+    end_ns = from->trial_end_ns() != 0 ? from->trial_end_ns() : -1;
+    metrics.completed = end_ns >= 0 && !from->stopped();
+  }
+  for (const auto& [publisher, e] : events) {
+    const bool restart = e.kind() == msgs::TaskEvent::TRIAL_START || (e.kind() == msgs::TaskEvent::RESET && e.detail() == "reset");
+    if (publisher == sim && restart) {
+      metrics = {};
+      start_ns = e.time_ns();
+      end_ns = fall_ns = -1;
+      out_ns = 0;
+    }
+    if (end_ns >= 0) continue;
+    if (e.kind() == msgs::TaskEvent::FALL_START) {
+      ++metrics.falls;
+      fall_ns = e.time_ns();
+    } else if (e.kind() == msgs::TaskEvent::FALL_END && fall_ns >= 0) {
+      out_ns += e.time_ns() - fall_ns;
+      fall_ns = -1;
+    } else if (e.kind() == msgs::TaskEvent::TRIAL_END) {
+      end_ns = e.time_ns();
+      metrics.completed = e.detail() != "stopped";
+    }
+  }
+  // a fall still open counts up to the end: the completion, or the last device state
+  const std::int64_t stop_ns = end_ns >= 0 ? end_ns : last_ns;
+  if (fall_ns >= 0) out_ns += stop_ns - fall_ns;
+  metrics.time_total_s = seconds(stop_ns - start_ns);
+  metrics.time_out_s = seconds(out_ns);
+  metrics.ratio = metrics.time_total_s > 0.0 ? metrics.time_out_s / metrics.time_total_s : 0.0;
+  return metrics;
+}
+
+}  // namespace
+
 RecordedTrial read_trial(const std::string& mcap_path, std::int64_t keyframe_stamp_ns) {
   record::Reader reader(mcap_path);
   RecordedTrial out;
-  std::int64_t first_ns = 0, last_ns = 0, end_ns = -1, fall_ns = -1, out_ns = 0;
+  std::int64_t first_ns = 0, last_ns = 0;
   graph::SequenceCheck seq;
   msgs::DeviceState state;
   msgs::TaskEvent event;
@@ -100,46 +152,7 @@ RecordedTrial read_trial(const std::string& mcap_path, std::int64_t keyframe_sta
     return true;
   });
   if (out.states == 0) throw config::Error(mcap_path + ": holds no device state (ffd/state)\n  fix: record the trial's graph with its logger");
-  // the simulator's events, in the order it reported them; the runner's own (trial start,
-  // reset, condition) carry no metric. A live `sim.trial start` or `sim.reset` begins a new
-  // trial there, `sim.trial stop` ends it (not completed). A fall that begins or ends on the
-  // very step that completes the bridge is not reported (BridgeTask keeps it): then falls
-  // can be one short.
-  std::int64_t start_ns = first_ns;
-  if (from) {
-    start_ns = from->trial_start_ns();
-    out.metrics.falls = from->falls();
-    out_ns = from->closed_out_ns();
-    fall_ns = from->fall_since_ns() != 0 ? from->fall_since_ns() : -1;
-    end_ns = from->trial_end_ns() != 0 ? from->trial_end_ns() : -1;
-    out.metrics.completed = end_ns >= 0 && !from->stopped();
-  }
-  for (const auto& [publisher, e] : events) {
-    const bool restart = e.kind() == msgs::TaskEvent::TRIAL_START || (e.kind() == msgs::TaskEvent::RESET && e.detail() == "reset");
-    if (publisher == sim && restart) {
-      out.metrics = {};
-      start_ns = e.time_ns();
-      end_ns = fall_ns = -1;
-      out_ns = 0;
-    }
-    if (end_ns >= 0) continue;
-    if (e.kind() == msgs::TaskEvent::FALL_START) {
-      ++out.metrics.falls;
-      fall_ns = e.time_ns();
-    } else if (e.kind() == msgs::TaskEvent::FALL_END && fall_ns >= 0) {
-      out_ns += e.time_ns() - fall_ns;
-      fall_ns = -1;
-    } else if (e.kind() == msgs::TaskEvent::TRIAL_END) {
-      end_ns = e.time_ns();
-      out.metrics.completed = e.detail() != "stopped";
-    }
-  }
-  // a fall still open counts up to the end: the completion, or the last device state
-  const std::int64_t stop_ns = end_ns >= 0 ? end_ns : last_ns;
-  if (fall_ns >= 0) out_ns += stop_ns - fall_ns;
-  out.metrics.time_total_s = seconds(stop_ns - start_ns);
-  out.metrics.time_out_s = seconds(out_ns);
-  out.metrics.ratio = out.metrics.time_total_s > 0.0 ? out.metrics.time_out_s / out.metrics.time_total_s : 0.0;
+  out.metrics = metrics_of(events, sim, from, first_ns, last_ns);
   out.duration_s = seconds(last_ns - first_ns);
   return out;
 }

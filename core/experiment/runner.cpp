@@ -245,6 +245,30 @@ std::vector<std::string> check_trial_graphs(const ExperimentSpec& spec, const st
   return problems;
 }
 
+namespace {
+
+// a measured or practice trial done, in one line for the person running the experiment
+std::string trial_line(const Trial& t, const RecordedTrial& recorded) {
+  char line[256];
+  std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s%s", t.subject.c_str(), t.condition.label.c_str(),
+                to_string(t.kind), t.order, recorded.metrics.falls, recorded.metrics.time_total_s, recorded.metrics.time_out_s,
+                recorded.metrics.completed ? "" : ", not completed",
+                recorded.missed_deadlines ? (", " + std::to_string(recorded.missed_deadlines) + " deadlines missed").c_str() : "");
+  return line;
+}
+
+// with people: once every trial of `subject` is done, the ranking of the conditions, asked and
+// appended to `ranking`
+void ask_ranking(const ExperimentSpec& spec, const std::vector<Trial>& plan, const std::string& subject, const std::set<std::string>& done, RunnerUi& ui,
+                 const std::string& ranking) {
+  bool all_done = true;
+  for (const Trial& other : plan) all_done = all_done && (other.subject != subject || done.count(trial_key(other.subject, other.condition.label, other.kind)));
+  const std::map<std::string, int> ranks = all_done ? ui.ranking(subject, spec.conditions) : std::map<std::string, int>{};
+  if (!ranks.empty()) append_ranking(ranking, subject, ranks);
+}
+
+}  // namespace
+
 RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, RunnerUi& ui) {
   fs::create_directories(out + "/trials");
   const std::vector<Trial> plan = make_plan(spec);
@@ -295,12 +319,7 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
         estimate.add(since(began), run.trial_s());
         ++summary.run;
         failures = 0;
-        char line[256];
-        std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s%s", t.subject.c_str(),
-                      t.condition.label.c_str(), to_string(t.kind), t.order, r.recorded.metrics.falls, r.recorded.metrics.time_total_s, r.recorded.metrics.time_out_s,
-                      r.recorded.metrics.completed ? "" : ", not completed",
-                      r.recorded.missed_deadlines ? (", " + std::to_string(r.recorded.missed_deadlines) + " deadlines missed").c_str() : "");
-        ui.note(line);
+        ui.note(trial_line(t, r.recorded));
       } else if (outcome == Outcome::interrupted) {
         summary.interrupted = true;
       } else {
@@ -318,12 +337,7 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
     }
     // with people: the ranking of the conditions after a subject's last measured trial
     const bool last_of_subject = i + 1 == plan.size() || plan[i + 1].subject != t.subject;
-    if (person && last_of_subject && !summary.interrupted && !ranked.count(t.subject)) {
-      bool all_done = true;
-      for (const Trial& other : plan) all_done = all_done && (other.subject != t.subject || done.count(trial_key(other.subject, other.condition.label, other.kind)));
-      const std::map<std::string, int> ranks = all_done ? ui.ranking(t.subject, spec.conditions) : std::map<std::string, int>{};
-      if (!ranks.empty()) append_ranking(ranking, t.subject, ranks);
-    }
+    if (person && last_of_subject && !summary.interrupted && !ranked.count(t.subject)) ask_ranking(spec, plan, t.subject, done, ui, ranking);
   }
   progress.done = 0;
   for (const Trial& t : plan) progress.done += done.count(trial_key(t.subject, t.condition.label, t.kind));
