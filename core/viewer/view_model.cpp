@@ -15,6 +15,9 @@ const char* kind_name(msgs::TaskEvent::Kind k) {
     case msgs::TaskEvent::FALL_END: return "back on top";
     case msgs::TaskEvent::RESET: return "reset";
     case msgs::TaskEvent::CONDITION: return "condition";
+    case msgs::TaskEvent::INTERVAL_START: return "interval start";
+    case msgs::TaskEvent::INTERVAL_END: return "interval end";
+    case msgs::TaskEvent::ANSWER: return "answer";
     default: return "event";
   }
 }

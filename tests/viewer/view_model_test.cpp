@@ -86,6 +86,17 @@ TEST(ViewModel, EventsCountFallsAndRestartTheTrialClock) {
   EXPECT_EQ(m.log().back(), "trial end");
 }
 
+// a discrimination trial's events are named in the log (not "event")
+TEST(ViewModel, DiscriminationEventsAreNamedInTheLog) {
+  ViewModel m;
+  m.on_event(event(msgs::TaskEvent::INTERVAL_START, "1: 660"));
+  EXPECT_EQ(m.log().back(), "interval start: 1: 660");
+  m.on_event(event(msgs::TaskEvent::INTERVAL_END));
+  EXPECT_EQ(m.log().back(), "interval end");
+  m.on_event(event(msgs::TaskEvent::ANSWER, "2"));
+  EXPECT_EQ(m.log().back(), "answer: 2");
+}
+
 TEST(ViewModel, LinkIsWaitingThenConnectedThenLost) {
   ViewModel m;
   EXPECT_EQ(m.link(0), LinkState::waiting);
