@@ -282,6 +282,13 @@ int discrimination_run(const Args& a, FILE* term) {
 // (under 10^15: a --seed given as a number reads back exactly)
 std::uint64_t replicate_seed(std::uint64_t seed, int k) { return math::derive_seed(seed, 0x5265706c00ULL + static_cast<std::uint64_t>(k)) % 1'000'000'000'000'000ULL; }
 
+// replicate k's folder under `out`: out/replicate_001 ...
+std::string replicate_dir(const std::string& out, int k) {
+  char dir[32];
+  std::snprintf(dir, sizeof dir, "/replicate_%03d", k);
+  return out + dir;
+}
+
 // `enact experiment FILE --seed S --out DIR [--subjects N] [--conditions ...] --clock
 // simulated` in a child process, its output into DIR/run.log
 pid_t start_replicate(const Args& a, const std::string& file, std::uint64_t seed, const std::string& dir) {
@@ -328,9 +335,7 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
   bool stopping = false;
   while ((next <= count && !stopping) || !running.empty()) {
     while (!stopping && next <= count && static_cast<int>(running.size()) < jobs) {
-      char dir[32];
-      std::snprintf(dir, sizeof dir, "/replicate_%03d", next);
-      running[start_replicate(a, spec.file, replicate_seed(spec.seed, next), out + dir)] = next;
+      running[start_replicate(a, spec.file, replicate_seed(spec.seed, next), replicate_dir(out, next))] = next;
       ++next;
     }
     if (!stopping && experiment::take_stop_signal()) {
@@ -348,10 +353,8 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
     if (it == running.end()) continue;
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
     ok ? ++done : ++failed;
-    char dir[32];
-    std::snprintf(dir, sizeof dir, "/replicate_%03d", it->second);
     std::fprintf(stderr, "enact experiment: replicate %d %s (%d of %d done, %.0f s)%s\n", it->second, ok ? "done" : "did not finish", done, count,
-                 static_cast<double>(rt::now_ns() - start_ns) * 1e-9, ok ? "" : ("; see " + out + dir + "/run.log").c_str());
+                 static_cast<double>(rt::now_ns() - start_ns) * 1e-9, ok ? "" : ("; see " + replicate_dir(out, it->second) + "/run.log").c_str());
     running.erase(it);
   }
   if (stopping) return 130;
