@@ -16,7 +16,8 @@ std::string PlayOptions::out_topic(const std::string& topic) const {
   return it == remap.end() ? topic : it->second;
 }
 
-Player::Player(record::Reader& r, PlayOptions options, GraphSession* session) : r_(r), o_(std::move(options)), session_(session) {
+Player::Player(record::Reader& r, PlayOptions options, GraphSession* session)
+    : r_(r), o_(std::move(options)), session_(session), first_ns_(r.time_span().first) {
   for (const auto& [id, c] : r_.channels()) {
     if (o_.wanted(c.topic)) of(c);
   }
@@ -66,7 +67,7 @@ void Player::wait_for_subscribers(const std::function<void(const std::string&)>&
 
 void Player::play_once(const PlayTiming& timing, const std::function<void(std::int64_t log_ns)>& sent) {
   bool started = false;
-  const std::int64_t from_ns = r_.time_span().first + static_cast<std::int64_t>(o_.offset_s * 1e9);
+  const std::int64_t from_ns = first_ns_ + static_cast<std::int64_t>(o_.offset_s * 1e9);
   r_.for_each([&](const record::Message& m) {
     if (m.log_time_ns < from_ns || !o_.wanted(m.topic)) return true;
     if (!started) timing.restart(m.log_time_ns), started = true;

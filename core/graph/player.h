@@ -58,6 +58,7 @@ class Player {
   record::Reader& r_;
   PlayOptions o_;
   GraphSession* session_;
+  std::int64_t first_ns_;  // the recording's first log time (a pass starts offset_s after it)
   std::map<std::string, std::unique_ptr<bus::BytePublisher>> pubs_;  // by node
   std::map<std::uint16_t, bus::BytePublisher*> by_channel_;
 };
