@@ -289,11 +289,6 @@ std::vector<std::string> check_clock(const launch::LaunchDescription& graph) {
   };
   for (const launch::NodeSpec& n : graph.nodes) {
     const std::string exec = std::filesystem::path(n.path).filename().string();
-    if (exec == "enact-ffd") {
-      problems.push_back(n.source + ": node '" + n.name + "': the distributed graph's clock master (enact-ffd) keeps real time only, and the graph's clock is simulated (" +
-                         graph.clock_source + ")\n  fix: run it in real time (clock: real, or leave out --clock simulated), or use the co-located graph "
-                         "(a container: launch/bridge_rt.yaml, launch/experiments/trial_rt.yaml)");
-    }
     if (exec == "enact-ffd" || exec == "enact-tactile") refuse_real(n, exec.substr(6) + " driver", n.params);
     for (const launch::ComponentSpec& c : n.components) {
       if (c.plugin == "ffd" || c.plugin == "tactile") refuse_real(n, "component '" + c.name + "'", c.params);

@@ -68,4 +68,12 @@ void WatchdogLog::fill(msgs::NodeStatus& status) const {
   status.set_watchdog_longest_s(longest_s());
 }
 
+std::string simulated_verdict(double rate_hz, std::uint64_t ticks, std::int64_t wall_ns) {
+  const double model_s = static_cast<double>(ticks) / rate_hz, wall_s = static_cast<double>(wall_ns) * 1e-9;
+  char line[160];
+  std::snprintf(line, sizeof line, "simulated time: %.3f s of the model in %.3f s, %.1f times real time, no deadline to miss", model_s, wall_s,
+                wall_s > 0.0 ? model_s / wall_s : 0.0);
+  return line;
+}
+
 }  // namespace enact::graph

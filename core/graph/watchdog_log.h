@@ -39,5 +39,7 @@ class WatchdogLog {
 // deadlines missed and the force never cut. Into `status` too (deadlines, verdict).
 std::string rate_verdict(double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts);
 void fill_verdict(msgs::NodeStatus& status, double rate_hz, std::uint64_t deadlines, std::uint64_t missed, const WatchdogLog& cuts);
+// the verdict on a run in simulated time: `ticks` at rate_hz took `wall_ns` of the wall clock
+std::string simulated_verdict(double rate_hz, std::uint64_t ticks, std::int64_t wall_ns);
 
 }  // namespace enact::graph

@@ -414,13 +414,9 @@ void Container::print_summary() {
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(io.dropped.load()), io.cuts.summary().c_str());
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
-  if (clock_ == rt::GraphClock::simulated) {
-    const double model_s = static_cast<double>(whole.ticks) / sched_.rate_hz, wall_s = static_cast<double>(run_ns_) * 1e-9;
-    std::printf("%s: verdict: simulated time: %.3f s of the model in %.3f s, %.1f times real time, no deadline to miss\n", name, model_s, wall_s,
-                wall_s > 0.0 ? model_s / wall_s : 0.0);
-  } else {
-    std::printf("%s: verdict: %s\n", name, graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts).c_str());
-  }
+  const std::string verdict = clock_ == rt::GraphClock::simulated ? graph::simulated_verdict(sched_.rate_hz, whole.ticks, run_ns_)
+                                                                   : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts);
+  std::printf("%s: verdict: %s\n", name, verdict.c_str());
   std::fflush(stdout);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <utility>
 
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
@@ -42,6 +43,9 @@ std::string safety_summary(devices::ForceDevice& device) {
          std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
 }
 
+// simulated time: how long the driver waits for the pins of a frame the simulator sent
+constexpr std::int64_t kShownWait_ns = 2'000'000'000;
+
 }  // namespace
 
 struct Ffd::Io {
@@ -76,6 +80,8 @@ struct Ffd::Io {
   const bool feels_pins;
   float levels[32] = {};
   std::uint64_t pins_felt = 0;
+  std::uint64_t frame_due = 0;  // simulated time: the tactile frame whose pins come before the next tick
+  std::uint64_t pins_missed = 0;  // simulated time: frames whose pins did not come in kShownWait_ns
   std::unique_ptr<rt::PeriodicScheduler> scheduler;
   rt::LoopStats stats;
   devices::ForceSample sample;
@@ -94,9 +100,11 @@ Ffd::Ffd(Host& host)
       tactile_node_(host.params().text("tactile_node")),
       duration_s_(host.params().number("duration_s")),
       observers_(host.params().integer("observers")),
-      local_hop_(host.params().text("loop_transport") != "zeromq") {
+      local_hop_(host.params().text("loop_transport") != "zeromq"),
+      simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
   graph::Params& p = host.params();
   sched_.rate_hz = p.number("rate_hz");
+  sched_.simulated = simulated_;
   sched_.validate();
   rtp_.lock_memory = p.flag("lock_memory");
   rtp_.fifo_priority = p.integer("fifo_priority");
@@ -117,13 +125,12 @@ void Ffd::open_hop() {
     io.in.connect(graph::node_endpoint(sim_node_));
   }
   if (io.feels_pins) io.shown_in.connect(graph::node_endpoint(tactile_node_));
-  if (local_hop_) {
-    // the observers first: the simulator, asked for them too, takes the link once they listen
-    graph::wait_for_subscribers(io.out, graph::kDeviceState, observers_, name, "observer");
-    graph::wait_for_loop_peer(io.link, name, sim_node_);
-  } else {
-    graph::wait_for_subscribers(io.out, graph::kDeviceState, 1 + observers_, name, "subscriber (the simulator, then observers)");
-  }
+  // the simulator subscribes to the states on the bus on either hop (on the local one until
+  // the first state reaches it over the link): it counts with the observers asked for. It
+  // takes the link once its own observers listen
+  const int subscribers = local_hop_ && observers_ == 0 ? 0 : 1 + observers_;
+  graph::wait_for_subscribers(io.out, graph::kDeviceState, subscribers, name, "subscriber (the simulator, then observers)");
+  if (local_hop_) graph::wait_for_loop_peer(io.link, name, sim_node_);
   graph::say(name, local_hop_ ? "loop hop to " + sim_node_ + ": local (Unix link " + io.link.path() + ", read by the loop thread)"
                               : "loop hop to " + sim_node_ + ": ZeroMQ (loop_transport=zeromq)");
 }
@@ -132,6 +139,12 @@ void Ffd::open_hop() {
 // period shorter than twice the lateness is spun whole on the loop's CPU, under normal
 // scheduling (the simulator, woken by each state, still gets the CPU it needs)
 void Ffd::plan_wait() {
+  if (simulated_) {
+    // lock-step: the next tick as soon as this one's answer (and the pins it drove) are in
+    graph::say(host_.name(), "the loop ticks back to back: the graph's clock is simulated (a tick's time is its index over rate_hz)");
+    io_->scheduler = std::make_unique<rt::PeriodicScheduler>(sched_);
+    return;
+  }
   const rt::RtReport report = rt::apply_rt_setup(rtp_);
   graph::say(host_.name(), report.summary());
   const bool fifo = rt::running_fifo();
@@ -159,9 +172,34 @@ bool Ffd::next_answer(std::int64_t deadline_ns) {
   return false;
 }
 
+// the answer to the sample just sent: in real time until `answer_by` (just before the next
+// tick), in simulated time until it comes (or a stop)
+bool Ffd::await_answer(std::int64_t answer_by) {
+  while (!next_answer(simulated_ ? rt::now_ns() + 100'000'000 : answer_by)) {
+    if (!simulated_ || graph::stop_requested()) return false;
+  }
+  return true;
+}
+
+// simulated time: the pins of frame `due` (0: no frame since the last tick), waited for
+bool Ffd::await_shown(std::uint64_t due) {
+  Io& io = *io_;
+  const std::int64_t give_up = rt::now_ns() + kShownWait_ns;
+  while (due > 0 && !(io.shown.receive(io.shown_msg, 100) && io.shown_msg.frame_seq() >= due)) {
+    if (graph::stop_requested() || rt::now_ns() > give_up) {
+      if (io.pins_missed++ == 0) graph::say(host_.name(), "tactile/shown for frame " + std::to_string(due) + " did not come within 2 s: the subject feels the pins it had (said once, counted)");
+      return false;
+    }
+  }
+  return due > 0;
+}
+
+// the latest pins the tactile driver shows; in simulated time those of each frame the last
+// answer said was sent, waited for (lock-step: the same pins at the same tick every run)
 void Ffd::feel_pins() {
   Io& io = *io_;
-  if (!io.feels_pins || !io.shown.receive(io.shown_msg, 0)) return;
+  if (!io.feels_pins) return;
+  if (simulated_ ? !await_shown(std::exchange(io.frame_due, 0)) : !io.shown.receive(io.shown_msg, 0)) return;
   const int n = std::min(io.shown_msg.level_size(), 32);
   for (int i = 0; i < n; ++i) io.levels[i] = io.shown_msg.level(i);
   io.hand->feel_pins(io.levels, static_cast<int>(io.shown_msg.rows()), static_cast<int>(io.shown_msg.cols()));
@@ -181,10 +219,12 @@ void Ffd::tick(std::int64_t now) {
   io.state_pub.publish(io.state);
   io.answers.sent(io.state.header().seq(), now);
   const std::int64_t answer_by = io.scheduler->next_deadline_ns() - io.scheduler->spin_ns();
-  while (next_answer(answer_by)) {
+  while (await_answer(answer_by)) {
     if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) continue;
-    device_->write(rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
-    io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
+    // in simulated time at the model's time, as every tick's read: the loop reads no wall clock
+    device_->write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
+    if (simulated_) io.frame_due = io.command.tactile_frame_seq();
+    else io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
     break;
   }
   io.answers.close();
@@ -215,9 +255,13 @@ void Ffd::say_summary() {
                        ", late answers: " + std::to_string(io.answers.stale()) +
                        ", lost answers (seq gaps): " + std::to_string(io.commands.counters().lost) + ".");
   graph::say(name, io.watchdog.summary() + "; " + safety_summary(*device_));
-  graph::say(name, "verdict: " + graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
-                                                     io.answers.unanswered() + io.scheduler->skipped(), io.watchdog));
-  if (io.feels_pins) graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + tactile_node_ + " (tactile/shown).");
+  graph::say(name, "verdict: " + (simulated_ ? graph::simulated_verdict(sched_.rate_hz, io.answers.requests(), rt::now_ns() - started_ns_)
+                                             : graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
+                                                                   io.answers.unanswered() + io.scheduler->skipped(), io.watchdog)));
+  if (io.feels_pins) {
+    graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + tactile_node_ + " (tactile/shown)" +
+                         (simulated_ ? "; frames whose pins did not come in time: " + std::to_string(io.pins_missed) + "." : "."));
+  }
 }
 
 int Ffd::run() {
@@ -231,6 +275,7 @@ int Ffd::run() {
   const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
   io_->next_status = start + 1'000'000'000;
   io_->scheduler->start(start);
+  started_ns_ = rt::now_ns();
   graph::report_ready();
   while (!graph::stop_requested()) {
     const std::int64_t now = io_->scheduler->wait();

@@ -28,6 +28,8 @@ class Ffd {
   void plan_wait();
   void tick(std::int64_t now);
   bool next_answer(std::int64_t deadline_ns);
+  bool await_answer(std::int64_t answer_by);
+  bool await_shown(std::uint64_t due);
   void feel_pins();
   void publish_status();
   void say_summary();
@@ -41,6 +43,8 @@ class Ffd {
   rt::RtParams rtp_;
   std::unique_ptr<devices::ForceDevice> device_;
   bool local_hop_;
+  bool simulated_;  // the graph's clock: lock-step ticks, every answer waited for
+  std::int64_t started_ns_ = 0;  // the wall clock at the loop's start
   std::unique_ptr<Io> io_;
 };
 

@@ -63,6 +63,7 @@ struct Sim::Io : SimTopics {
   // node feeding the simulator has no link (`enact play` of a recording, a remote driver)
   const std::string ffd_endpoint, link_path;
   bus::LoopLink link;
+  bool on_bus = true;  // subscribed to the driver's states on the bus too
   char sample[bus::LoopLink::kMaxMessage];
   graph::ParamPort params;
   graph::TaskStateTracker task_state;
@@ -83,7 +84,8 @@ Sim::Sim(Host& host)
       scene_rate_hz_(host.params().number("scene_rate_hz")),
       observers_(host.params().integer("observers")),
       reengage_(host.params().number("reengage_s")),
-      local_hop_(host.params().text("loop_transport") != "zeromq") {
+      local_hop_(host.params().text("loop_transport") != "zeromq"),
+      simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
   simulator_.configure(graph::sim_params(host.params()));
 }
 
@@ -96,14 +98,28 @@ bool Sim::next_state(std::int64_t timeout_ns) {
   if (local_hop_ && !io.link.connected() && rt::now_ns() >= next_link_try_ns_) {
     next_link_try_ns_ = rt::now_ns() + 100'000'000;  // tried every 100 ms while there is none
     io.link = bus::LoopLink::connect(io.link_path, 0);
-    // the states come over the link alone now (the bus would deliver each twice)
-    if (io.link.connected()) io.in.disconnect(io.ffd_endpoint);
   }
   if (!io.link.connected()) return io.states.receive(state_, static_cast<int>(timeout_ns / 1'000'000));
   for (long n; (n = io.link.receive(io.sample, sizeof io.sample, deadline)) > 0;) {
-    if (io.states.accept_payload(io.sample, static_cast<std::size_t>(n), state_)) return true;
+    if (!io.states.accept_payload(io.sample, static_cast<std::size_t>(n), state_)) continue;
+    // the states come over the link alone now (the bus would deliver each twice). Left only
+    // now: until the driver's loop starts it counts this subscription with its observers, as
+    // on the bus hop, so the count it waits for does not change under it. Unsubscribed, not
+    // disconnected: the driver stops queueing states for this node at once (a disconnect
+    // ends only once this socket is called again, and a full queue would hold a driver that
+    // waits for room, in simulated time)
+    if (io.on_bus) io.in.unsubscribe(graph::kDeviceState);
+    io.on_bus = false;
+    return true;
   }
-  if (!io.link.connected()) io.in.connect(io.ffd_endpoint);  // the driver left: back to the bus
+  if (!io.link.connected() && !io.on_bus) {
+    // the driver left: back to the bus, less what it queued there before this node left it
+    // (states answered over the link already)
+    while (io.states.receive(state_, 0)) {
+    }
+    io.in.subscribe(graph::kDeviceState);
+    io.on_bus = true;
+  }
   return false;
 }
 
@@ -119,6 +135,7 @@ void Sim::answer(std::int64_t received_ns) {
   const std::int64_t step_ns = state_.header().stamp_ns() - first_ns_;
   const sim::StepOutput& o = simulator_.step(step_ns, reengage_.position(simulator_, step_ns, graph::get(state_.position())));
   graph::fill(io.command, state_.header().seq(), o.force_n, o.fault);
+  io.command.set_tactile_frame_seq(o.frame_due ? io.frame_pub.last_seq() + 1 : 0);  // published just after
   io.force_pub.publish(io.command);
   io.stats.latency.record(rt::now_ns() - received_ns);
   io.params.stepped(simulator_.steps(), state_.header().seq(), state_.header().stamp_ns());
@@ -133,6 +150,8 @@ void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
   const physics::Proxy& body = simulator_.model().proxies[0];
   if (o.frame_due) {
     graph::fill(io.frame, body.rows, body.cols, o.frame);
+    // in simulated time the tactile driver takes its time from the frames: the sample's
+    if (simulated_) io.frame.mutable_header()->set_stamp_ns(state_.header().stamp_ns());
     io.frame_pub.publish(io.frame);
   }
   task::TaskEvent when = o.event;
@@ -219,6 +238,9 @@ int Sim::run() {
   // link, so its loop starts after this wait
   const int subscribers = observers_ > 0 ? observers_ + (local_hop_ ? 0 : 1) : 0;
   graph::wait_for_subscribers(io_->out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
+  // in simulated time the driver waits for the pins of each frame: the tactile driver (started
+  // before it) listens before the first, where there is one
+  if (simulated_) graph::await_subscribers(io_->out, graph::kTactileFrame, 1, rt::now_ns() + 2'000'000'000);
   while (!graph::stop_requested()) {
     io_->task_state.publish_due(rt::now_ns(), simulator_.computer_model().name);
     if (!next_state(100'000'000)) {

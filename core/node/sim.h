@@ -39,6 +39,7 @@ class Sim {
   int observers_;
   sim::Reengagement reengage_;
   bool local_hop_;
+  bool simulated_;  // the graph's clock: the frames carry the sample's time
   std::unique_ptr<Io> io_;
   msgs::DeviceState state_;
   std::int64_t first_ns_ = -1, next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;

@@ -16,7 +16,8 @@ const NodeKind kTactile{.executable = "enact-tactile", .default_name = "tactile"
 
 The tactile display driver of a distributed graph: applies tactile/frame, publishes
 tactile/shown at shown_rate_hz and node/status at 1 Hz; lowers every pin on stop, and
-while no frame came for longer than watchdog_s (each episode said and counted).
+while no frame came for longer than watchdog_s (each episode said and counted). In
+simulated time its clock is the frames' stamps: tactile/shown follows each frame.
 
 parameters (--param NAME=VALUE):
 )"};
@@ -28,63 +29,119 @@ Tactile::Tactile(Host& host)
       shown_rate_hz_(host.params().number("shown_rate_hz")),
       watchdog_s_(host.params().number("watchdog_s")) {}
 
-int Tactile::run() {
-  host_.open(1000);
-  const std::string& name = host_.name();
-  bus::BytePublisher& out = host_.out();
-  bus::Publisher<msgs::TactileShown> shown_pub(out, graph::kTactileShown);
-  bus::Publisher<msgs::NodeStatus> status_pub(out, graph::kNodeStatus);
-  host_.announce();
-  bus::ByteSubscriber in;
-  bus::Subscriber<msgs::TactileFrame> frames(in, graph::kTactileFrame);
-  in.connect(graph::node_endpoint(sim_node_));
+Tactile::~Tactile() = default;
 
-  const int pins = device_->rows() * device_->cols();
+// the node's sockets and messages, and what it has applied
+struct Tactile::Io {
+  explicit Io(Tactile& t)
+      : out(t.host_.out()), shown_pub(out, graph::kTactileShown), status_pub(out, graph::kNodeStatus), frames(in, graph::kTactileFrame),
+        watchdog(t.host_.name(), "no tactile/frame: pins lowered"), pins(t.device_->rows() * t.device_->cols()) {}
+  bus::BytePublisher& out;
+  bus::Publisher<msgs::TactileShown> shown_pub;
+  bus::Publisher<msgs::NodeStatus> status_pub;
+  bus::ByteSubscriber in;
+  bus::Subscriber<msgs::TactileFrame> frames;
+  graph::WatchdogLog watchdog;
+  const int pins;
   float levels[32] = {};
   msgs::TactileFrame frame;
   msgs::TactileShown shown;
   msgs::NodeStatus status;
   std::uint64_t frame_seq = 0, applied = 0;
+};
+
+// the frame just received, on the pins at `now`
+void Tactile::apply(std::int64_t now) {
+  Io& io = *io_;
+  std::uint32_t bits = 0;
+  for (int i = 0; i < std::min(io.pins, io.frame.level_size()); ++i) bits |= io.frame.level(i) > 0.5f ? 1u << i : 0u;
+  device_->write(now, bits);
+  io.frame_seq = io.frame.header().seq();
+  ++io.applied;
+}
+
+// what the pins show at `now`, published
+void Tactile::publish_shown(std::int64_t now) {
+  Io& io = *io_;
+  device_->shown(now, io.levels, io.pins);
+  graph::fill(io.shown, device_->rows(), device_->cols(), io.levels, io.frame_seq);
+  io.shown.mutable_header()->set_stamp_ns(now);
+  io.shown_pub.publish(io.shown);
+}
+
+void Tactile::publish_status(std::int64_t now) {
+  Io& io = *io_;
+  graph::fill(io.status, host_.name(), rt::LoopSummary{.rate_hz = shown_rate_hz_}, 0, "");
+  graph::add_counters(io.status, io.out, &io.in);
+  io.watchdog.update(io.watchdog.tripped(), now);
+  io.watchdog.fill(io.status);
+  io.status_pub.publish(io.status);
+}
+
+// real time: frames applied as they come, the pins shown at shown_rate_hz, every pin down
+// while frames stop for longer than watchdog_s
+void Tactile::run_real() {
+  Io& io = *io_;
   const std::int64_t period = static_cast<std::int64_t>(1e9 / shown_rate_hz_);
   const std::int64_t watchdog_ns = static_cast<std::int64_t>(watchdog_s_ * 1e9);
-  graph::WatchdogLog watchdog(name, "no tactile/frame: pins lowered");
-  device_->activate();
   std::int64_t next_shown = rt::now_ns(), next_status = next_shown + 1'000'000'000, last_frame_ns = -1;
-  graph::report_ready();
   while (!graph::stop_requested()) {
-    if (graph::wait_readable(in.socket(), next_shown) && frames.receive(frame, 0)) {
-      std::uint32_t bits = 0;
-      for (int i = 0; i < std::min(pins, frame.level_size()); ++i) bits |= frame.level(i) > 0.5f ? 1u << i : 0u;
+    if (graph::wait_readable(io.in.socket(), next_shown) && io.frames.receive(io.frame, 0)) {
       last_frame_ns = rt::now_ns();
-      watchdog.update(false, last_frame_ns);
-      device_->write(last_frame_ns, bits);
-      frame_seq = frame.header().seq();
-      ++applied;
+      io.watchdog.update(false, last_frame_ns);
+      apply(last_frame_ns);
     }
     const std::int64_t now = rt::now_ns();
     // frames stopped (after the first): every pin down until the next one
-    if (last_frame_ns >= 0 && !watchdog.tripped() && now - last_frame_ns > watchdog_ns) {
-      watchdog.update(true, now);
+    if (last_frame_ns >= 0 && !io.watchdog.tripped() && now - last_frame_ns > watchdog_ns) {
+      io.watchdog.update(true, now);
       device_->write(now, 0u);
     }
     if (now < next_shown) continue;
     next_shown += period;
-    device_->shown(now, levels, pins);
-    graph::fill(shown, device_->rows(), device_->cols(), levels, frame_seq);
-    shown.mutable_header()->set_stamp_ns(now);
-    shown_pub.publish(shown);
+    publish_shown(now);
     if (now >= next_status) {
       next_status += 1'000'000'000;
-      graph::fill(status, name, rt::LoopSummary{.rate_hz = shown_rate_hz_}, 0, "");
-      graph::add_counters(status, out, &in);
-      watchdog.update(watchdog.tripped(), now);
-      watchdog.fill(status);
-      status_pub.publish(status);
+      publish_status(now);
     }
   }
+}
+
+// simulated time: the model's time is the frames' stamps (the samples they came from); what
+// the pins show is published after each frame, which the clock master waits for
+void Tactile::run_simulated() {
+  Io& io = *io_;
+  // the clock master, started after this node, listens before the first frame comes
+  graph::await_subscribers(io.out, graph::kTactileShown, 1, rt::now_ns() + 2'000'000'000);
+  std::int64_t next_status = rt::now_ns() + 1'000'000'000;
+  while (!graph::stop_requested()) {
+    if (io.frames.receive(io.frame, 100)) {
+      const std::int64_t t = io.frame.header().stamp_ns();
+      apply(t);
+      publish_shown(t);
+    }
+    if (rt::now_ns() >= next_status) {
+      next_status += 1'000'000'000;
+      publish_status(io.frame.header().stamp_ns());
+    }
+  }
+}
+
+int Tactile::run() {
+  host_.open(1000);
+  io_ = std::make_unique<Io>(*this);
+  host_.announce();
+  io_->in.connect(graph::node_endpoint(sim_node_));
+  device_->activate();
+  graph::report_ready();
+  if (graph::graph_clock() == rt::GraphClock::simulated) {
+    run_simulated();
+  } else {
+    run_real();
+  }
   device_->deactivate();  // every pin down
-  graph::say(name, std::to_string(applied) + " frames applied; frames lost (seq gaps): " + std::to_string(frames.counters().lost) + "; " +
-                       watchdog.summary() + "; pins lowered.");
+  graph::say(host_.name(), std::to_string(io_->applied) + " frames applied; frames lost (seq gaps): " + std::to_string(io_->frames.counters().lost) + "; " +
+                               io_->watchdog.summary() + "; pins lowered.");
   return 0;
 }
 

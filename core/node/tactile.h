@@ -16,14 +16,23 @@ extern const NodeKind kTactile;
 class Tactile {
  public:
   explicit Tactile(Host& host);  // the device made from its parameters
+  ~Tactile();
   int run();
 
  private:
+  struct Io;  // sockets, publishers and messages: made by run()
+  void apply(std::int64_t now);
+  void publish_shown(std::int64_t now);
+  void publish_status(std::int64_t now);
+  void run_real();
+  void run_simulated();
+
   Host& host_;
   std::unique_ptr<devices::TactileDevice> device_;
   std::string sim_node_;
   double shown_rate_hz_;
   double watchdog_s_;
+  std::unique_ptr<Io> io_;
 };
 
 }  // namespace enact::node

@@ -27,6 +27,7 @@
 #include "msgs/task_event.pb.h"
 #include "tests/cli/cli_support.h"
 #include "tests/experiment/experiment_run.h"
+#include "tests/support/recorded_ticks.h"
 #include "tests/support/test_util.h"
 
 namespace enact::test {
@@ -143,46 +144,6 @@ TEST(ExperimentCli, InterruptedRunResumesWithoutRunningCompletedTrials) {
   EXPECT_NE(simulated.err.find("clock.txt: this folder holds a run of another plan (--clock differs)"), std::string::npos) << simulated.err;
 }
 
-// one tick of a recording: the device state's stamp and position, and the force answering it
-struct RecordedTick {
-  std::int64_t stamp_ns = 0;
-  double position[3] = {};
-  double force[3] = {};
-  bool answered = false;  // the recording holds its force (a real-time observer may lose one)
-};
-
-std::vector<RecordedTick> recorded_ticks(const std::string& recording) {
-  std::vector<RecordedTick> ticks;
-  record::Reader r(recording);
-  msgs::DeviceState state;
-  msgs::ForceCommand force;
-  r.for_each([&](const record::Message& m) {
-    if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
-      if (state.header().seq() != ticks.size() + 1) return true;  // a gap: compared up to it
-      const auto& p = state.position();
-      ticks.push_back({state.header().stamp_ns(), {p.x(), p.y(), p.z()}, {}});
-    } else if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size())) && force.answered_seq() >= 1 &&
-               force.answered_seq() <= ticks.size()) {
-      const auto& f = force.force();
-      RecordedTick& t = ticks[force.answered_seq() - 1];
-      t.force[0] = f.x(), t.force[1] = f.y(), t.force[2] = f.z();
-      t.answered = true;
-    }
-    return true;
-  });
-  return ticks;
-}
-
-// the ticks before the first missed deadline: a tick's stamp is its deadline, so a missed one
-// (skipped by the scheduler) is a step of more than a period between two stamps (and before
-// the first whose force the recording lost)
-std::size_t ticks_before_first_miss(const std::vector<RecordedTick>& ticks, std::int64_t period_ns) {
-  for (std::size_t i = 0; i < ticks.size(); ++i) {
-    if (!ticks[i].answered || (i > 0 && ticks[i].stamp_ns - ticks[i - 1].stamp_ns != period_ns)) return i;
-  }
-  return ticks.size();
-}
-
 TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlineIsMissed) {
   // the same trial (subject, seeds, model) on the co-located graph in simulated time and in
   // real time: every tick's device position and force are the same, bit for bit, as long as
@@ -216,6 +177,48 @@ TEST(ExperimentCli, ARealTimeTrialIsItsSimulatedTimeTwinTickForTickUntilADeadlin
     compared = std::max(compared, clean);
   }
   EXPECT_GE(compared, kAtLeast) << "no real-time run held its deadlines for 50 ms, or its ticks' times are not its deadlines";
+}
+
+// the distributed graph in simulated time: the clock master ticks in lock-step (the next
+// tick once the simulator's answer and the pins of the frame it sent are in), so every tick
+// is recorded, stamped a period apart, and a second run of the same trial is the same run,
+// bit for bit, the virtual subject feeling the pins the tactile driver showed
+TEST(ExperimentCli, TheDistributedGraphInSimulatedTimeRunsTheSameTrialEveryTime) {
+  constexpr std::int64_t kPeriod_ns = 200'000;  // 5 kHz
+  TempDir dir;
+  const std::string file = virtual_tiny(dir, "CM1", 1.5, "trial.yaml");
+  std::vector<RecordedTick> first;
+  for (const std::string out : {"a", "b"}) {
+    SCOPED_TRACE("run " + out);
+    const RunResult r = enact("experiment " + file + " --clock simulated --out " + dir.file(out));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto rows = csv_rows(dir.file(out + "/results.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[1][8], "0") << "no deadline to miss in simulated time";
+    const std::string recording = dir.file(out + "/trials/s1_CM1_measured.mcap");
+    EXPECT_EQ(recorded_clock(recording), "simulated");
+    expect_metrics_agree(recording, rows[1]);
+    const std::vector<RecordedTick> ticks = recorded_ticks(recording);
+    const bool completed = rows[1][7] == "1";
+    if (!completed) EXPECT_EQ(ticks.size(), 7500u) << "1.5 s at 5 kHz, every tick recorded";
+    EXPECT_EQ(ticks_before_first_miss(ticks, kPeriod_ns), ticks.size()) << "every tick a period after the last, every force recorded";
+    const std::string log = read_file(dir.file(out + "/trials/s1_CM1_measured.log"));
+    EXPECT_NE(log.find("started ffd"), std::string::npos) << "the distributed nodes ran";
+    EXPECT_NE(log.find("verdict: simulated time"), std::string::npos) << log;
+    std::smatch felt;
+    ASSERT_TRUE(std::regex_search(log, felt, std::regex("the virtual subject felt ([0-9]+) pin states from tactile \\(tactile/shown\\); frames whose pins did not come in time: ([0-9]+)"))) << log;
+    EXPECT_GT(std::stoi(felt[1].str()), 0) << log;
+    EXPECT_EQ(felt[2].str(), "0") << log;
+    if (first.empty()) {
+      first = ticks;
+      continue;
+    }
+    ASSERT_EQ(ticks.size(), first.size());
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      ASSERT_EQ(std::memcmp(ticks[i].position, first[i].position, sizeof ticks[i].position), 0) << "position at tick " << i + 1;
+      ASSERT_EQ(std::memcmp(ticks[i].force, first[i].force, sizeof ticks[i].force), 0) << "force at tick " << i + 1;
+    }
+  }
 }
 
 // a user's own scene (two boxes, no task) as an experiment: the trial graph takes it from
@@ -335,12 +338,10 @@ TEST(ExperimentCli, BadInputIsRefused) {
   EXPECT_NE(conditions.err.find("XX"), std::string::npos) << conditions.err;
   EXPECT_EQ(enact("experiment").exit_code, 2);
   EXPECT_EQ(enact("experiment " + virtual_tiny(dir, "CM1", 3.0) + " --clock sometimes --plan").exit_code, 2);
-  // the distributed graph's clock master keeps real time: refused in simulated time, named
+  // the distributed graph with simulated devices runs in simulated time too (its clock master
+  // ticks in lock-step): planned, not refused
   const RunResult distributed = enact("experiment " + virtual_tiny(dir, "CM1", 3.0, "trial.yaml") + " --clock simulated --plan");
-  EXPECT_EQ(distributed.exit_code, 1);
-  EXPECT_NE(distributed.err.find("trial.yaml:"), std::string::npos) << distributed.err;
-  EXPECT_NE(distributed.err.find("keeps real time only"), std::string::npos) << distributed.err;
-  EXPECT_NE(distributed.err.find("fix:"), std::string::npos) << distributed.err;
+  EXPECT_EQ(distributed.exit_code, 0) << distributed.err;
   EXPECT_EQ(enact("metrics " + dir.file("nothing.mcap")).exit_code, 1);
 }
 
