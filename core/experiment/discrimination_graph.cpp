@@ -1,7 +1,6 @@
 #include "core/experiment/discrimination_graph.h"
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,10 +24,11 @@ namespace enact::experiment {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 // in real time, a graph still up this long after its limit is stopped by the runner
 constexpr double kDrain_s = 1.0;
+// while the subject is asked, their answer is polled this often
+constexpr std::int64_t kPollEvery_ns = 20'000'000;
 // the simulator's name in the trial graphs (trial_rt.yaml's component, trial.yaml's node)
 constexpr const char* kSimulator = "sim";
 
@@ -137,7 +137,7 @@ class GraphTrial {
     msgs::TaskEvent event;
     msgs::ParamAck ack;
     msgs::DeviceState state;
-    const Clock::time_point began = Clock::now();
+    const std::int64_t began_ns = rt::now_ns();
     const double limit_s = 2.0 * spec_.interval_s + spec_.answer_limit_s;
     while (!g.finished()) {
       if (in.receive(raw, 20)) {
@@ -151,8 +151,8 @@ class GraphTrial {
       }
       for (const graph::ParamAnswer& lost : params.tick(rt::now_ns())) fail(g, lost.name + ": " + graph::answer_text(lost));
       next(g, params);
-      if (phase_ == Phase::answered && std::chrono::duration<double>(Clock::now() - answered_).count() > kDrain_s) finish(g);
-      if (!simulated_ && std::chrono::duration<double>(Clock::now() - began).count() > limit_s + kDrain_s) fail(g, "no answer in time");
+      if (phase_ == Phase::answered && seconds_since(answered_ns_) > kDrain_s) finish(g);
+      if (!simulated_ && seconds_since(began_ns) > limit_s + kDrain_s) fail(g, "no answer in time");
     }
     publish_ = nullptr;
   }
@@ -176,16 +176,16 @@ class GraphTrial {
         if (person_) ui_.note("which interval had the larger " + spec_.parameter + "? 1 or 2 (+ Enter), or the device's button 1 or 2");
       }
     }
-    if (phase_ == Phase::asking && Clock::now() >= next_poll_) {
+    if (phase_ == Phase::asking && rt::now_ns() >= next_poll_ns_) {
       // asked at once (an observer answers there), then about every 20 ms
-      next_poll_ = Clock::now() + std::chrono::milliseconds(20);
+      next_poll_ns_ = rt::now_ns() + kPollEvery_ns;
       const int chosen = answers_.answer(trial_, time_.buttons());
       if (chosen == 1 || chosen == 2) {
         chosen_ = chosen;
         response_time_s_ = static_cast<double>(time_.now_ns() - end_ns_) * 1e-9;
         announce(msgs::TaskEvent::ANSWER, time_.now_ns(), "interval " + std::to_string(chosen) + ", response time " + config::number(response_time_s_) + " s");
         phase_ = Phase::answered;
-        answered_ = Clock::now();
+        answered_ns_ = rt::now_ns();
       }
     }
   }
@@ -254,7 +254,7 @@ class GraphTrial {
   std::int64_t end_ns_ = 0;        // the last interval's end
   int chosen_ = 0;
   double response_time_s_ = 0.0;
-  Clock::time_point next_poll_, answered_;
+  std::int64_t next_poll_ns_ = 0, answered_ns_ = 0;  // on rt::now_ns()
   std::string problem_;
   std::atomic<bool> stop_sent_{false};
   msgs::TaskEvent event_;

@@ -3,7 +3,6 @@
 #include <signal.h>
 
 #include <atomic>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,7 +23,6 @@ namespace enact::experiment {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 // the clock master stops itself at the limit; the runner stops the rest of the graph this
 // long after, once the logger has received the last messages in flight
@@ -35,8 +33,6 @@ constexpr std::int64_t kDrainNs = static_cast<std::int64_t>(kDrain_s * 1e9);
 constexpr double kLimitSlack_s = 0.5;
 // consecutive failed trials after which the run stops
 constexpr int kMaxFailures = 3;
-
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // the launch arguments of a trial's graph
 std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {
@@ -134,13 +130,13 @@ class TrialRun {
     const bool person = !spec_.virtual_subjects();
     bool announced = false;
     std::int64_t ended_ns = 0;  // when the trial ended (0: not yet)
-    Clock::time_point start = Clock::now(), shown = start;
+    std::int64_t start_ns = rt::now_ns(), shown_ns = start_ns;
     while (!g.finished()) {
       // announced once the attach point forwards task/event from here (this thread's own
       // subscription reached it: so did the logger's, made before the graph was ready)
       if (g.ready() && !announced && g.out.has_subscribers(graph::kTaskEvent)) {
         announced = true;
-        start = Clock::now();
+        start_ns = rt::now_ns();
         announce(msgs::TaskEvent::CONDITION, to_string(trial_.kind));
         announce(msgs::TaskEvent::TRIAL_START, "");
       }
@@ -155,7 +151,7 @@ class TrialRun {
       if (ended_ns == 0) ended_ns = g.clean_exit_ns();
       if (ended_ns != 0 && !stop_sent_.load() && rt::now_ns() - ended_ns >= kDrainNs) stop_graph(g);
       if (!announced) continue;
-      trial_s_ = since(start);
+      trial_s_ = seconds_since(start_ns);
       if (person) {
         const TrialCommand command = ui_.poll(trial_);
         if (command == TrialCommand::reset) announce(msgs::TaskEvent::RESET, "the experimenter repositioned the subject at the start");
@@ -166,8 +162,8 @@ class TrialRun {
       }
       // the clock master ends the trial at its limit; in real time a stalled one is stopped
       if (!simulated_ && trial_s_ > trial_.limit_s + kDrain_s) stop_graph(g);
-      if (since(shown) >= 1.0) {
-        shown = Clock::now();
+      if (seconds_since(shown_ns) >= 1.0) {
+        shown_ns = rt::now_ns();
         progress_.current = &trial_;
         progress_.trial_s = trial_s_;
         ui_.progress(progress_);
@@ -286,7 +282,7 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
   const std::set<std::string> ranked = ranked_subjects(ranking);
   const bool person = !spec.virtual_subjects();
 
-  const Clock::time_point start = Clock::now();
+  const std::int64_t start_ns = rt::now_ns();
   Estimate estimate;
   Progress progress;
   progress.total = plan.size();
@@ -295,7 +291,7 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
     const Trial& t = plan[i];
     progress.done = i;
     progress.current = nullptr;
-    progress.elapsed_s = since(start);
+    progress.elapsed_s = seconds_since(start_ns);
     progress.left_s = estimate.left_s(plan, i, done);
     if (done.count(trial_key(t.subject, t.condition.label, t.kind))) {
       ++summary.skipped;
@@ -309,14 +305,14 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
         break;
       }
       ui.progress(progress);
-      const Clock::time_point began = Clock::now();
+      const std::int64_t began_ns = rt::now_ns();
       TrialRun run(spec, t, out + "/trials", ui, progress);
       const TrialResult r = run.run();
       outcome = r.outcome;
       if (outcome == Outcome::done) {
         append_result(t.kind == TrialKind::measured ? summary.results : practice, t, r.recorded);
         done.insert(trial_key(t.subject, t.condition.label, t.kind));
-        estimate.add(since(began), run.trial_s());
+        estimate.add(seconds_since(began_ns), run.trial_s());
         ++summary.run;
         failures = 0;
         ui.note(trial_line(t, r.recorded));
@@ -342,7 +338,7 @@ RunSummary run_experiment(const ExperimentSpec& spec, const std::string& out, Ru
   progress.done = 0;
   for (const Trial& t : plan) progress.done += done.count(trial_key(t.subject, t.condition.label, t.kind));
   progress.current = nullptr;
-  progress.elapsed_s = since(start);
+  progress.elapsed_s = seconds_since(start_ns);
   progress.left_s = estimate.left_s(plan, 0, done);
   ui.progress(progress);
   return summary;

@@ -21,6 +21,9 @@ namespace enact::experiment {
 // resets, a discrimination trial's intervals and answer)
 inline constexpr const char* kRunnerNode = "experiment";
 
+// seconds from `since_ns` (an earlier rt::now_ns(), the one clock) until now
+inline double seconds_since(std::int64_t since_ns) { return static_cast<double>(rt::now_ns() - since_ns) * 1e-9; }
+
 // a trial's graph while it runs, as the runner's watching thread sees it
 class GraphRun {
  public:

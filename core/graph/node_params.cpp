@@ -136,6 +136,20 @@ void check_against(const launch::NodeSpec& n, const std::string& owner, const st
   }
 }
 
+// a container's component list: the problem with it at the line of the entry it is about
+// (of the container for the list as a whole)
+void check_components(const launch::NodeSpec& n, std::vector<std::string>& problems) {
+  std::vector<std::pair<std::string, std::string>> list;
+  for (const launch::ComponentSpec& c : n.components) list.emplace_back(c.name, c.plugin);
+  const auto problem = component_list_problem(list);
+  if (!problem) return;
+  std::string at = n.source;
+  if (problem->entry < n.components.size() && n.components[problem->entry].line > 0) {
+    at = n.source.substr(0, n.source.rfind(':')) + ":" + std::to_string(n.components[problem->entry].line);
+  }
+  problems.push_back(at + ": node '" + n.name + "': " + problem->text);
+}
+
 }  // namespace
 
 // the tactile frame's mode, a choice of two words
@@ -239,11 +253,49 @@ const ParamBindings<TactileConfig>& tactile_bindings() {
 
 const ParamTable& tactile_table() { return tactile_bindings().table(); }
 
-const ParamTable* component_table(const std::string& plugin) {
-  if (plugin == "sim") return &sim_table();
-  if (plugin == "ffd") return &force_table();
-  if (plugin == "tactile") return &tactile_table();
+const std::vector<ComponentKind>& component_kinds() {
+  static const std::vector<ComponentKind> kinds{
+      {"sim", ComponentRole::model, "simulator", &sim_table},
+      {"ffd", ComponentRole::force_device, "force-feedback device", &force_table},
+      {"tactile", ComponentRole::tactile_device, "tactile display", &tactile_table},
+  };
+  return kinds;
+}
+
+const ComponentKind* find_component_kind(const std::string& plugin) {
+  for (const ComponentKind& k : component_kinds()) {
+    if (plugin == k.plugin) return &k;
+  }
   return nullptr;
+}
+
+const ParamTable* component_table(const std::string& plugin) {
+  const ComponentKind* kind = find_component_kind(plugin);
+  return kind ? &kind->table() : nullptr;
+}
+
+std::optional<ComponentProblem> component_list_problem(const std::vector<std::pair<std::string, std::string>>& components) {
+  std::string plugins;
+  for (const ComponentKind& k : component_kinds()) plugins += std::string(plugins.empty() ? "" : ", ") + k.plugin + " (" + k.what + ")";
+  const std::string one_each = "enact-rt's one tick reads one force device, steps one model and writes one tactile display: one each of " + plugins;
+  std::vector<std::size_t> first(component_kinds().size(), static_cast<std::size_t>(-1));
+  for (std::size_t i = 0; i < components.size(); ++i) {
+    const auto& [name, plugin] = components[i];
+    const ComponentKind* kind = find_component_kind(plugin);
+    if (!kind) return ComponentProblem{i, "component '" + name + "': unknown plugin '" + plugin + "'\n  fix: use one of " + plugins};
+    std::size_t& seen = first[static_cast<std::size_t>(kind - component_kinds().data())];
+    if (seen != static_cast<std::size_t>(-1)) {
+      return ComponentProblem{i, "components '" + components[seen].first + "' and '" + name + "' are both a " + kind->what + " (plugin " + plugin + ")\n  fix: keep one; " + one_each};
+    }
+    seen = i;
+  }
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    if (first[k] != static_cast<std::size_t>(-1)) continue;
+    const ComponentKind& kind = component_kinds()[k];
+    return ComponentProblem{static_cast<std::size_t>(-1), std::string("it has no ") + kind.what + " (plugin " + kind.plugin + ")\n  fix: add {name: " + kind.plugin +
+                                                              ", plugin: " + kind.plugin + "} to its component list; " + one_each};
+  }
+  return std::nullopt;
 }
 
 const ParamTable* node_table(const std::string& exec) {
@@ -267,6 +319,7 @@ std::vector<std::string> check_params(const launch::LaunchDescription& graph) {
     std::vector<std::string> components;
     for (const launch::ComponentSpec& c : n.components) components.push_back(c.name);
     check_against(n, n.name, n.params, *table, components, problems);
+    if (n.container) check_components(n, problems);
     for (const launch::ComponentSpec& c : n.components) {
       if (const ParamTable* ct = component_table(c.plugin)) check_against(n, c.name, c.params, *ct, {}, problems);
     }

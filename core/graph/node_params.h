@@ -2,7 +2,10 @@
 // Every node's and container component's parameters, declared once (param_table.h): what
 // each node's --help lists, what it accepts at start, what `enact launch --check` checks in a
 // launch file before anything starts, and what `enact param list` shows of a running graph.
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/graph/param_table.h"
@@ -32,6 +35,29 @@ const ParamTable& force_table();    // the force device (plugin ffd; enact-ffd)
 const ParamTable& tactile_table();  // the tactile device (plugin tactile; enact-tactile)
 // a component's table by plugin name (nullptr: no such plugin)
 const ParamTable* component_table(const std::string& plugin);
+
+// what a component of a real-time container does in the co-located tick: step the model, read
+// the force device and write its force, write the pins
+enum class ComponentRole : std::uint8_t { model, force_device, tactile_device };
+struct ComponentKind {
+  const char* plugin;  // its name in a launch file (component: plugin:) and on --component
+  ComponentRole role;
+  const char* what;    // for help and refusals
+  const ParamTable& (*table)();
+};
+// every kind of component a container (enact-rt) hosts, in the order of its --help
+const std::vector<ComponentKind>& component_kinds();
+const ComponentKind* find_component_kind(const std::string& plugin);
+
+// a container's component list (name, plugin), checked: each plugin known, one component of
+// each role (enact-rt's one tick reads one force device, steps one model, writes one tactile
+// display). The first problem, "what\n  fix: ..." (the plugins there are named), and the
+// entry it is about (npos: the list as a whole); nullopt when the list can run
+struct ComponentProblem {
+  std::size_t entry = static_cast<std::size_t>(-1);
+  std::string text;
+};
+std::optional<ComponentProblem> component_list_problem(const std::vector<std::pair<std::string, std::string>>& components);
 
 // a node's own table by executable name (enact-sim: its component's and its own, enact-rt:
 // the container's own); nullptr for an executable that declares none

@@ -180,7 +180,11 @@ struct Loader {
       if (!component_names.insert(spec.name).second) cm.fail("name", "two components are named '" + spec.name + "'", "give every component its own name");
       n.components.push_back(spec);
     }
-    if (n.components.empty()) m.fail("component", "container '" + n.name + "' has no components", "list them: component: [{name: sim, plugin: sim}, ...]");
+    // none named: the default three, their parameters given as the container's (sim.scene, ...)
+    if (!m.has("component")) {
+      for (const char* plugin : kDefaultComponents) n.components.push_back({plugin, plugin, {}, m.line()});
+    }
+    if (n.components.empty()) m.fail("component", "container '" + n.name + "' has an empty component list", "list its components (component: [{name: sim, plugin: sim}, ...]), or leave component: out for sim, ffd and tactile");
     out.nodes.push_back(n);
   }
 

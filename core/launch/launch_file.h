@@ -22,10 +22,15 @@ struct Param {
 // one component of a real-time container
 struct ComponentSpec {
   std::string name;    // instance name, prefixes its params: <name>.<param>
-  std::string plugin;  // component class: sim, ffd, tactile
+  std::string plugin;  // component class: sim, ffd, tactile (graph::component_kinds())
   std::vector<Param> params;
   int line = 0;
 };
+
+// the components of a container that names none, in their order: the simulator, the force
+// device and the tactile display, each named as its plugin (graph::component_kinds() says
+// what each plugin is)
+inline constexpr const char* kDefaultComponents[] = {"sim", "ffd", "tactile"};
 
 // one process of the graph: a node, or a container running several components in one
 // real-time thread

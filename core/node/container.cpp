@@ -21,6 +21,7 @@
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/graph/watchdog_log.h"
+#include "core/launch/launch_file.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 #include "core/rt/probe.h"
@@ -36,21 +37,29 @@ std::string plugin_help() {
   std::string out =
       "component parameters (--param COMPONENT.NAME=VALUE, e.g. sim.scene=launch/scenes/bridge.yaml; live:\n"
       "enact param set COMPONENT.NAME VALUE while it runs):\n";
-  for (const char* plugin : {"sim", "ffd", "tactile"}) out += std::string(" plugin ") + plugin + ":\n" + graph::help_lines(*graph::component_table(plugin), std::string(plugin) + ".");
+  for (const graph::ComponentKind& k : graph::component_kinds()) {
+    out += std::string(" plugin ") + k.plugin + ":\n" + graph::help_lines(k.table(), std::string(k.plugin) + ".");
+  }
   return out;
 }
 
-// the one component of `plugin` the container was given
-std::string find_component(const graph::NodeArgs& args, const std::string& plugin) {
-  std::string name;
-  for (const auto& [n, p] : args.components) {
-    if (p != "sim" && p != "ffd" && p != "tactile") throw config::Error(args.name + ": unknown plugin '" + p + "'\n  fix: use sim, ffd or tactile");
-    if (p != plugin) continue;
-    if (!name.empty()) throw config::Error(args.name + ": two " + plugin + " components\n  fix: one sim, one ffd and one tactile");
-    name = n;
+// the components the container was given (--component NAME:PLUGIN, in order; none: the
+// default sim, ffd and tactile), refused unless they can run: the name of each role's one
+struct ComponentNames {
+  std::string model, force_device, tactile_device;
+};
+ComponentNames component_names(const graph::NodeArgs& args) {
+  std::vector<std::pair<std::string, std::string>> list = args.components;
+  if (list.empty()) {
+    for (const char* plugin : launch::kDefaultComponents) list.emplace_back(plugin, plugin);
   }
-  if (name.empty()) throw config::Error(args.name + ": no " + plugin + " component\n  fix: add --component=" + plugin + ":" + plugin);
-  return name;
+  if (const auto problem = graph::component_list_problem(list)) throw config::Error(args.name + ": " + problem->text);
+  ComponentNames names;
+  for (const auto& [name, plugin] : list) {
+    const graph::ComponentRole role = graph::find_component_kind(plugin)->role;
+    (role == graph::ComponentRole::model ? names.model : role == graph::ComponentRole::force_device ? names.force_device : names.tactile_device) = name;
+  }
+  return names;
 }
 
 // what the hand felt, accumulated by the non-real-time thread
@@ -89,11 +98,12 @@ struct Scene {
 
 }  // namespace
 
-const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] --component=NAME:PLUGIN... --param NAME=VALUE...
+const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--component=NAME:PLUGIN...] --param NAME=VALUE...
 
-The co-located real-time container: components sim, ffd and tactile (one of each) in one
-process and one real-time thread, ticking at rate_hz: read the device, step the model,
-write the force, write the pins (down-sampled), in the same tick. A non-real-time thread,
+The co-located real-time container: components sim, ffd and tactile (one of each, any names;
+no --component: sim:sim, ffd:ffd and tactile:tactile) in one process and one real-time
+thread, ticking at rate_hz: read the device, step the model, write the force, write the
+pins (down-sampled), in the same tick. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
 at scene_rate_hz, tactile/shown at shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
@@ -162,9 +172,10 @@ struct Container::Io : SimTopics {
 Container::Container(Host& host) : host_(host) {
   const graph::NodeArgs& args = host.args();
   graph::Params& p = host.params();
-  sim_name_ = find_component(args, "sim");
-  ffd_name_ = find_component(args, "ffd");
-  tac_name_ = find_component(args, "tactile");
+  const ComponentNames names = component_names(args);
+  sim_name_ = names.model;
+  ffd_name_ = names.force_device;
+  tac_name_ = names.tactile_device;
   sim_p_ = p.scoped(sim_name_);
   ffd_p_ = p.scoped(ffd_name_);
   tac_p_ = p.scoped(tac_name_);

@@ -19,12 +19,13 @@
 #include "core/haptics/computer_model.h"
 #include "core/physics/contact.h"
 #include "core/physics/mesh.h"
+#include "core/physics/reference.h"
 #include "core/physics/scene.h"
 #include "core/sim/offline.h"
 #include "core/physics/state.h"
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
-#include "nodes/enact/physics_reference.h"
+#include "nodes/enact/sweep_report.h"
 
 namespace enact::cli {
 namespace {
@@ -32,12 +33,13 @@ namespace {
 using physics::Integrator;
 using physics::Model;
 using math::Vec3;
+namespace reference = physics::reference;
 using reference::BounceErrors;
 using reference::OscillatorErrors;
 using reference::bounce_errors;
 using reference::chain;
 using reference::damped_error;
-using reference::oscillator;
+using reference::oscillator_50hz;
 using reference::steps_in;
 using reference::kIntegrators;
 using reference::kRates_hz;
@@ -335,7 +337,7 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
                          const std::vector<Vec3>& path_motion, const std::vector<Model>& fields, const std::vector<Vec3>& field_walk) {
   for (Integrator integrator : kIntegrators) {
     for (double rate_hz : kRates_hz) {
-      const Model m = oscillator(integrator, rate_hz, 0.0);
+      const Model m = oscillator_50hz(integrator, rate_hz, 0.0).model;
       const std::size_t one_second = steps_in(1.0, rate_hz);
       benchmark::RegisterBenchmark(oscillator_name(integrator, rate_hz).c_str(),
                                    [m, one_second](benchmark::State& t) { step_loop(t, m, {}, one_second, true); });
@@ -504,7 +506,7 @@ void print_table(const Results& r) {
               c.masses, 100.0 * c.all_share);
   std::printf("bridge step  the full face test every step (no held faces): %.1f ns along the path (x%.2f), %.1f ns at a turn (x%.2f)\n",
               r.bridge_path_no_hold_ns, r.bridge_path_no_hold_ns / r.bridge_path_ns, r.bridge_no_hold_ns, r.bridge_no_hold_ns / r.bridge_ns);
-  reference::print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
+  print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -556,7 +558,7 @@ void write_json(const Results& r, const std::string& path) {
     j.field("passive_bounce_energy_drift_max", w.passive_bounce.energy_drift_max).end_object();
   }
   j.end_array().key("bridge_rows");
-  reference::sweep_json(j, r.bridge_rows);
+  sweep_json(j, r.bridge_rows);
   j.key("passive_cost").begin_array();
   for (const PassiveCost& c : r.passive_cost) {
     j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
@@ -598,7 +600,8 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const std::vector<Vec3> path_motion = scripted_motion(path);
   const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);
-  r.bridge_rows = reference::rate_sweep(path_model, *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols),
+  const haptics::ComputerModel cm1 = *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols);
+  r.bridge_rows = reference::rate_sweep(path_model, [&cm1](const Model& m, const physics::State& s) { return haptics::pins(cm1, m, s); },
                                         [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
                                         settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",

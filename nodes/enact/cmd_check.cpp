@@ -11,10 +11,12 @@
 #include "core/sim/offline.h"
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
-#include "nodes/enact/physics_reference.h"
+#include "nodes/enact/sweep_report.h"
 
 namespace enact::cli {
 namespace {
+
+namespace reference = physics::reference;
 
 constexpr const char* kHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json] [--rate-sweep]
 
@@ -114,7 +116,7 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
   j.end_array();
   if (!sweep.empty()) {
     j.key("rate_sweep");
-    reference::sweep_json(j, sweep);
+    sweep_json(j, sweep);
   }
   j.end_object();
   std::cout << j.str() << "\n";
@@ -195,12 +197,13 @@ int check(int argc, char** argv) {
   std::vector<reference::SweepRow> sweep;
   if (a.flag("rate-sweep")) {
     const SweepPath path = sweep_path(a.positional[0], m);
-    sweep = reference::rate_sweep(m, cm, path.hand, path.duration_s, reference::kSweepReference_hz);
+    const reference::PinsOf pins = [&cm](const physics::Model& model, const physics::State& s) { return haptics::pins(cm, model, s); };
+    sweep = reference::rate_sweep(m, pins, path.hand, path.duration_s, reference::kSweepReference_hz);
   }
   if (a.flag("json")) write_json(m, r, device, sweep);
   else write_table(m, r, device);
   if (!a.flag("json") && !m.proxies.empty()) print_live_envelope(m);
-  if (!sweep.empty() && !a.flag("json")) reference::print_sweep(sweep, "rate sweep: device force and pins against cordis at 880 kHz");
+  if (!sweep.empty() && !a.flag("json")) print_sweep(sweep, "rate sweep: device force and pins against cordis at 880 kHz");
   std::fflush(stdout);  // the table before any message on stderr
   if (!r.stable()) {
     std::fprintf(stderr, "enact check: %s\n", physics::instability_message(m, r).c_str());

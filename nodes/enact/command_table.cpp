@@ -101,7 +101,7 @@ std::string reference_markdown() {
   out += "\n## Node parameters\n\nGiven in a launch file (`param:`) or as `--param NAME=VALUE`; live ones also with `enact param set`.\n";
   for (const char* node : kNodes) out += std::string("\n### ") + node + "\n\n" + markdown_rows(*graph::node_table(node), "");
   out += "\n## Components of enact-rt\n\nGiven as `--param COMPONENT.NAME=VALUE` (e.g. `sim.scene`).\n";
-  for (const char* plugin : {"sim", "ffd", "tactile"}) out += std::string("\n### ") + plugin + "\n\n" + markdown_rows(*graph::component_table(plugin), std::string(plugin) + ".");
+  for (const graph::ComponentKind& k : graph::component_kinds()) out += std::string("\n### ") + k.plugin + "\n\n" + markdown_rows(k.table(), std::string(k.plugin) + ".");
   return out;
 }
 

@@ -67,6 +67,32 @@ TEST(LaunchCheck, UnknownNamesAndBadValuesNameTheirLine) {
   EXPECT_NE(r.err.find("nothing started (4 parameter problems)"), std::string::npos) << r.err;
 }
 
+// a container's component list that cannot run is refused at the line of the entry (of the
+// container when one is missing), naming the plugins there are and the fix
+TEST(LaunchCheck, ImpossibleComponentListsNameTheirLine) {
+  TempDir dir;
+  struct Case {
+    std::string components;
+    int line;
+    std::string said;
+  };
+  for (const Case& c : {Case{"        - {name: sim, plugin: sim}\n        - {name: ffd, plugin: fdd}\n", 7, "component 'ffd': unknown plugin 'fdd'"},
+                        Case{"        - {name: sim, plugin: sim}\n        - {name: tactile, plugin: tactile}\n", 4, "it has no force-feedback device (plugin ffd)"},
+                        Case{"        - {name: a, plugin: tactile}\n        - {name: b, plugin: tactile}\n", 7, "components 'a' and 'b' are both a tactile display (plugin tactile)"}}) {
+    const std::string file = dir.file("g.yaml");
+    write_file(file, "launch:\n"
+                     "  - arg: {name: rate, default: \"5000\"}\n"
+                     "  - container:\n"
+                     "      name: rt\n"
+                     "      component:\n" + c.components);
+    const RunResult r = enact("launch " + file + " --check");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find(file + ":" + std::to_string(c.line) + ": node 'rt': " + c.said), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("fix:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("sim (simulator), ffd (force-feedback device), tactile (tactile display)"), std::string::npos) << "the plugins there are\n" << r.err;
+  }
+}
+
 TEST(LaunchCheck, ExperimentPlanChecksEveryTrialGraph) {
   TempDir dir;
   const std::string file = dir.file("exp.yaml");

@@ -302,9 +302,20 @@ TEST_F(LoadLaunch, ContainerComponentsBecomeFlags) {
   EXPECT_TRUE(contains(argv, "--param=ffd.port=/dev/ttyACM0"));
 }
 
-TEST_F(LoadLaunch, ContainerWithoutComponentsIsRefused) {
-  write("a.yaml", "launch:\n  - container: {name: rt}\n");
-  EXPECT_NE(refusal("a.yaml").find("no components"), std::string::npos);
+// a container that names no components hosts the default three, named as their plugins, its
+// own parameters scoped as theirs would be; an empty list is refused
+TEST_F(LoadLaunch, ContainerWithoutComponentsHostsTheDefaultThree) {
+  write("a.yaml", "launch:\n  - container: {name: rt, param: [{name: sim.model, value: CM3}]}\n");
+  const NodeSpec n = load("a.yaml").nodes.at(0);
+  ASSERT_EQ(n.components.size(), 3u);
+  const std::vector<std::string> argv = n.argv();
+  for (const char* plugin : kDefaultComponents) {
+    EXPECT_TRUE(contains(argv, std::string("--component=") + plugin + ":" + plugin)) << plugin;
+  }
+  EXPECT_TRUE(contains(argv, "--param=sim.model=CM3"));
+  write("b.yaml", "launch:\n  - container: {name: rt, component: []}\n");
+  EXPECT_NE(refusal("b.yaml").find("empty component list"), std::string::npos);
+  expect_refused_at("b.yaml", 2);
 }
 
 TEST_F(LoadLaunch, RequiredAndRespawnTogetherAreRefused) {

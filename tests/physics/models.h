@@ -9,6 +9,7 @@
 
 #include "core/haptics/computer_model.h"
 #include "core/physics/contact.h"
+#include "core/physics/reference.h"
 #include "core/physics/scene.h"
 #include "core/physics/state.h"
 #include "core/sim/offline.h"
@@ -16,58 +17,17 @@
 
 namespace enact::physics::models {
 
+// the scenes built in code that the references use too (core/physics/reference.h)
+using reference::add_contact;
+using reference::add_link;
+using reference::add_plane;
+using reference::add_point;
+using reference::flight_energy_j;
+using reference::Oscillator;
+using reference::oscillator;
+
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kPitch_m = 0.00245;  // Braille dot spacing, as in the bridge scene
-
-// a point of any kind; kinematic points belong to proxy 0 with the given offset
-inline int add_point(Model& m, const std::string& name, PointKind kind, Vec3 position_m, double mass_kg = 0.0) {
-  Point p;
-  p.name = name;
-  p.kind = kind;
-  p.mass_kg = mass_kg;
-  p.position_m = position_m;
-  m.points.push_back(p);
-  return static_cast<int>(m.points.size()) - 1;
-}
-
-inline int add_link(Model& m, const std::string& name, LinkType type, int a, int b, double k, double z) {
-  Link l;
-  l.name = name;
-  l.type = type;
-  l.a = a;
-  l.b = b;
-  l.stiffness_n_per_m = k;
-  l.damping_n_s_per_m = z;
-  m.links.push_back(l);
-  return static_cast<int>(m.links.size()) - 1;
-}
-
-// a mass of 1D motion along x on an isotropic link (spring, or spring_damper when z > 0) to an
-// anchor at the origin: a fixed point, or a proxy held still (its force is then observable)
-struct Oscillator {
-  Model model;
-  int mass = 0;
-  int anchor = 1;
-};
-
-inline Oscillator oscillator(Integrator integrator, double rate_hz, double mass_kg, double k, double z, double x0_m,
-                             PointKind anchor = PointKind::fixed) {
-  Oscillator o;
-  Model& m = o.model;
-  m.name = "oscillator";
-  m.source = "oscillator.yaml";
-  m.integrator = integrator;
-  m.set_rate(rate_hz);
-  m.points.reserve(2);
-  o.mass = add_point(m, "mass", PointKind::dynamic, {x0_m, 0, 0}, mass_kg);
-  o.anchor = add_point(m, "anchor", anchor, {});
-  if (anchor == PointKind::kinematic) {
-    m.points[o.anchor].proxy = 0;
-    m.proxies.push_back({"hand", o.anchor, -1, 0, 0, 0.0, 0});
-  }
-  add_link(m, "spring", z > 0.0 ? LinkType::spring_damper : LinkType::spring, o.anchor, o.mass, k, z);
-  return o;
-}
 
 // a device proxy at `centre` with a rows x cols grid of kinematic masses, laid out as a scene
 // body: row 0 at +y, column 0 at -x, centred on the proxy
@@ -96,16 +56,6 @@ inline int add_boxes(Model& m, const std::string& name, const std::vector<std::p
   o.first_box = static_cast<int>(m.boxes.size());
   for (const auto& [centre, half] : boxes) m.boxes.push_back({centre, half, {}, 0x3f});
   o.box_count = static_cast<int>(boxes.size());
-  m.objects.push_back(o);
-  return static_cast<int>(m.objects.size()) - 1;
-}
-
-inline int add_plane(Model& m, const std::string& name, Vec3 point_m, Vec3 normal) {
-  Object o;
-  o.name = name;
-  o.type = ObjectType::plane;
-  o.plane_point_m = point_m;
-  o.plane_normal = normal;
   m.objects.push_back(o);
   return static_cast<int>(m.objects.size()) - 1;
 }
@@ -154,8 +104,6 @@ inline Probe probe(const Model& m, int o, const Vec3& x) {
   return {depth, c.active ? c.normal : Vec3{}};
 }
 
-inline void add_contact(Model& m, int point, int object, double k, double z) { m.contacts.push_back({point, object, k, z, 0, 0, false, {}}); }
-
 // friction on every contact pair of a model
 inline void add_friction(Model& m, Friction friction) {
   for (ContactPair& c : m.contacts) c.friction = friction;
@@ -200,12 +148,6 @@ inline double grid_reach(const Model& m, const Vec3& direction) {
 inline void place_body(const Model& m, State& s, Vec3 centre) {
   s.proxy_position_m[0] = centre;
   reset(m, s);
-}
-
-// a mass's energy in flight under gravity g along -z, m v^2/2 + m g (z(n) + z(n-1))/2 with v the
-// state's velocity (x(n) - x(n-1)) / dt: what the explicit schemes keep exactly in flight
-inline double flight_energy_j(const State& s, int point, double mass_kg, double g) {
-  return 0.5 * mass_kg * dot(s.v[point], s.v[point]) + 0.5 * mass_kg * g * (s.x[point].z + s.x_prev[point].z);
 }
 
 // all per-point vectors finite
