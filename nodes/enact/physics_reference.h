@@ -67,6 +67,16 @@ struct SweepRow {
 // position of the hand (the scene's first body) at time t (s) from the start of the path
 using HandPath = std::function<math::Vec3(double)>;
 
+// the scene at a rate through an integrator under computer model cm, its first body starting at `start`
+physics::Model sweep_model(const physics::Model& scene, const haptics::ComputerModel& cm, const math::Vec3& start,
+                           physics::Integrator integrator, double rate_hz);
+// the hand's positions at each step of a run at rate_hz: step n (from 0) at time (n + 1) / rate_hz
+std::vector<math::Vec3> sample(const HandPath& hand, double duration_s, double rate_hz);
+// the device force of the reference (cordis at reference_hz, a multiple of rate_hz) at each
+// step of a run at rate_hz along `hand`: the instants rate_sweep compares
+std::vector<math::Vec3> reference_forces(const physics::Model& scene, const haptics::ComputerModel& cm, const HandPath& hand,
+                                         double duration_s, double rate_hz, double reference_hz);
+
 // the scene (its first body under computer model cm, starting at the path's start) driven
 // along `hand` for duration_s through each integrator at each rate; every step's device
 // force and pins compared with those of a cordis run at reference_hz (a multiple of every
