@@ -37,6 +37,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # enact bench loop's peer arm: Cyclone DDS's ddsperf ping/pong beside our round trip
   cyclonedds-tools
+  # enact bench physics's peer arm: the Open Dynamics Engine stepping the same bridge
+  libode-dev
   # analysis and plotting scripts (run under /usr/bin/python3)
   python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
   # fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes

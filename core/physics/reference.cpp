@@ -239,19 +239,9 @@ struct SweepRun {
   SweepRow row;
 };
 
-// the scene at a rate and integrator, its body starting where the hand starts
-Model sweep_model(const Model& scene, const Vec3& start, Integrator integrator, double rate_hz) {
-  Model m = scene;
-  m.integrator = integrator;
-  m.set_rate(rate_hz);
-  m.points[m.proxies[0].point].position_m = start;
-  return m;
-}
-
 // ns per step of a run alone, positions sampled beforehand
 double time_run(const Model& m, const HandPath& hand, double duration_s) {
-  std::vector<Vec3> motion(steps_in(duration_s, m.rate_hz));
-  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = hand(static_cast<double>(n + 1) / m.rate_hz);
+  const std::vector<Vec3> motion = sample(hand, duration_s, m.rate_hz);
   State s = make_state(m);
   const std::int64_t start_ns = rt::now_ns();
   for (const Vec3& p : motion) {
@@ -263,6 +253,34 @@ double time_run(const Model& m, const HandPath& hand, double duration_s) {
 }
 
 }  // namespace
+
+Model sweep_model(const Model& scene, const Vec3& start, Integrator integrator, double rate_hz) {
+  Model m = scene;
+  m.integrator = integrator;
+  m.set_rate(rate_hz);
+  m.points[m.proxies[0].point].position_m = start;
+  return m;
+}
+
+std::vector<Vec3> sample(const HandPath& hand, double duration_s, double rate_hz) {
+  std::vector<Vec3> motion(steps_in(duration_s, rate_hz));
+  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = hand(static_cast<double>(n + 1) / rate_hz);
+  return motion;
+}
+
+std::vector<Vec3> reference_forces(const Model& scene, const HandPath& hand, double duration_s, double rate_hz, double reference_hz) {
+  const Model reference = sweep_model(scene, hand(0.0), Integrator::cordis, reference_hz);
+  State ref = make_state(reference);
+  const std::size_t every = steps_in(1.0 / rate_hz, reference_hz);
+  std::vector<Vec3> forces;
+  forces.reserve(steps_in(duration_s, rate_hz));
+  for (std::size_t k = 1; k <= steps_in(duration_s, reference_hz); ++k) {
+    ref.proxy_position_m[0] = hand(static_cast<double>(k) / reference_hz);
+    step(reference, ref);
+    if (k % every == 0) forces.push_back(ref.proxy_force_n[0]);
+  }
+  return forces;
+}
 
 std::vector<SweepRow> rate_sweep(const Model& scene, const PinsOf& pins, const HandPath& hand, double duration_s, double reference_hz) {
   const Vec3 start = hand(0.0);

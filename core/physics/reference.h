@@ -108,4 +108,13 @@ using PinsOf = std::function<std::uint32_t(const Model&, const State&)>;
 // reference_hz (a multiple of every rate) at the same instant, on the same path
 std::vector<SweepRow> rate_sweep(const Model& scene, const PinsOf& pins, const HandPath& hand, double duration_s, double reference_hz);
 
+// the scene (its computer model applied) at a rate through an integrator, its first body
+// starting at `start`
+Model sweep_model(const Model& scene, const math::Vec3& start, Integrator integrator, double rate_hz);
+// the hand's positions at each step of a run at rate_hz: step n (from 0) at time (n + 1) / rate_hz
+std::vector<math::Vec3> sample(const HandPath& hand, double duration_s, double rate_hz);
+// the device force of the reference (cordis at reference_hz, a multiple of rate_hz) at each
+// step of a run at rate_hz along `hand`: the instants rate_sweep compares
+std::vector<math::Vec3> reference_forces(const Model& scene, const HandPath& hand, double duration_s, double rate_hz, double reference_hz);
+
 }  // namespace enact::physics::reference

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -18,7 +19,6 @@
 
 #include "core/haptics/computer_model.h"
 #include "core/physics/contact.h"
-#include "core/physics/mesh.h"
 #include "core/physics/reference.h"
 #include "core/physics/scene.h"
 #include "core/sim/offline.h"
@@ -26,6 +26,8 @@
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
 #include "nodes/enact/sweep_report.h"
+#include "nodes/enact-bench/bench_physics_mesh.h"
+#include "nodes/enact-bench/bench_physics_ode.h"
 
 namespace enact::cli {
 namespace {
@@ -44,6 +46,11 @@ using reference::steps_in;
 using reference::kIntegrators;
 using reference::kRates_hz;
 using reference::undamped_errors;
+using mesh_rows::bumpy_field;
+using mesh_rows::field_motion;
+using mesh_rows::kMeshCells;
+using mesh_rows::mesh_name;
+using mesh_rows::on_field;
 
 constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
 
@@ -107,6 +114,13 @@ errors (deterministic, no damping added):
               The bridge has no dynamic masses: the integrators give the same forces,
               and its force depends on the rate only through the contact damping's
               backward-difference velocity and the entry faces
+  ode         (when built with ODE, libode-dev) the same path at 5 kHz in the Open Dynamics
+              Engine: the grid masses as small spheres on one position-driven body, the
+              bridge's boxes and the floor static, each contact a soft constraint whose
+              ERP and CFM give the scene's stiffness and damping; both engines timed in
+              alternating rounds (7, --quick 3: median and range of ns per step), their
+              device force against the same reference (JSON ode_step_ratio: ODE's ns per
+              step over ours, ode_force_error_ratio: its rms force error over ours; ode_peer)
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
@@ -118,12 +132,12 @@ options:
 )";
 
 constexpr std::array kChainMasses{10, 100, 1000};
-// the mesh rows: cells a side of the height field (4 N^2 + 8 N triangles)
-constexpr std::array kMeshCells{4, 15, 49, 157};
 // the bounce's step timed at this rate, restarted every simulated second (a decaying
 // bounce would reach denormal numbers, the plain contact gains energy)
 constexpr double kBounceTiming_hz = 1000.0;
 
+// the rate of the ODE peer's comparison: the scene's own
+constexpr double kPeerRate_hz = 5000.0;
 // the bridge step: its rate, the hand's depth into the top and its wobble
 constexpr double kBridgeRate_hz = 44000.0;
 constexpr double kBridgeTarget_ns = 227.0;      // 1 % of the period, along the path
@@ -138,6 +152,7 @@ struct Settings {
   double min_time_s = 0.2;
   long bounce_steps = 1000000;
   double sweep_reference_hz = reference::kSweepReference_hz;
+  int peer_rounds = 7;
 };
 
 // ---- the bridge: scene, hand motion ----
@@ -198,48 +213,6 @@ Model bridge(const std::string& scene, const std::vector<Vec3>& start) {
   if (!start.empty()) m.points[m.proxies[0].point].position_m = start.front() + Vec3{0.0, 0.0, 1e-3};
   return m;
 }
-
-// ---- the mesh rows ----
-
-// a 60 mm square height field of 1 mm bumps (one every 21 mm) on a 5 mm plateau, `cells` a side
-physics::Mesh bumpy_field(int cells) {
-  const double cell_m = 0.06 / cells;
-  std::vector<double> heights;
-  for (int r = 0; r <= cells; ++r) {
-    for (int c = 0; c <= cells; ++c) heights.push_back(0.005 + 0.001 * std::sin(r * cell_m * 300.0) * std::sin(c * cell_m * 300.0));
-  }
-  return physics::heightfield_mesh(heights, cells + 1, cells + 1, cell_m, {0, 0, 0}, 0.0);
-}
-
-// the bridge model (body, contact parameters, CM1) with the field instead of its objects:
-// the body's pairs with its first object, now the field
-Model on_field(Model m, physics::Mesh field) {
-  const int first = m.contacts.front().object;
-  std::erase_if(m.contacts, [first](const physics::ContactPair& c) { return c.object != first; });
-  for (physics::ContactPair& c : m.contacts) c.object = 0;
-  physics::Object o;
-  o.name = "field";
-  o.type = physics::ObjectType::mesh;
-  o.shape = "mesh";
-  o.mesh = 0;
-  m.objects = {o};
-  m.boxes.clear();
-  m.meshes = {std::move(field)};
-  m.task_surface.clear();
-  return m;
-}
-
-// the walk over the field: a Lissajous figure over 40 x 40 mm, 0.2 to 0.8 mm into the plateau
-std::vector<Vec3> field_motion(double rate_hz) {
-  std::vector<Vec3> motion(steps_in(10.0, rate_hz));
-  for (std::size_t n = 0; n < motion.size(); ++n) {
-    const double phase = 2.0 * std::numbers::pi * static_cast<double>(n) / rate_hz;
-    motion[n] = {0.02 * std::sin(0.3 * phase), 0.02 * std::sin(0.2 * phase), 0.0045 + 0.0003 * std::sin(1.1 * phase)};
-  }
-  return motion;
-}
-
-std::string mesh_name(int cells) { return "mesh/" + std::to_string(4 * cells * cells + 8 * cells); }
 
 struct GridContacts {
   double mean = 0.0;      // grid masses touching, mean over the motion
@@ -442,6 +415,7 @@ struct Results {
   double bridge_no_hold_ns = 0.0;        // at a turn, the full face test every step
   double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
   GridContacts bridge_contacts;
+  std::optional<ode_peer::Comparison> ode;  // when built with ODE
   double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
 };
 
@@ -507,6 +481,7 @@ void print_table(const Results& r) {
   std::printf("bridge step  the full face test every step (no held faces): %.1f ns along the path (x%.2f), %.1f ns at a turn (x%.2f)\n",
               r.bridge_path_no_hold_ns, r.bridge_path_no_hold_ns / r.bridge_path_ns, r.bridge_no_hold_ns, r.bridge_no_hold_ns / r.bridge_ns);
   print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
+  if (r.ode) ode_peer::print(*r.ode);
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -535,6 +510,7 @@ void write_json(const Results& r, const std::string& path) {
   j.field("bridge_turn_step_ns_median", r.bridge_ns).field("bridge_turn_share_of_44khz_period", r.bridge_share());
   j.field("bridge_step_no_hold_ns_median", r.bridge_path_no_hold_ns).field("bridge_turn_step_no_hold_ns_median", r.bridge_no_hold_ns);
   j.field("bridge_grid_contacts_mean", r.bridge_contacts.mean).field("bridge_all_grid_contacts_share", r.bridge_contacts.all_share);
+  if (r.ode) ode_peer::json(j, *r.ode);
   j.key("chain").begin_array();
   for (const ChainRow& w : r.chain) {
     j.begin_object().field("masses", w.masses).field("ns_per_step", w.ns_per_step).field("ns_per_element", w.ns_per_element()).end_object();
@@ -601,9 +577,14 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);
   const haptics::ComputerModel cm1 = *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols);
-  r.bridge_rows = reference::rate_sweep(path_model, [&cm1](const Model& m, const physics::State& s) { return haptics::pins(cm1, m, s); },
-                                        [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
-                                        settings.sweep_reference_hz);
+  const reference::HandPath hand = [&path](double t) { return path.at(path.start_s() + t); };
+  r.bridge_rows = reference::rate_sweep(path_model, [&cm1](const Model& m, const physics::State& s) { return haptics::pins(cm1, m, s); }, hand,
+                                        path.end_s() - path.start_s(), settings.sweep_reference_hz);
+#if ENACT_BENCH_ODE
+  std::fprintf(stderr, "enact bench: the bridge in ODE beside ours at %.0f kHz, against %.0f kHz\n", kPeerRate_hz / 1e3,
+               settings.sweep_reference_hz / 1e3);
+  r.ode = ode_peer::compare(path_model, cm1, hand, path.end_s() - path.start_s(), kPeerRate_hz, settings.sweep_reference_hz, settings.peer_rounds);
+#endif
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
                kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size() + kMeshCells.size(), settings.repetitions);
   std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");
@@ -644,7 +625,7 @@ int bench(int argc, char** argv) {
     throw UsageError(a.positional.empty() ? "give a benchmark: physics, loop or record" : "unknown benchmark '" + a.positional[0] + "' (physics, loop, record)");
   }
   const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000,
-                                                        .sweep_reference_hz = reference::kSweepQuickReference_hz}
+                                                        .sweep_reference_hz = reference::kSweepQuickReference_hz, .peer_rounds = 3}
                                             : Settings{};
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
   print_table(r);
