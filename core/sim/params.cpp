@@ -52,7 +52,7 @@ int first_body_contact(const physics::Model& m) {
 
 bool is_body_point(const physics::Model& m, int point) {
   const physics::Point& p = m.points[point];
-  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+  return p.proxy == 0;
 }
 
 const std::vector<std::string>& param_names() {
@@ -71,7 +71,7 @@ void set_body_contacts(physics::Model& model, std::optional<double> stiffness, s
 double body_passivity_demand(physics::Model model, double stiffness, double damping) {
   // the worst computer model: every body point feeds the device
   for (physics::Point& p : model.points) {
-    if (p.kind == physics::PointKind::kinematic && p.proxy == 0) p.feeds_device = true;
+    if (p.proxy == 0) p.feeds_device = true;
   }
   set_body_contacts(model, stiffness, damping);
   // any device damping: only the demand K T/2 + B is read

@@ -25,6 +25,7 @@
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
 #include "nodes/enact/physics_reference.h"
+#include "nodes/enact-bench/bench_physics_body.h"
 
 namespace enact::cli {
 namespace {
@@ -105,6 +106,10 @@ errors (deterministic, no damping added):
               The bridge has no dynamic masses: the integrators give the same forces,
               and its force depends on the rate only through the contact damping's
               backward-difference velocity and the entry faces
+  deformable  the same for the bridge explored by the deformable fingertip
+              (launch/scenes/bridge_deformable.yaml; JSON deformable_rows): its masses are
+              integrated, so the integrators and rates differ; below the body's step
+              bound (enact check: about 2.8 kHz) the explicit ones diverge (faults)
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
@@ -440,6 +445,7 @@ struct Results {
   double bridge_no_hold_ns = 0.0;        // at a turn, the full face test every step
   double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
   GridContacts bridge_contacts;
+  BodyRows deformable;  // the deformable fingertip's sweep (bench_physics_body.cpp)
   double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
 };
 
@@ -505,6 +511,7 @@ void print_table(const Results& r) {
   std::printf("bridge step  the full face test every step (no held faces): %.1f ns along the path (x%.2f), %.1f ns at a turn (x%.2f)\n",
               r.bridge_path_no_hold_ns, r.bridge_path_no_hold_ns / r.bridge_path_ns, r.bridge_no_hold_ns, r.bridge_no_hold_ns / r.bridge_ns);
   reference::print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
+  print_deformable_rows(r.deformable);
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -557,6 +564,7 @@ void write_json(const Results& r, const std::string& path) {
   }
   j.end_array().key("bridge_rows");
   reference::sweep_json(j, r.bridge_rows);
+  deformable_rows_json(j, r.deformable);
   j.key("passive_cost").begin_array();
   for (const PassiveCost& c : r.passive_cost) {
     j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
@@ -601,6 +609,7 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   r.bridge_rows = reference::rate_sweep(path_model, *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols),
                                         [&path](double t) { return path.at(path.start_s() + t); }, path.end_s() - path.start_s(),
                                         settings.sweep_reference_hz);
+  r.deformable = deformable_rows("launch/scenes/bridge_deformable.yaml", settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
                kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size() + kMeshCells.size(), settings.repetitions);
   std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");
