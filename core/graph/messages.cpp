@@ -74,7 +74,7 @@ void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& for
   out.masses = std::min(body.rows * body.cols, 32);
   out.in_contact = 0;
   for (int i = 0; i < out.masses; ++i) {
-    out.contact_force_n[i] = state.f[body.first_body + i];
+    out.contact_force_n[i] = physics::body_contact_force(s.model(), state, body.first_body + i);
     if (state.in_contact[body.first_body + i]) out.in_contact |= 1u << i;
   }
   out.pins = pins;

@@ -26,7 +26,7 @@ enum class Integrator : std::uint8_t {
 enum class PointKind : std::uint8_t {
   dynamic,    // a mass, integrated
   fixed,      // a fixed point (CORDIS-ANIMA "SOL")
-  kinematic,  // positioned by a device proxy: the proxy itself, or a mass of its exploratory body
+  kinematic,  // positioned by a device proxy: the proxy itself, or a mass of its rigid exploratory body
 };
 
 struct Point {
@@ -35,8 +35,8 @@ struct Point {
   double mass_kg = 0.0;                 // dynamic points only
   Vec3 position_m;                      // initial position (fixed: the position)
   Vec3 velocity_m_per_s;                // initial velocity (dynamic points)
-  int proxy = -1;                       // kinematic: index into Model::proxies
-  Vec3 offset_m;                        // kinematic: position relative to the proxy
+  int proxy = -1;                       // body points (kinematic, or a deformable body's mass): index into Model::proxies
+  Vec3 offset_m;                        // body points: (rest) position relative to the proxy
   // haptic rendering of this point's contacts, set by a computer model (core/haptics)
   bool feeds_device = true;             // its force is part of what the proxy's device feels
   double contact_threshold_m = 0.0;     // penetration before any contact force acts
@@ -134,9 +134,24 @@ struct ContactPair {
   Friction friction;  // none by default: the normal force alone, as without the key
 };
 
+// a deformable exploratory body (scene key body.deformable): each grid mass is a dynamic mass
+// of its own, tied to its rest place on the proxy (proxy offset + grid offset) by a proxy link
+// and to its row and column neighbours by grid links, all linear visco-elastic (no rest
+// length: f = k (d - d_rest) + z d', d the vector between the two ends). The device feels the
+// proxy links' reactions of the masses that feed it (step.cpp, body_links)
+struct DeformableBody {
+  double mass_kg = 0.0;                    // each grid mass; 0: the rigid body
+  double proxy_stiffness_n_per_m = 0.0;    // each proxy link
+  double proxy_damping_n_s_per_m = 0.0;
+  double grid_stiffness_n_per_m = 0.0;     // each grid link (0: masses tied to the proxy only)
+  double grid_damping_n_s_per_m = 0.0;
+  int line = 0;
+  bool enabled() const { return mass_kg > 0.0; }
+};
+
 // a device proxy: a point whose position the device imposes, with an exploratory body of
-// rows x cols masses rigidly attached to it (never rotating); forces on all of them are
-// summed and sent back to the device
+// rows x cols masses attached to it (never rotating): rigidly (kinematic points; forces on all
+// of them are summed and sent back to the device) or through links (`deformable`)
 struct Proxy {
   std::string name;
   int point = -1;        // the proxy point itself (the body's centre)
@@ -144,6 +159,7 @@ struct Proxy {
   int rows = 0;
   int cols = 0;
   double pitch_m = 0.0;
+  DeformableBody deformable;  // disabled: the rigid grid
   int line = 0;
 };
 
@@ -175,6 +191,9 @@ struct Model {
   void set_rate(double hz);
   int find_point(const std::string& name) const;   // -1 when absent
   int find_object(const std::string& name) const;  // -1 when absent
+  // make proxy `proxy`'s grid deformable: each grid mass dynamic, of body.mass_kg, at rest at
+  // its grid offset (the scene key body.deformable)
+  void make_deformable(int proxy, const DeformableBody& body);
   // precompute which box faces no other box of their union can cover (a speed-up only:
   // without it such faces are checked when they matter)
   void index_boxes();

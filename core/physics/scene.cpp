@@ -56,7 +56,7 @@ struct Loader {
 
   void body(const Map& scene) {
     if (!scene.has("body")) return;
-    Map b(scene.get("body"), file, "body", {"name", "position_m", "grid"});
+    Map b(scene.get("body"), file, "body", {"name", "position_m", "grid", "deformable"});
     Proxy proxy;
     proxy.name = b.text("name", "finger");
     check_new_name(b, proxy.name);
@@ -94,6 +94,30 @@ struct Loader {
       }
     }
     model.proxies.push_back(proxy);
+    if (b.has("deformable")) deformable(Map(b.get("deformable"), file, "body.deformable", {"mass_kg", "proxy_link", "grid_link"}));
+  }
+
+  // body.deformable: every grid mass dynamic, of mass_kg, tied to the proxy and its neighbours
+  void deformable(const Map& d) {
+    const Proxy& proxy = model.proxies.back();
+    DeformableBody body;
+    body.line = d.line();
+    if (proxy.rows * proxy.cols == 0) d.fail("mass_kg", "a deformable body needs grid masses", "add grid: {rows: 4, cols: 4, pitch_m: 0.00245} to the body");
+    if (!d.has("mass_kg")) d.fail("mass_kg", "a deformable body needs the mass of each grid mass", "add mass_kg: 0.0005 (kg, > 0)");
+    body.mass_kg = d.positive("mass_kg");
+    if (!d.has("proxy_link")) {
+      d.fail("proxy_link", "a deformable body's masses need a link to the device proxy", "add proxy_link: {stiffness_n_per_m: 2000, damping_n_s_per_m: 0.3}");
+    }
+    const Map proxy_link(d.get("proxy_link"), file, "body.deformable.proxy_link", {"stiffness_n_per_m", "damping_n_s_per_m"});
+    if (!proxy_link.has("stiffness_n_per_m")) proxy_link.fail("stiffness_n_per_m", "a proxy link needs a stiffness", "add stiffness_n_per_m: 2000 (N/m, > 0)");
+    body.proxy_stiffness_n_per_m = proxy_link.positive("stiffness_n_per_m");
+    body.proxy_damping_n_s_per_m = proxy_link.positive("damping_n_s_per_m", 0.0, true);
+    if (d.has("grid_link")) {
+      const Map grid_link(d.get("grid_link"), file, "body.deformable.grid_link", {"stiffness_n_per_m", "damping_n_s_per_m"});
+      body.grid_stiffness_n_per_m = grid_link.positive("stiffness_n_per_m", 0.0, true);
+      body.grid_damping_n_s_per_m = grid_link.positive("damping_n_s_per_m", 0.0, true);
+    }
+    model.make_deformable(static_cast<int>(model.proxies.size()) - 1, body);
   }
 
   int point(const Map& m, const char* key) {

@@ -22,6 +22,21 @@ struct Element {
   double weight = 1.0;
 };
 
+// a deformable body's links on its mass i: its proxy link (the proxy is kinematic: once) and
+// its grid links (between two masses: twice)
+void body_elements(const Model& m, int i, std::vector<Element>& out) {
+  const Point& p = m.points[i];
+  if (p.proxy < 0 || p.kind != PointKind::dynamic) return;
+  const Proxy& body = m.proxies[p.proxy];
+  const DeformableBody& d = body.deformable;
+  out.push_back({"the proxy link of '" + p.name + "'", d.proxy_stiffness_n_per_m, d.proxy_damping_n_s_per_m});
+  const int r = (i - body.first_body) / body.cols, c = (i - body.first_body) % body.cols;
+  const int neighbours = (r > 0) + (r + 1 < body.rows) + (c > 0) + (c + 1 < body.cols);
+  for (int n = 0; n < neighbours; ++n) {
+    out.push_back({"a grid link of '" + p.name + "'", 2.0 * d.grid_stiffness_n_per_m, 2.0 * d.grid_damping_n_s_per_m, 2.0});
+  }
+}
+
 // every link and contact that can act on point i at once, at its peak stiffness: all its
 // links, and the contacts with the object whose group of overlapping objects is stiffest
 // (a point cannot be inside two objects whose volumes are disjoint). A link between two
@@ -29,6 +44,7 @@ struct Element {
 // against each other stretch it twice as fast: a chain's alternating mode needs 4k < 4M)
 std::vector<Element> elements_on(const Model& m, int i) {
   std::vector<Element> out;
+  body_elements(m, i, out);
   for (const Link& l : m.links) {
     if (l.a != i && l.b != i) continue;
     const bool coupled = m.points[l.a].kind == PointKind::dynamic && m.points[l.b].kind == PointKind::dynamic;
@@ -64,6 +80,27 @@ std::vector<Element> elements_on(const Model& m, int i) {
   }
   out.insert(out.end(), best.begin(), best.end());
   return out;
+}
+
+// each deformable body's bound on the step: the least over its masses
+void body_bounds(const Model& m, StabilityReport& report) {
+  for (std::size_t pi = 0; pi < m.proxies.size(); ++pi) {
+    if (!m.proxies[pi].deformable.enabled()) continue;
+    BodyStability b;
+    b.proxy = static_cast<int>(pi);
+    b.step_s = m.dt_s;
+    b.max_step_s = std::numeric_limits<double>::infinity();
+    for (const MassStability& s : report.masses) {
+      if (m.points[s.point].proxy != b.proxy) continue;
+      const double bound = s.min_stable_rate_hz > 0.0 ? 1.0 / s.min_stable_rate_hz : std::numeric_limits<double>::infinity();
+      if (bound < b.max_step_s || b.point < 0) {
+        b.max_step_s = bound;
+        b.point = s.point;
+      }
+      b.stable = b.stable && s.stable;
+    }
+    report.bodies.push_back(b);
+  }
 }
 
 }  // namespace
@@ -110,6 +147,7 @@ StabilityReport analyze_stability(const Model& m, double device_b) {
     s.min_stable_rate_hz = explicit_scheme ? (2.0 * z + std::sqrt(4.0 * z * z + 16.0 * mass * k)) / (8.0 * mass) : 0.0;
     report.masses.push_back(s);
   }
+  body_bounds(m, report);
   if (device_b < 0.0) return report;
   for (std::size_t pi = 0; pi < m.proxies.size(); ++pi) {
     DevicePassivity d;
@@ -121,6 +159,13 @@ StabilityReport analyze_stability(const Model& m, double device_b) {
         d.stiffness_n_per_m += e.k;
         d.damping_n_s_per_m += e.z;
       }
+    }
+    // a deformable body: the device is tied to its masses by their proxy links alone
+    const Proxy& body = m.proxies[pi];
+    for (int i = 0; body.deformable.enabled() && i < body.rows * body.cols; ++i) {
+      if (!m.points[body.first_body + i].feeds_device) continue;
+      d.stiffness_n_per_m += body.deformable.proxy_stiffness_n_per_m;
+      d.damping_n_s_per_m += body.deformable.proxy_damping_n_s_per_m;
     }
     d.device_damping_n_s_per_m = device_b;
     d.required_n_s_per_m = d.stiffness_n_per_m * dt / 2.0 + d.damping_n_s_per_m;

@@ -44,8 +44,20 @@ struct DevicePassivity {
   double min_passive_rate_hz = 0.0;
 };
 
+// a deformable body (Proxy::deformable): the explicit schemes' bound K + 2Z < 4M solved for the
+// step, h < 4m / (z + sqrt(z^2 + 4 K m)) (2 sqrt(m/K) undamped), K and z summed on each mass as
+// above; the body's bound is its least, at its mass with the stiffest links for its mass
+struct BodyStability {
+  int proxy = -1;
+  int point = -1;            // the mass that binds
+  double max_step_s = 0.0;   // the bound on dt; infinite for implicit_euler
+  double step_s = 0.0;       // the model's dt
+  bool stable = true;
+};
+
 struct StabilityReport {
   std::vector<MassStability> masses;
+  std::vector<BodyStability> bodies;     // deformable bodies only
   std::vector<DevicePassivity> devices;  // empty without a device damping
   bool stable() const;
   bool passive() const;

@@ -85,6 +85,11 @@ struct State {
   // per proxy: input (device position) and output (force to send to the device)
   std::vector<Vec3> proxy_position_m;
   std::vector<Vec3> proxy_force_n;
+  // deformable bodies (Proxy::deformable): per point, the contact force on a body mass this
+  // step apart from its links and gravity (empty without a deformable body); per proxy, the
+  // proxy links' reactions the device feels (zero for a rigid body)
+  std::vector<Vec3> body_contact_n;
+  std::vector<Vec3> coupling_n;
 
   // which points the step integrates and which follow a proxy (from make_state)
   std::vector<int> dynamic;
@@ -109,6 +114,12 @@ struct State {
   Fault last_fault = Fault::none;
   int last_fault_point = -1;
 };
+
+// the contact force on body point i this step: a rigid body's point has no other force, a
+// deformable body's mass its contact force apart from its links
+inline Vec3 body_contact_force(const Model& model, const State& state, int i) {
+  return model.points[i].kind == PointKind::dynamic ? state.body_contact_n[i] : state.f[i];
+}
 
 // a state sized for the model, at its initial conditions
 State make_state(const Model& model);

@@ -223,6 +223,43 @@ void control(const Model& m, State& s) {
   }
 }
 
+// a grid link of a deformable body between masses a and b: f = k (d - d_rest) + z d' on a
+void grid_link(const Model& m, const DeformableBody& d, State& s, int a, int b) {
+  const Vec3 rest = m.points[b].offset_m - m.points[a].offset_m;
+  const Vec3 force = (s.x[b] - s.x[a] - rest) * d.grid_stiffness_n_per_m + (s.v[b] - s.v[a]) * d.grid_damping_n_s_per_m;
+  s.f[a] += force;
+  s.f[b] -= force;
+  add_stiffness(m, s, a, d.grid_stiffness_n_per_m, d.grid_damping_n_s_per_m);
+  add_stiffness(m, s, b, d.grid_stiffness_n_per_m, d.grid_damping_n_s_per_m);
+}
+
+// a deformable body's links, once its masses' contacts are known: each mass's contact force
+// is kept, then its proxy link pulls it to its rest place on the proxy and its grid links to
+// its right and lower neighbours'; the device feels the proxy links' reactions of the masses
+// that feed it (the coupling force)
+void body_links(const Model& m, const Proxy& body, State& s) {
+  const DeformableBody& d = body.deformable;
+  const int n = body.rows * body.cols;
+  for (int q = body.first_body; q < body.first_body + n; ++q) s.body_contact_n[q] = s.f[q] - m.gravity_m_per_s2 * m.points[q].mass_kg;
+  const Vec3 xp = s.x[body.point];
+  const Vec3 vp = s.v[body.point];
+  Vec3 coupling;
+  for (int q = body.first_body; q < body.first_body + n; ++q) {
+    const Vec3 force = (xp + m.points[q].offset_m - s.x[q]) * d.proxy_stiffness_n_per_m + (vp - s.v[q]) * d.proxy_damping_n_s_per_m;
+    s.f[q] += force;
+    if (m.points[q].feeds_device) coupling -= force;
+    add_stiffness(m, s, q, d.proxy_stiffness_n_per_m, d.proxy_damping_n_s_per_m);
+  }
+  s.coupling_n[&body - m.proxies.data()] = coupling;
+  for (int r = 0; r < body.rows; ++r) {
+    for (int c = 0; c < body.cols; ++c) {
+      const int q = body.first_body + r * body.cols + c;
+      if (c + 1 < body.cols) grid_link(m, d, s, q, q + 1);
+      if (r + 1 < body.rows) grid_link(m, d, s, q, q + body.cols);
+    }
+  }
+}
+
 void integrate(const Model& m, State& s) {
   double gain = 0.0;
   for (const int i : s.dynamic) {
@@ -249,7 +286,8 @@ Fault check(const Model& m, const State& s, int& point) {
 void set_initial(const Model& m, State& s) {
   for (std::size_t i = 0; i < m.points.size(); ++i) {
     const Point& p = m.points[i];
-    s.x[i] = p.kind == PointKind::kinematic ? s.proxy_position_m[p.proxy] + p.offset_m : p.position_m;
+    // body points (a rigid body's, or a deformable body's masses at rest) where the proxy is
+    s.x[i] = p.proxy >= 0 ? s.proxy_position_m[p.proxy] + p.offset_m : p.position_m;
     s.v[i] = p.kind == PointKind::dynamic ? p.velocity_m_per_s : Vec3{};
     s.x_prev[i] = s.x[i] - s.v[i] * m.dt_s;
   }
@@ -283,6 +321,10 @@ void accumulate_forces(const Model& m, State& s) {
       s.contacts[k].anchored = false;
       s.contacts[k].hold_r2 = 0.0;
     }
+  }
+  if (s.body_contact_n.empty()) return;
+  for (const Proxy& body : m.proxies) {
+    if (body.deformable.enabled()) body_links(m, body, s);
   }
 }
 
@@ -350,6 +392,17 @@ int Model::find_object(const std::string& n) const {
   return -1;
 }
 
+void Model::make_deformable(int proxy, const DeformableBody& body) {
+  Proxy& p = proxies[proxy];
+  p.deformable = body;
+  for (int i = 0; i < p.rows * p.cols; ++i) {
+    Point& g = points[p.first_body + i];
+    g.kind = PointKind::dynamic;
+    g.mass_kg = body.mass_kg;
+    g.line = body.line;
+  }
+}
+
 State make_state(const Model& m) {
   State s;
   const std::size_t n = m.points.size();
@@ -371,7 +424,11 @@ State make_state(const Model& m) {
   group_pairs(m, s);
   s.proxy_position_m.resize(m.proxies.size());
   s.proxy_force_n.resize(m.proxies.size());
-  for (std::size_t p = 0; p < m.proxies.size(); ++p) s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
+  s.coupling_n.resize(m.proxies.size());
+  for (std::size_t p = 0; p < m.proxies.size(); ++p) {
+    s.proxy_position_m[p] = m.points[m.proxies[p].point].position_m;
+    if (m.proxies[p].deformable.enabled()) s.body_contact_n.resize(n);
+  }
   reset(m, s);
   return s;
 }
@@ -420,6 +477,7 @@ void step(const Model& m, State& s) {
     for (const int i : s.kinematic) {
       if (m.points[i].proxy == static_cast<int>(p) && m.points[i].feeds_device) sum += s.f[i];
     }
+    if (m.proxies[p].deformable.enabled()) sum += s.coupling_n[p];
     s.proxy_force_n[p] = sum;
   }
   integrate(m, s);

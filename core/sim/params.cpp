@@ -52,7 +52,7 @@ int first_body_contact(const physics::Model& m) {
 
 bool is_body_point(const physics::Model& m, int point) {
   const physics::Point& p = m.points[point];
-  return p.kind == physics::PointKind::kinematic && p.proxy == 0;
+  return p.proxy == 0;
 }
 
 const std::vector<std::string>& param_names() {
@@ -68,10 +68,23 @@ void set_body_contacts(physics::Model& model, std::optional<double> stiffness, s
   }
 }
 
+namespace {
+
+// a deformable body's masses carry its contacts: at the new value they must keep the
+// integrator's bound ("" when they do, or the body is rigid)
+std::string deformable_refusal(physics::Model model, std::optional<double> stiffness, std::optional<double> damping) {
+  if (model.proxies.empty() || !model.proxies[0].deformable.enabled()) return {};
+  set_body_contacts(model, stiffness, damping);
+  const physics::StabilityReport report = physics::analyze_stability(model);
+  return report.stable() ? std::string{} : physics::instability_message(model, report);
+}
+
+}  // namespace
+
 double body_passivity_demand(physics::Model model, double stiffness, double damping) {
   // the worst computer model: every body point feeds the device
   for (physics::Point& p : model.points) {
-    if (p.kind == physics::PointKind::kinematic && p.proxy == 0) p.feeds_device = true;
+    if (p.proxy == 0) p.feeds_device = true;
   }
   set_body_contacts(model, stiffness, damping);
   // any device damping: only the demand K T/2 + B is read
@@ -147,7 +160,10 @@ ParamPlan ParamPlanner::check_contact(ParamKind kind, double value, std::uint64_
                   " N s/m with every body point in contact, past " + num(envelope_) + " N s/m (the device damping b = " + num(device_damping_) +
                   " N s/m, or the scene as loaded if larger)\n  fix: at most " + num(largest, 6) + " " + unit);
   }
-  set_body_contacts(model_, stiffness ? std::optional(value) : std::nullopt, stiffness ? std::nullopt : std::optional(value));
+  const std::optional<double> new_k = stiffness ? std::optional(value) : std::nullopt, new_z = stiffness ? std::nullopt : std::optional(value);
+  const std::string unstable = deformable_refusal(model_, new_k, new_z);
+  if (!unstable.empty()) return refuse(std::string(name) + " = " + num(value, 6) + " " + unit + ": the deformable body would not stay stable: " + unstable);
+  set_body_contacts(model_, new_k, new_z);
   return accept(kind, request_id, value);
 }
 

@@ -41,7 +41,7 @@ math::Vec3 resync_offset(const physics::Model& model, const physics::State& stat
     for (std::size_t i = 0; i < model.contacts.size(); ++i) {
       const physics::ContactPair& pair = model.contacts[i];
       const physics::Point& point = model.points[pair.point];
-      if (point.kind != physics::PointKind::kinematic || point.proxy != 0) continue;
+      if (point.proxy != 0) continue;
       physics::ContactState contact = state.contacts[i];
       const math::Vec3 x = device_m + offset + point.offset_m;
       const double depth = physics::update_contact(model, model.objects[pair.object], state.x[pair.point], x, pair.edge_skin_m, contact);

@@ -68,7 +68,7 @@ void Simulator::configure(const SimParams& params) {
     path_ = task::Polyline(line);
     for (std::size_t i = 0; i < model_.contacts.size(); ++i) {
       const physics::ContactPair& c = model_.contacts[i];
-      if (c.object == surface && model_.points[c.point].kind == physics::PointKind::kinematic) top_pairs_.push_back(static_cast<int>(i));
+      if (c.object == surface && model_.points[c.point].proxy >= 0) top_pairs_.push_back(static_cast<int>(i));
     }
   }
   if (!std::isfinite(params.change_ramp_s) || params.change_ramp_s < 0.0) {

@@ -28,6 +28,7 @@
 #include "nodes/enact/sweep_report.h"
 #include "nodes/enact-bench/bench_physics_mesh.h"
 #include "nodes/enact-bench/bench_physics_ode.h"
+#include "nodes/enact-bench/bench_physics_body.h"
 
 namespace enact::cli {
 namespace {
@@ -121,6 +122,10 @@ errors (deterministic, no damping added):
               alternating rounds (7, --quick 3: median and range of ns per step), their
               device force against the same reference (JSON ode_step_ratio: ODE's ns per
               step over ours, ode_force_error_ratio: its rms force error over ours; ode_peer)
+  deformable  the same for the bridge explored by the deformable fingertip
+              (launch/scenes/bridge_deformable.yaml; JSON deformable_rows): its masses are
+              integrated, so the integrators and rates differ; below the body's step
+              bound (enact check: about 2.8 kHz) the explicit ones diverge (faults)
   Extrema (amplitude, peak penetration) are refined by a parabola through the three
   samples around them; zero crossings are interpolated linearly.
 
@@ -416,6 +421,7 @@ struct Results {
   double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
   GridContacts bridge_contacts;
   std::optional<ode_peer::Comparison> ode;  // when built with ODE
+  BodyRows deformable;  // the deformable fingertip's sweep (bench_physics_body.cpp)
   double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
 };
 
@@ -482,6 +488,7 @@ void print_table(const Results& r) {
               r.bridge_path_no_hold_ns, r.bridge_path_no_hold_ns / r.bridge_path_ns, r.bridge_no_hold_ns, r.bridge_no_hold_ns / r.bridge_ns);
   print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
   if (r.ode) ode_peer::print(*r.ode);
+  print_deformable_rows(r.deformable);
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
@@ -535,6 +542,7 @@ void write_json(const Results& r, const std::string& path) {
   }
   j.end_array().key("bridge_rows");
   sweep_json(j, r.bridge_rows);
+  deformable_rows_json(j, r.deformable);
   j.key("passive_cost").begin_array();
   for (const PassiveCost& c : r.passive_cost) {
     j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
@@ -585,6 +593,7 @@ Results run_physics(const Settings& settings, const std::string& scene) {
                settings.sweep_reference_hz / 1e3);
   r.ode = ode_peer::compare(path_model, cm1, hand, path.end_s() - path.start_s(), kPeerRate_hz, settings.sweep_reference_hz, settings.peer_rounds);
 #endif
+  r.deformable = deformable_rows("launch/scenes/bridge_deformable.yaml", settings.sweep_reference_hz);
   std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
                kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size() + kMeshCells.size(), settings.repetitions);
   std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");

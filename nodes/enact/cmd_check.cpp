@@ -1,4 +1,5 @@
 // enact check SCENE: load, validate, stability table; --json adds the geometry.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -106,6 +107,12 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
     j.field("largest_stable_stiffness_n_per_m", s.largest_stable_stiffness_n_per_m).field("min_stable_rate_hz", s.min_stable_rate_hz).end_object();
   }
   j.end_array();
+  j.key("deformable_bodies").begin_array();
+  for (const auto& b : r.bodies) {
+    j.begin_object().field("body", m.proxies[b.proxy].name).field("mass", m.points[b.point].name).field("step_s", b.step_s);
+    j.field("max_step_s", std::isinf(b.max_step_s) ? -1.0 : b.max_step_s).field("stable", b.stable).end_object();
+  }
+  j.end_array();
   j.key("devices").begin_array();
   for (const auto& d : r.devices) {
     j.begin_object().field("body", m.proxies[d.proxy].name).field("stiffness_n_per_m", d.stiffness_n_per_m);
@@ -130,12 +137,32 @@ void print_live_envelope(const physics::Model& m) {
               sim::passivity_envelope(m));
 }
 
+void print_deformable(const physics::Proxy& p) {
+  const physics::DeformableBody& d = p.deformable;
+  if (!d.enabled()) return;
+  std::printf("            deformable: %d masses of %.4g kg; proxy links %.4g N/m, %.4g N s/m; grid links %.4g N/m, %.4g N s/m\n",
+              p.rows * p.cols, d.mass_kg, d.proxy_stiffness_n_per_m, d.proxy_damping_n_s_per_m, d.grid_stiffness_n_per_m,
+              d.grid_damping_n_s_per_m);
+}
+
+// a deformable body's bound on the step (physics::BodyStability)
+void print_body_bound(const physics::Model& m, const physics::BodyStability& b) {
+  std::printf("\ndeformable body %s: dt < 4m / (z + sqrt(z^2 + 4 K m)) over its masses (2 sqrt(m/K) undamped)\n", m.proxies[b.proxy].name.c_str());
+  if (std::isinf(b.max_step_s)) {
+    std::printf("  dt %.4g us, no bound (%s)  stable\n", b.step_s * 1e6, m.integrator == physics::Integrator::implicit_euler ? "implicit_euler" : "no stiffness");
+    return;
+  }
+  std::printf("  dt %.4g us < %.4g us at %s (loop rate >= %.0f Hz), margin %.1f%%  %s\n", b.step_s * 1e6, b.max_step_s * 1e6,
+              m.points[b.point].name.c_str(), std::ceil(1.0 / b.max_step_s), 100.0 * (1.0 - b.step_s / b.max_step_s),
+              b.stable ? "stable" : "UNSTABLE");
+}
+
 void write_table(const physics::Model& m, const physics::StabilityReport& r, const std::string& device) {
   int dynamic = 0, fixed = 0, body = 0;
   for (const auto& p : m.points) {
-    dynamic += p.kind == physics::PointKind::dynamic;
+    dynamic += p.kind == physics::PointKind::dynamic && p.proxy < 0;
     fixed += p.kind == physics::PointKind::fixed;
-    body += p.kind == physics::PointKind::kinematic;
+    body += p.proxy >= 0;
   }
   std::printf("scene       %s (%s)\n", m.name.c_str(), m.source.c_str());
   std::printf("loop        %.0f Hz (dt %.3g us), integrator %s\n", m.rate_hz, m.dt_s * 1e6, physics::to_string(m.integrator));
@@ -144,6 +171,7 @@ void write_table(const physics::Model& m, const physics::StabilityReport& r, con
   for (const auto& p : m.proxies) {
     std::printf("body        %s: %d x %d grid, pitch %.3g mm, centre at (%.4g, %.4g, %.4g) m\n", p.name.c_str(), p.rows, p.cols,
                 p.pitch_m * 1e3, m.points[p.point].position_m.x, m.points[p.point].position_m.y, m.points[p.point].position_m.z);
+    print_deformable(p);
   }
   std::printf("\nintegrator stability (%s)\n", m.integrator == physics::Integrator::implicit_euler ? "implicit: unconditional" : "explicit: K + 2Z < 4M, Z = z/dt, M = m/dt^2");
   if (r.masses.empty()) std::printf("  no dynamic masses (the body follows the device)\n");
@@ -162,6 +190,7 @@ void write_table(const physics::Model& m, const physics::StabilityReport& r, con
                   std::ceil(d.min_passive_rate_hz), d.passive ? "passive" : "not guaranteed passive (warning)");
     }
   }
+  for (const auto& b : r.bodies) print_body_bound(m, b);
   std::printf("\nverdict     %s\n", r.stable() ? "stable" : "UNSTABLE");
 }
 

@@ -1,6 +1,6 @@
-// The step allocates nothing: on the bridge with the body entering and leaving contact and
-// crossing the corner of a turn (with friction and without), and on a model with every link
-// type under every integrator.
+// The step allocates nothing: on the bridge with the body (rigid and deformable) entering and
+// leaving contact and crossing the corner of a turn (with friction and without), and on a
+// model with every link type under every integrator.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,6 +62,17 @@ TEST(NoAllocation, BridgeStepWithTheBodyCrossingContactsAndACorner) { bridge_ros
 
 TEST(NoAllocation, FrictionalBridgeStep) {
   Model m = models::bridge(5000.0, "CM1");
+  models::add_friction(m, {0.6, 0.4, 2000.0});
+  bridge_rose(m);
+}
+
+// the deformable fingertip: its masses and their links stepped with the contacts
+TEST(NoAllocation, DeformableBridgeStep) {
+  bridge_rose(models::bridge(5000.0, "CM1", enact::test::source_path("launch/scenes/bridge_deformable.yaml")));
+}
+
+TEST(NoAllocation, FrictionalDeformableBridgeStep) {
+  Model m = models::bridge(5000.0, "CM1", enact::test::source_path("launch/scenes/bridge_deformable.yaml"));
   models::add_friction(m, {0.6, 0.4, 2000.0});
   bridge_rose(m);
 }

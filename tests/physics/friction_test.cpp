@@ -194,18 +194,6 @@ INSTANTIATE_TEST_SUITE_P(Rates, BodySlid, ::testing::Values(1000.0, 5000.0, 4400
 
 // --- passivity: a random walk of the device over the bridge ---
 
-// a walk over the whole bridge, from 2 mm above its top to 4 mm into it and off its sides onto
-// the floor, then straight up out of every contact (no energy is left in a spring at the end)
-std::vector<Vec3> walk_over_the_bridge(const Model& m, unsigned seed, double duration_s) {
-  const auto& line = m.objects[m.find_object("bridge")].path.centerline_m;
-  models::Walk walk({line[0].x - 0.012, line[0].y, 0.008}, {line[3].x + 0.012, line[3].y, 0.014}, seed);
-  std::vector<Vec3> path;
-  for (long n = 0; n < std::lround(duration_s * m.rate_hz); ++n) path.push_back(walk.next(m.dt_s));
-  const Vec3 last = path.back();
-  for (int n = 1; n <= 200; ++n) path.push_back({last.x, last.y, last.z + (0.03 - last.z) * n / 200.0});
-  return path;
-}
-
 // rounding of the summed work over a walk (J): forces of ~100 N over ~10^4 steps of ~0.1 mm
 constexpr double kWorkTolerance_j = 1e-9;
 
@@ -233,7 +221,7 @@ TEST_P(FrictionWalk, TheDeviceGetsNoEnergy) {
   const Model without = models::bridge(GetParam().rate_hz);
   Model with = without;
   models::add_friction(with, kFriction);
-  const std::vector<Vec3> path = walk_over_the_bridge(with, GetParam().seed, 10.0);
+  const std::vector<Vec3> path = models::walk_over_the_bridge(with, GetParam().seed, 10.0);
   const double with_j = walk_work_j(with, path), without_j = walk_work_j(without, path);
   std::printf("work on the device: %.6g J with friction, %.6g J without\n", with_j, without_j);
   EXPECT_LE(with_j, kWorkTolerance_j);

@@ -69,7 +69,13 @@ TEST_P(Identical, ForcesAlongTheScriptedPath) {
 
 INSTANTIATE_TEST_SUITE_P(Bridge, Identical,
                          ::testing::Values(Case{44000.0, "CM1", 0x7216ca7aa458fb52ull}, Case{5000.0, "CM1", 0x403f759621d9e1e2ull},
-                                           Case{5000.0, "PT", 0x922b867db3f78995ull}),
+                                           Case{5000.0, "PT", 0x922b867db3f78995ull},
+                                           // CM0 and CM3 take their force from the same 16 grid masses as
+                                           // CM1 (they differ in pins only): CM1's checksum; CM2 (its 3 mm
+                                           // threshold) taken on the branch that added the deformable body
+                                           // (whose code leaves the rigid grid's step as it was)
+                                           Case{5000.0, "CM0", 0x403f759621d9e1e2ull}, Case{5000.0, "CM3", 0x403f759621d9e1e2ull},
+                                           Case{5000.0, "CM2", 0xa0ae36bfbc3cd996ull}),
                          [](const auto& p) { return std::string(p.param.computer_model) + "_" + std::to_string(static_cast<int>(p.param.rate_hz)); });
 
 // a hand path through every group's transitions: from high above the floor beside the bridge

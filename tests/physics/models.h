@@ -217,4 +217,16 @@ inline double device_work_j(const Model& m, State& s, const std::vector<Vec3>& p
   return work;
 }
 
+// a walk over the whole bridge, from 2 mm above its top to 4 mm into it and off its sides onto
+// the floor, then straight up out of every contact (no energy is left in a spring at the end)
+inline std::vector<Vec3> walk_over_the_bridge(const Model& m, unsigned seed, double duration_s) {
+  const auto& line = m.objects[m.find_object("bridge")].path.centerline_m;
+  Walk walk({line[0].x - 0.012, line[0].y, 0.008}, {line[3].x + 0.012, line[3].y, 0.014}, seed);
+  std::vector<Vec3> path;
+  for (long n = 0; n < std::lround(duration_s * m.rate_hz); ++n) path.push_back(walk.next(m.dt_s));
+  const Vec3 last = path.back();
+  for (int n = 1; n <= 200; ++n) path.push_back({last.x, last.y, last.z + (0.03 - last.z) * n / 200.0});
+  return path;
+}
+
 }  // namespace enact::physics::models
