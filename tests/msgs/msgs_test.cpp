@@ -64,6 +64,7 @@ msgs::ForceCommand force_command() {
   fill(*m.mutable_force(), 1.5, -2.25, 12.0);
   m.set_zero(true);
   m.set_faults(msgs::COMMAND_FAULT_FORCE_CLAMPED);
+  m.set_tactile_frame_seq(9);
   return m;
 }
 
