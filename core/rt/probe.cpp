@@ -24,7 +24,7 @@
 namespace enact::rt {
 namespace {
 
-constexpr int kFormat = 1;           // the cache's format; another one is measured again
+constexpr int kFormat = 2;           // the cache's format; another one is measured again
 constexpr int kProbeFifo = 50;       // the priority the FIFO sleeps are measured at
 constexpr int kSameCpuTrips = 2000;  // pipe round trips on one CPU (~14-40 ms)
 constexpr int kCrossCpuTrips = 1000;  // and across two (~15-100 ms)
@@ -138,6 +138,8 @@ MachineProbe probe_machine(std::int64_t period_ns, int sleeps) {
   p.probed_at_ns = static_cast<std::int64_t>(std::time(nullptr)) * 1'000'000'000;
   const std::vector<int> cpus = system_calls().allowed_cpus();
   p.cpus = static_cast<int>(cpus.size());
+  // the whole machine's load (the average counts every CPU's runnable tasks)
+  p.load_per_cpu = std::atof(first_line("/proc/loadavg").c_str()) / static_cast<double>(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
   on_thread([&] { p.default_timer_slack_ns = prctl(PR_GET_TIMERSLACK, 0UL, 0UL, 0UL, 0UL); });
   p.rt_runtime_us = std::atol(first_line("/proc/sys/kernel/sched_rt_runtime_us").c_str());
   p.rt_period_us = std::atol(first_line("/proc/sys/kernel/sched_rt_period_us").c_str());
@@ -176,7 +178,9 @@ MachineProbe cached_probe(bool fresh) {
     text << in.rdbuf();
     // (a probe made by a process confined to fewer CPUs than this one may use is made again)
     const auto cached = from_text(text.str());
-    if (cached && cached->boot_id == boot && cached->cpus >= static_cast<int>(system_calls().allowed_cpus().size())) return *cached;
+    const bool current = cached && cached->boot_id == boot && cached->cpus >= static_cast<int>(system_calls().allowed_cpus().size());
+    const std::int64_t age_ns = current ? static_cast<std::int64_t>(std::time(nullptr)) * 1'000'000'000 - cached->probed_at_ns : 0;
+    if (current && (cached->load_per_cpu <= kBusyLoadPerCpu || age_ns < kBusyProbeLife_ns)) return *cached;
   }
   const MachineProbe p = probe_machine();
   std::error_code ec;
@@ -207,6 +211,7 @@ std::string to_text(const MachineProbe& p) {
   put(out, "pipe_cross_cpu", p.pipe_cross_cpu);
   out << "rt_throttling_us " << p.rt_runtime_us << " " << p.rt_period_us << "\n";
   out << "cpu_latency_held " << p.cpu_latency_held << "\n";
+  out << "load_per_cpu " << p.load_per_cpu << "\n";
   return out.str();
 }
 
@@ -248,6 +253,7 @@ std::optional<MachineProbe> from_text(const std::string& text) {
     ok = ok && static_cast<bool>(w >> p.rt_runtime_us >> p.rt_period_us);
   }
   one("cpu_latency_held", p.cpu_latency_held);
+  one("load_per_cpu", p.load_per_cpu);
   if (!ok) return std::nullopt;
   return p;
 }

@@ -43,6 +43,7 @@ struct MachineProbe {
   bool cpu_latency_held = false;     // the CPU latency request could be held
   std::string boot_id;               // the boot it was measured in (the cache's key)
   std::int64_t probed_at_ns = 0;     // CLOCK_REALTIME when measured
+  double load_per_cpu = 0.0;         // the 1-minute load average over the CPUs, when measured
 };
 
 // measures this machine now (about 0.5 s, most of it sleeping): `sleeps` wake-ups at
@@ -52,6 +53,11 @@ MachineProbe probe_machine(std::int64_t period_ns = 200'000, int sleeps = 1000);
 
 // the probe of this boot: read from the cache file (cache_path()), else measured and stored
 // there (a cache that cannot be written is not an error). `fresh` measures again and stores.
+// A probe measured on a busy machine (load over kBusyLoadPerCpu) says what that moment gave:
+// it is measured again once older than kBusyProbeLife_ns, so a burst of load (a build beside)
+// does not set how every later loop of the boot waits.
+inline constexpr double kBusyLoadPerCpu = 1.0;
+inline constexpr std::int64_t kBusyProbeLife_ns = 600'000'000'000;  // 10 minutes
 MachineProbe cached_probe(bool fresh = false);
 // $XDG_CACHE_HOME/enact/machine-probe, else $HOME/.cache/enact/machine-probe, else
 // /tmp/enact-<uid>/machine-probe

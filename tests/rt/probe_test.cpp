@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 
@@ -74,6 +76,29 @@ TEST(MachineProbe, IsCachedPerBootAndMeasuredAgainForAnother) {
   EXPECT_EQ(test::read_file(dir.path() + "/enact/machine-probe"), to_text(now));
   // unless asked
   EXPECT_NE(cached_probe(true).probed_at_ns, 0);
+  unsetenv("XDG_CACHE_HOME");
+}
+
+// a probe measured on a busy machine is kept for a while, then measured again: a burst of load
+// does not decide how every later loop of the boot waits; a quiet machine's is kept
+TEST(MachineProbe, OneMeasuredUnderLoadIsMeasuredAgainOnceOld) {
+  test::TempDir dir;
+  setenv("XDG_CACHE_HOME", dir.path().c_str(), 1);
+  const std::string file = dir.path() + "/enact/machine-probe";
+  std::filesystem::create_directories(dir.path() + "/enact");
+  const std::int64_t now_ns = static_cast<std::int64_t>(std::time(nullptr)) * 1'000'000'000;
+  // this boot's, with figures no machine gives, so a probe measured again is told apart
+  MachineProbe cached = cached_probe(true);
+  cached.sleep_late.p99_ns = 123'456'000;
+  auto stored = [&](double load_per_cpu, std::int64_t age_ns) {
+    cached.load_per_cpu = load_per_cpu;
+    cached.probed_at_ns = now_ns - age_ns;
+    test::write_file(file, to_text(cached));
+    return cached_probe().sleep_late.p99_ns == cached.sleep_late.p99_ns;
+  };
+  EXPECT_TRUE(stored(0.5, 2 * kBusyProbeLife_ns)) << "a quiet machine's probe is kept for the boot";
+  EXPECT_TRUE(stored(4.0, kBusyProbeLife_ns / 10)) << "a busy machine's, for a while";
+  EXPECT_FALSE(stored(4.0, 2 * kBusyProbeLife_ns)) << "then measured again";
   unsetenv("XDG_CACHE_HOME");
 }
 
