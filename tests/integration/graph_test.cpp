@@ -205,12 +205,15 @@ TEST_P(IntegrationDistributed, ScenesFollowContactAndAnswersReferToSamples) {
             std::string::npos)
       << launcher.log();
 
-  // the driver measures its loop latency, counts its deadlines and gives its verdict
+  // the driver measures its loop latency, counts its deadlines and gives its verdict. The
+  // latency is that of the answers in time: a machine where the ZeroMQ hop is slower than the
+  // period less the spin window (a VM whose threads wake 40 us late: 85 us a ZeroMQ round
+  // trip) has none, every deadline missed and said so
   bool ffd_status = false;
   for (const auto& s : seen.statuses) {
     if (s.node() != "ffd") continue;
     ffd_status = true;
-    EXPECT_GT(s.latency_p50_ns(), 0) << s.ShortDebugString();
+    if (local || s.deadlines_missed() < s.deadlines()) EXPECT_GT(s.latency_p50_ns(), 0) << s.ShortDebugString();
     EXPECT_GT(s.deadlines(), 0u) << s.ShortDebugString();
     EXPECT_LE(s.deadlines_missed(), s.deadlines()) << s.ShortDebugString();
     EXPECT_NE(s.verdict().find("this machine"), std::string::npos) << s.ShortDebugString();
