@@ -16,6 +16,7 @@
 #include "core/bus/schema.h"
 #include "core/config/yaml.h"
 #include "core/graph/node.h"
+#include "core/graph/node_params.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 
@@ -340,6 +341,7 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
       for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
     }
     const std::string exe = std::filesystem::path(n.exec).filename().string();
+    if (node_table(exe)) info.add_param_nodes(n.name);
     colocated = colocated || exe == "enact-rt";
     ffd = ffd || exe == "enact-ffd";
     sim = sim || exe == "enact-sim";

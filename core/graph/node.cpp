@@ -22,7 +22,7 @@ namespace enact::graph {
 namespace {
 
 std::atomic<bool> g_stop{false};
-bool g_loop_pinned = false;
+bool g_loop_cpu_own = false;
 void on_stop(int) {
   // the first request arms the grace period: SIGALRM's default action ends the process
   if (!g_stop.exchange(true)) alarm(kStopGrace_s);
@@ -133,13 +133,14 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
 void apply_rt_profile(const std::string& node) {
   const char* text = std::getenv(rt::kProfileEnv);
   if (!text) return;
-  const rt::NodeProfileReport report = rt::apply_node_profile(rt::NodeProfile::from_env(text));
-  g_loop_pinned = report.pinned;
+  const rt::NodeProfile profile = rt::NodeProfile::from_env(text);
+  const rt::NodeProfileReport report = rt::apply_node_profile(profile);
+  g_loop_cpu_own = report.pinned && profile.sharing == 1;
   bus::set_io_threads({report.io_cpus, report.io_fifo_priority});
   say(node, report.summary());
 }
 
-bool loop_pinned() { return g_loop_pinned; }
+bool loop_cpu_own() { return g_loop_cpu_own; }
 
 rt::GraphClock graph_clock() {
   const char* text = std::getenv(launch::kClockEnv);

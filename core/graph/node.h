@@ -64,9 +64,10 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
 // it applied. Call it first, before any socket. Nothing when the variable is not set.
 void apply_rt_profile(const std::string& node);
 
-// whether apply_rt_profile pinned this process to the loop's CPU (the graph's other processes
-// run elsewhere: the loop's CPU is its own and its hop peer's)
-bool loop_pinned();
+// whether apply_rt_profile pinned this process to CPUs of its own: the graph's other
+// processes run elsewhere, and no other loop process shares them (the distributed graph's
+// simulator, pinned beside the FFD driver, does: the driver's loop must then sleep every tick)
+bool loop_cpu_own();
 
 // the graph clock the launcher gave this node (ENACT_CLOCK; unset: real time); throws
 // config::Error for a value that names no clock

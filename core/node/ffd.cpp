@@ -148,7 +148,7 @@ void Ffd::plan_wait() {
   const rt::RtReport report = rt::apply_rt_setup(rtp_);
   graph::say(host_.name(), report.summary());
   const bool fifo = rt::running_fifo();
-  const rt::WaitPlan wait = rt::loop_wait(spin_us_, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_pinned());
+  const rt::WaitPlan wait = rt::loop_wait(spin_us_, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_cpu_own());
   if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
   host_.board().set(host_.name() + ".fifo_priority", std::to_string(rt::fifo_priority_now()));  // what the loop runs at
   sched_.spin_ns = wait.spin_ns;
@@ -206,10 +206,26 @@ void Ffd::feel_pins() {
   ++io.pins_felt;
 }
 
-// one tick: the sample out, its answer in until just before the next tick (an answer to an
-// older sample is too late to apply: counted stale), the force written
+// the answer in io.command, if it answers the open sample: its force written (at `now`, the
+// tick's time, in simulated time; at once in real time)
+bool Ffd::apply_answer(std::int64_t now) {
+  Io& io = *io_;
+  if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) return false;
+  // in simulated time at the model's time, as every tick's read: the loop reads no wall clock
+  device_->write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
+  if (simulated_) io.frame_due = io.command.tactile_frame_seq();
+  else io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
+  return true;
+}
+
+// one tick: the answer to the last sample if it came while the loop spun to this tick (the
+// simulator, above the driver's priority on the shared CPU, answers then too), the sample
+// out, its answer in until the loop spins to the next tick (an answer to an older sample is
+// too late to apply: counted stale), the force written
 void Ffd::tick(std::int64_t now) {
   Io& io = *io_;
+  while (!simulated_ && next_answer(0) && !apply_answer(now)) {
+  }
   feel_pins();
   device_->read(now, io.sample);
   io.watchdog.update(devices::has(io.sample.faults, devices::DeviceFault::watchdog), now);
@@ -219,15 +235,9 @@ void Ffd::tick(std::int64_t now) {
   io.state_pub.publish(io.state);
   io.answers.sent(io.state.header().seq(), now);
   const std::int64_t answer_by = io.scheduler->next_deadline_ns() - io.scheduler->spin_ns();
-  while (await_answer(answer_by)) {
-    if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) continue;
-    // in simulated time at the model's time, as every tick's read: the loop reads no wall clock
-    device_->write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
-    if (simulated_) io.frame_due = io.command.tactile_frame_seq();
-    else io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
-    break;
+  while (await_answer(answer_by) && !apply_answer(now)) {
   }
-  io.answers.close();
+  // still open: the next tick takes the answer that came by then (sent() closes it)
   if (now >= io.next_status) publish_status();
 }
 
@@ -282,6 +292,7 @@ int Ffd::run() {
     if (now >= end) break;
     tick(now);
   }
+  io_->answers.close();
   device_->deactivate();  // zero force first
   say_summary();
   return 0;

@@ -26,6 +26,7 @@ class Ffd {
   struct Io;  // sockets, publishers, the loop's state: made by run()
   void open_hop();
   void plan_wait();
+  bool apply_answer(std::int64_t now);
   void tick(std::int64_t now);
   bool next_answer(std::int64_t deadline_ns);
   bool await_answer(std::int64_t answer_by);

@@ -101,7 +101,7 @@ void GraphProfile::validate() const {
 }
 
 std::string NodeProfile::to_env() const {
-  return "cpus=" + cpu_list(cpus) + " io_cpus=" + cpu_list(io_cpus) + " fifo=" + std::to_string(fifo_priority) + " io_fifo=" + std::to_string(io_fifo_priority);
+  return "cpus=" + cpu_list(cpus) + " io_cpus=" + cpu_list(io_cpus) + " fifo=" + std::to_string(fifo_priority) + " io_fifo=" + std::to_string(io_fifo_priority) + " sharing=" + std::to_string(sharing);
 }
 
 NodeProfile NodeProfile::from_env(const std::string& text) {
@@ -115,6 +115,7 @@ NodeProfile NodeProfile::from_env(const std::string& text) {
       else if (key == "io_cpus") out.io_cpus = value.empty() ? std::vector<int>{} : parse_cpus(value);
       else if (key == "fifo") out.fifo_priority = parse_priority(value);
       else if (key == "io_fifo") out.io_fifo_priority = parse_priority(value);
+      else if (key == "sharing") out.sharing = std::max(1, std::stoi(value));
       else throw std::invalid_argument(key);
     } catch (const std::exception&) {
       throw config::Error(std::string(kProfileEnv) + ": cannot read '" + word +
@@ -220,6 +221,7 @@ NodeProfile LauncherProfile::node(const std::string& name) const {
   for (std::size_t i = 0; i < profile_.loop.size(); ++i) {
     if (profile_.loop[i] != name) continue;
     out.cpus = loop_cpus_;
+    out.sharing = static_cast<int>(profile_.loop.size());
     if (!profile_.io_with_loop) out.io_cpus = other_cpus_;
     if (fifo_ok_) {
       if (profile_.io_with_loop) out.io_fifo_priority = profile_.fifo_priority;

@@ -47,8 +47,9 @@ struct NodeProfile {
   std::vector<int> io_cpus;  // the ZeroMQ I/O threads' CPUs (empty: the process's)
   int fifo_priority = 0;     // SCHED_FIFO for the main thread (0: normal)
   int io_fifo_priority = 0;  // SCHED_FIFO for the ZeroMQ I/O threads (0: normal)
+  int sharing = 1;           // the loop's processes pinned to these CPUs, this one included
 
-  // "cpus=1 io_cpus=0 fifo=79 io_fifo=80" (the environment form); from_env reads it back
+  // "cpus=1 io_cpus=0 fifo=79 io_fifo=80 sharing=2" (the environment form); from_env reads it back
   std::string to_env() const;
   // throws config::Error naming ENACT_RT_PROFILE and the fix on a malformed text
   static NodeProfile from_env(const std::string& text);

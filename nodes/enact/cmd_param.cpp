@@ -2,6 +2,7 @@
 // attach point. Every node publishes its declared parameters with the values in force on
 // param/values/<node> (core/graph/param_board.h); changes go on param/set, answered on
 // param/ack.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -65,21 +66,32 @@ struct Target {
 };
 
 // every node's ParamValues: the topics GraphInfo lists under param/values/, each node's
-// last message (the attach point keeps it)
+// last message (the attach point keeps it). A graph still starting lists some of them: the
+// wait goes on until every node of its launch file that publishes its parameters is listed.
 std::vector<msgs::ParamValues> read_boards(const Target& t) {
   bus::ByteSubscriber bytes;
   bus::Subscriber<msgs::GraphInfo> graph(bytes, std::string(bus::kGraphTopic));
   bus::attach_connect(bytes.socket(), t.endpoint, t.keys);
   const std::int64_t deadline = rt::now_ns() + std::int64_t{kBoardsWait_ms} * 1'000'000;
   msgs::GraphInfo info;
-  std::vector<std::string> topics;
-  while (topics.empty() && rt::now_ns() < deadline && !graph::stop_requested()) {
+  std::vector<std::string> topics, missing;
+  bool listed = false;
+  while (!listed && rt::now_ns() < deadline && !graph::stop_requested()) {
     if (!graph.receive(info, 100)) continue;
+    topics.clear();
     for (const auto& topic : info.topics()) {
       if (topic.name().starts_with(graph::kParamValues)) topics.push_back(topic.name());
     }
+    missing.clear();
+    for (const std::string& node : info.param_nodes()) {
+      if (std::find(topics.begin(), topics.end(), graph::kParamValues + node) == topics.end()) missing.push_back(node);
+    }
+    listed = !topics.empty() && missing.empty();
   }
   if (topics.empty()) throw config::Error("no node of the graph at " + t.endpoint + " publishes its parameters\n  fix: is it an enact graph of this version? (enact topic list)");
+  for (const std::string& node : missing) {
+    std::fprintf(stderr, "enact param: node %s has not published its parameters within %d s (still starting, or stopped: enact node list)\n", node.c_str(), kBoardsWait_ms / 1000);
+  }
   bus::ByteSubscriber values_bytes;
   for (const std::string& topic : topics) values_bytes.subscribe(topic);
   bus::attach_connect(values_bytes.socket(), t.endpoint, t.keys);

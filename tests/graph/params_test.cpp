@@ -145,6 +145,9 @@ TEST(NodeTables, UnitsComeFromTheNames) {
   EXPECT_EQ(unit_of("stiffness_n_per_m"), "N/m");
   EXPECT_EQ(unit_of("damping_n_s_per_m"), "N s/m");
   EXPECT_EQ(unit_of("start_m"), "m");
+  EXPECT_EQ(unit_of("reentry_speed_m_per_s"), "m/s") << "a speed is not a time";
+  EXPECT_EQ(unit_of("max_force_step_n_per_ms"), "N/ms");
+  EXPECT_EQ(unit_of("mass_kg"), "kg");
   EXPECT_EQ(unit_of("model"), "");
 }
 

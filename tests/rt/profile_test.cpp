@@ -55,6 +55,9 @@ TEST(RtProfile, TwoCpusPutTheLoopOnTheLastAndTheLauncherOnTheOther) {
     EXPECT_TRUE(p.cpu_latency_held());
     EXPECT_EQ(p.node("sim").cpus, std::vector<int>{1});
     EXPECT_EQ(p.node("ffd").cpus, std::vector<int>{1});
+    // each knows it shares the CPU with the other: the driver's loop must sleep every tick
+    EXPECT_EQ(p.node("ffd").sharing, 2);
+    EXPECT_EQ(p.node("sim").sharing, 2);
     EXPECT_TRUE(p.node("logger").cpus.empty());
     EXPECT_FALSE(p.in_loop("tactile"));
     EXPECT_TRUE(sys.fifo_calls.empty());  // no FIFO asked for: none tried
@@ -172,13 +175,14 @@ TEST(RtProfile, PriorityMustLeaveRoomForTheOrder) {
 }
 
 TEST(RtProfile, NodeProfileRoundTripsThroughTheEnvironment) {
-  const NodeProfile p{.cpus = {1, 3}, .fifo_priority = 79, .io_fifo_priority = 80};
+  const NodeProfile p{.cpus = {1, 3}, .fifo_priority = 79, .io_fifo_priority = 80, .sharing = 2};
   const NodeProfile q = NodeProfile::from_env(p.to_env());
   EXPECT_EQ(q.cpus, p.cpus);
+  EXPECT_EQ(q.sharing, 2);
   EXPECT_EQ(q.fifo_priority, 79);
   EXPECT_EQ(q.io_fifo_priority, 80);
   EXPECT_TRUE(NodeProfile::from_env(NodeProfile{}.to_env()).cpus.empty());
-  for (const char* bad : {"cpus=one", "fifo=120", "speed=3", "cpus=1,-2"}) {
+  for (const char* bad : {"cpus=one", "fifo=120", "speed=3", "cpus=1,-2", "sharing=two"}) {
     EXPECT_THROW(NodeProfile::from_env(bad), enact::config::Error) << bad;
   }
 }
