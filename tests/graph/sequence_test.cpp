@@ -1,6 +1,8 @@
 // The recordings' and `enact topic`'s loss count per publisher: jumps, and restarts whose
-// first messages were missed.
+// first messages were missed; what a launch file tells the graph's observers.
 #include <gtest/gtest.h>
+
+#include <utility>
 
 #include "core/graph/logger.h"
 
@@ -21,6 +23,20 @@ TEST(SequenceCheck, ALateJoinerLosesNothing) {
   for (const std::uint64_t seq : {500, 501, 502}) c.add(seq);
   EXPECT_EQ(c.gaps, 0u);
   EXPECT_EQ(c.restarts, 0u);
+}
+
+// the nodes `enact param` waits for while a graph starts: those of enact's node host (each
+// publishes param/values/<node>), not a user's own executable
+TEST(LaunchInfo, NamesTheNodesThatPublishTheirParameters) {
+  launch::LaunchDescription graph;
+  for (const auto& [name, exec] : {std::pair{"sim", "enact-sim"}, {"ffd", "/opt/enact/bin/enact-ffd"}, {"mine", "/usr/bin/python3"}, {"log", "enact-logger"}}) {
+    launch::NodeSpec n;
+    n.name = name;
+    n.exec = exec;
+    graph.nodes.push_back(n);
+  }
+  const msgs::GraphInfo info = launch_info("no-such-launch-file.yaml", graph);
+  EXPECT_EQ(std::vector<std::string>(info.param_nodes().begin(), info.param_nodes().end()), (std::vector<std::string>{"sim", "ffd", "log"}));
 }
 
 }  // namespace

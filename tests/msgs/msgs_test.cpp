@@ -199,6 +199,8 @@ msgs::GraphInfo graph_info() {
   file->set_data("rate_hz: 5000\n");
   m.set_loop_hop("local");
   m.set_clock("simulated");
+  m.add_param_nodes("sim");
+  m.add_param_nodes("ffd");
   return m;
 }
 
