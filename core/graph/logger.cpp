@@ -83,9 +83,16 @@ void Logger::attach() {
   sub_.subscribe(std::string(bus::kGraphTopic));
   const std::int64_t give_up = rt::now_ns() + static_cast<std::int64_t>(options_.wait_s * 1e9);
   bus::RawMessage m;
-  while (!graph_.ByteSizeLong()) {
+  // a topic asked for by name may be one a node still starting has not declared yet
+  const auto unlisted = [&] {
+    return std::any_of(options_.topics.begin(), options_.topics.end(), [&](const std::string& t) {
+      return std::none_of(graph_.topics().begin(), graph_.topics().end(), [&](const auto& d) { return d.name() == t; });
+    });
+  };
+  while (!graph_.ByteSizeLong() || (unlisted() && !nodes_not_announced(graph_).empty())) {
     const std::int64_t left_ms = (give_up - rt::now_ns()) / 1'000'000;
     if (left_ms <= 0) {
+      if (graph_.ByteSizeLong()) break;
       throw config::Error("no graph answers at " + endpoint_ + " (waited " + std::to_string(options_.wait_s) +
                           " s)\n  fix: start the graph first (`enact launch FILE`), or check the endpoint");
     }

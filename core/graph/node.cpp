@@ -14,6 +14,7 @@
 #include "core/bus/context.h"
 #include "core/bus/endpoints.h"
 #include "core/config/yaml.h"
+#include "core/graph/topics.h"
 #include "core/launch/env.h"
 #include "core/rt/clock.h"
 #include "core/rt/profile.h"
@@ -40,6 +41,15 @@ void tell_launcher(const std::string& line) {
 
 void announce_topics(const bus::BytePublisher& out) {
   for (const auto& [topic, type] : out.declared()) tell_launcher("topic " + topic + " " + type);
+}
+
+std::vector<std::string> nodes_not_announced(const msgs::GraphInfo& info) {
+  std::vector<std::string> out;
+  for (const std::string& node : info.param_nodes()) {
+    const std::string board = kParamValues + node;
+    if (std::none_of(info.topics().begin(), info.topics().end(), [&](const auto& t) { return t.name() == board; })) out.push_back(node);
+  }
+  return out;
 }
 
 std::string graph_dir() {

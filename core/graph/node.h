@@ -3,6 +3,7 @@
 // SIGTERM, waiting on a socket with a sub-millisecond deadline, and its NodeStatus.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/rt/clock.h"
 
@@ -10,6 +11,7 @@
 
 #include "core/bus/bytes.h"
 #include "core/bus/loop_link.h"
+#include "msgs/graph.pb.h"
 #include "msgs/node_status.pb.h"
 
 namespace enact::graph {
@@ -21,6 +23,10 @@ std::string node_endpoint(const std::string& name);
 // the attach point an observer node uses: `given`, else $ENACT_ATTACH (set by `enact launch`
 // for its nodes); throws, with the fix, when there is neither
 std::string attach_endpoint(const std::string& given);
+// the nodes of the graph's launch file that publish their parameters (GraphInfo.param_nodes)
+// and have not declared their topics yet (each declares all of its own at once, its
+// param/values/<node> among them): a graph still starting lists only some of its topics
+std::vector<std::string> nodes_not_announced(const msgs::GraphInfo& info);
 
 // seconds a node may take to stop after the first SIGINT/SIGTERM before it is killed
 // (SIGALRM): a node stuck in its shutdown never outlives its launcher for long

@@ -82,10 +82,7 @@ std::vector<msgs::ParamValues> read_boards(const Target& t) {
     for (const auto& topic : info.topics()) {
       if (topic.name().starts_with(graph::kParamValues)) topics.push_back(topic.name());
     }
-    missing.clear();
-    for (const std::string& node : info.param_nodes()) {
-      if (std::find(topics.begin(), topics.end(), graph::kParamValues + node) == topics.end()) missing.push_back(node);
-    }
+    missing = graph::nodes_not_announced(info);
     listed = !topics.empty() && missing.empty();
   }
   if (topics.empty()) throw config::Error("no node of the graph at " + t.endpoint + " publishes its parameters\n  fix: is it an enact graph of this version? (enact topic list)");

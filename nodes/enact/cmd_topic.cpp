@@ -61,12 +61,17 @@ msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& k
   bus::ByteSubscriber sub;
   bus::attach_connect(sub.socket(), endpoint, keys);
   sub.subscribe(std::string(bus::kGraphTopic));
+  // a graph still starting: the next GraphInfo, until every node declared its topics
   msgs::GraphInfo info;
+  bool answered = false;
   const std::int64_t give_up = rt::now_ns() + 3'000'000'000;
   while (rt::now_ns() < give_up && !graph::stop_requested()) {
     const auto raw = sub.receive(200);
-    if (raw && info.ParseFromArray(raw->payload(), static_cast<int>(raw->payload_size()))) return info;
+    if (!raw || !info.ParseFromArray(raw->payload(), static_cast<int>(raw->payload_size()))) continue;
+    answered = true;
+    if (graph::nodes_not_announced(info).empty()) return info;
   }
+  if (answered) return info;
   throw UsageError("no graph answers at " + endpoint + " (is it still running?)");
 }
 

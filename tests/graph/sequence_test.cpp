@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/graph/logger.h"
+#include "core/graph/node.h"
 
 namespace enact::graph {
 namespace {
@@ -37,6 +38,21 @@ TEST(LaunchInfo, NamesTheNodesThatPublishTheirParameters) {
   }
   const msgs::GraphInfo info = launch_info("no-such-launch-file.yaml", graph);
   EXPECT_EQ(std::vector<std::string>(info.param_nodes().begin(), info.param_nodes().end()), (std::vector<std::string>{"sim", "ffd", "log"}));
+}
+
+// a graph still starting: `enact param`, `enact topic` and `enact record --topics` wait for
+// the nodes that have not declared their topics
+TEST(LaunchInfo, TheNodesNotAnnouncedAreThoseWithoutTheirParameterTopic) {
+  msgs::GraphInfo info;
+  info.add_param_nodes("sim");
+  info.add_param_nodes("ffd");
+  info.add_topics()->set_name("sim/frame");
+  info.add_topics()->set_name("param/values/sim");
+  info.add_topics()->set_name("param/values/ffdx");
+  EXPECT_EQ(nodes_not_announced(info), std::vector<std::string>{"ffd"});
+  info.add_topics()->set_name("param/values/ffd");
+  EXPECT_TRUE(nodes_not_announced(info).empty());
+  EXPECT_TRUE(nodes_not_announced(msgs::GraphInfo{}).empty()) << "a graph not started from a launch file names none";
 }
 
 }  // namespace
