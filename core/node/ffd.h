@@ -1,7 +1,8 @@
 #pragma once
 // The force-feedback device driver of a distributed graph, and its clock master (enact-ffd).
-// Each tick it reads the device, publishes DeviceState, waits (until just before the next
-// tick) for the simulator's ForceCommand answering that sample, and writes the force. The
+// Each tick it reads the device, publishes DeviceState, waits (until its loop spins to the
+// next tick) for the simulator's ForceCommand answering that sample, and writes the force;
+// an answer that came while it spun is taken at the next tick, before its sample. The
 // safety layer's watchdog ramps the force to zero when answers stop coming.
 #include <cstdint>
 #include <memory>
