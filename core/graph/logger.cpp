@@ -216,8 +216,11 @@ void Logger::receive(const std::function<bool()>& stop, const std::function<void
   bus::RawMessage m;
   std::int64_t next_progress = rt::now_ns() + 1'000'000'000;
   while (!stop()) {
-    // drain what is queued, then wait a little; a graph gone sends nothing more
-    for (int i = 0; i < 10000 && sub_.receive(m, i == 0 ? 50 : 0); ++i) take(m, rt::now_ns());
+    // drain what is queued, then wait a little; a graph gone sends nothing more. A stop is
+    // seen within a batch: behind a long backlog on a busy machine a batch of 10000 took
+    // seconds, and the stop's grace (graph::kStopGrace_s) ended the process before its file
+    // was closed
+    for (int i = 0; i < 10000 && (i % 256 != 255 || !stop()) && sub_.receive(m, i == 0 ? 50 : 0); ++i) take(m, rt::now_ns());
     if (watch_ && watch_->disconnected()) {
       graph_gone_ = true;
       break;
