@@ -222,6 +222,9 @@ int record(int argc, char** argv) {
   std::string files;
   for (const auto& f : logger.files()) files += " " + f;
   std::printf("recorded%s\n%s", files.c_str(), graph::format(logger.report()).c_str());
+  // out before the teardown: a socket still holding a long backlog may take the rest of the
+  // stop's grace to close, and a buffered report would go with the process
+  std::fflush(stdout);
   if (logger.write_failure().empty()) say_replay_start(logger.files().front());
   if (!logger.write_failure().empty()) {
     std::fprintf(stderr, "enact record: %s\n", graph::format_write_failure(logger).c_str());
