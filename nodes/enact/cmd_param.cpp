@@ -2,7 +2,6 @@
 // attach point. Every node publishes its declared parameters with the values in force on
 // param/values/<node> (core/graph/param_board.h); changes go on param/set, answered on
 // param/ack.
-#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -75,15 +74,13 @@ std::vector<msgs::ParamValues> read_boards(const Target& t) {
   const std::int64_t deadline = rt::now_ns() + std::int64_t{kBoardsWait_ms} * 1'000'000;
   msgs::GraphInfo info;
   std::vector<std::string> topics, missing;
-  bool listed = false;
-  while (!listed && rt::now_ns() < deadline && !graph::stop_requested()) {
+  while ((topics.empty() || !missing.empty()) && rt::now_ns() < deadline && !graph::stop_requested()) {
     if (!graph.receive(info, 100)) continue;
     topics.clear();
     for (const auto& topic : info.topics()) {
       if (topic.name().starts_with(graph::kParamValues)) topics.push_back(topic.name());
     }
     missing = graph::nodes_not_announced(info);
-    listed = !topics.empty() && missing.empty();
   }
   if (topics.empty()) throw config::Error("no node of the graph at " + t.endpoint + " publishes its parameters\n  fix: is it an enact graph of this version? (enact topic list)");
   for (const std::string& node : missing) {
