@@ -2,33 +2,25 @@
 // the scaling of a chain. Timing runs under Google Benchmark; errors are computed apart,
 // deterministically, on scenes built in code.
 #include <benchmark/benchmark.h>
-#include <sched.h>
-#include <sys/utsname.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <map>
-#include <optional>
-#include <numbers>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/haptics/computer_model.h"
 #include "core/physics/contact.h"
 #include "core/physics/reference.h"
-#include "core/physics/scene.h"
-#include "core/sim/offline.h"
 #include "core/physics/state.h"
 #include "nodes/enact/commands.h"
-#include "nodes/enact/json.h"
-#include "nodes/enact/sweep_report.h"
+#include "nodes/enact-bench/bench_physics.h"
+#include "nodes/enact-bench/bench_physics_body.h"
+#include "nodes/enact-bench/bench_physics_bridge.h"
 #include "nodes/enact-bench/bench_physics_mesh.h"
 #include "nodes/enact-bench/bench_physics_ode.h"
-#include "nodes/enact-bench/bench_physics_body.h"
 
 namespace enact::cli {
 namespace {
@@ -37,8 +29,6 @@ using physics::Integrator;
 using physics::Model;
 using math::Vec3;
 namespace reference = physics::reference;
-using reference::BounceErrors;
-using reference::OscillatorErrors;
 using reference::bounce_errors;
 using reference::chain;
 using reference::damped_error;
@@ -47,6 +37,12 @@ using reference::steps_in;
 using reference::kIntegrators;
 using reference::kRates_hz;
 using reference::undamped_errors;
+using namespace physics_bench;
+using bridge_rows::bridge;
+using bridge_rows::bridge_motion;
+using bridge_rows::grid_contacts;
+using bridge_rows::scripted_motion;
+using bridge_rows::scripted_path;
 using mesh_rows::bumpy_field;
 using mesh_rows::field_motion;
 using mesh_rows::kMeshCells;
@@ -137,110 +133,8 @@ options:
 )";
 
 constexpr std::array kChainMasses{10, 100, 1000};
-// the bounce's step timed at this rate, restarted every simulated second (a decaying
-// bounce would reach denormal numbers, the plain contact gains energy)
-constexpr double kBounceTiming_hz = 1000.0;
-
 // the rate of the ODE peer's comparison: the scene's own
 constexpr double kPeerRate_hz = 5000.0;
-// the bridge step: its rate, the hand's depth into the top and its wobble
-constexpr double kBridgeRate_hz = 44000.0;
-constexpr double kBridgeTarget_ns = 227.0;      // 1 % of the period, along the path
-constexpr double kBridgeTurnTarget_ns = 341.0;  // 1.5 %, at a turn
-constexpr double kPressDepth_m = 1e-4;
-constexpr double kPastTurn_m = 1.5e-3;     // along the second segment
-constexpr double kBeforeTurn_m = 2.5e-3;   // back along the first
-constexpr double kWobble_m = 1.2e-3;
-
-struct Settings {
-  int repetitions = 5;
-  double min_time_s = 0.2;
-  long bounce_steps = 1000000;
-  double sweep_reference_hz = reference::kSweepReference_hz;
-  int peer_rounds = 7;
-};
-
-// ---- the bridge: scene, hand motion ----
-
-Vec3 unit(const Vec3& v) { return v * (1.0 / math::norm(v)); }
-
-// the path object the body explores: the task surface, else the first path
-const physics::Object& bridge_path(const Model& m) {
-  const int task = m.find_object(m.task_surface);
-  if (task >= 0 && m.objects[task].is_path && m.objects[task].path.centerline_m.size() >= 3) return m.objects[task];
-  for (const auto& o : m.objects) {
-    if (o.is_path && o.path.centerline_m.size() >= 3) return o;
-  }
-  throw std::runtime_error(m.source + ": the bridge benchmark needs a path object with a turn (3 points or more)");
-}
-
-// the hand resting 0.1 mm into the top inside the first turn, where the whole grid fits,
-// wobbling along both segments (2 and 3 Hz: one period of 1 s), sampled at the model's rate
-std::vector<Vec3> bridge_motion(const Model& m) {
-  const physics::PathGeometry& g = bridge_path(m).path;
-  const Vec3 along_first = unit(g.centerline_m[1] - g.centerline_m[0]);
-  const Vec3 along_second = unit(g.centerline_m[2] - g.centerline_m[1]);
-  Vec3 centre = g.centerline_m[1] + along_second * kPastTurn_m - along_first * kBeforeTurn_m;
-  centre.z = g.top_z_m - kPressDepth_m;
-  std::vector<Vec3> motion(steps_in(1.0, m.rate_hz));
-  for (std::size_t n = 0; n < motion.size(); ++n) {
-    const double phase = 2.0 * std::numbers::pi * static_cast<double>(n) * m.dt_s;
-    motion[n] = centre + along_first * (kWobble_m * std::sin(2.0 * phase)) + along_second * (kWobble_m * std::sin(3.0 * phase));
-  }
-  return motion;
-}
-
-// the built-in scripted hand path of the scene (enact path): on the top, off the edges, a
-// fall and the climb back, the turns
-task::Trajectory scripted_path(const std::string& scene) {
-  sim::SimParams p;
-  p.scene = find_file(scene);
-  p.rate_hz = kBridgeRate_hz;
-  p.force = true;
-  sim::Simulator simulator;
-  simulator.configure(p);
-  return sim::scripted_path(simulator);
-}
-
-// the scripted path sampled at the bridge rate
-std::vector<Vec3> scripted_motion(const task::Trajectory& tr) {
-  std::vector<Vec3> motion(steps_in(tr.end_s() - tr.start_s(), kBridgeRate_hz));
-  for (std::size_t n = 0; n < motion.size(); ++n) motion[n] = tr.at(tr.start_s() + static_cast<double>(n) / kBridgeRate_hz);
-  return motion;
-}
-
-// the bridge at 44 kHz under CM1, the body starting 1 mm above the motion's first position
-Model bridge(const std::string& scene, const std::vector<Vec3>& start) {
-  Model m = physics::load_scene(find_file(scene));
-  if (m.proxies.empty()) throw std::runtime_error(m.source + ": the bridge benchmark needs a body");
-  m.set_rate(kBridgeRate_hz);
-  haptics::apply(*haptics::preset("CM1", m.proxies[0].rows * m.proxies[0].cols), m);
-  if (!start.empty()) m.points[m.proxies[0].point].position_m = start.front() + Vec3{0.0, 0.0, 1e-3};
-  return m;
-}
-
-struct GridContacts {
-  double mean = 0.0;      // grid masses touching, mean over the motion
-  double all_share = 0.0; // share of steps with every grid mass touching
-  int masses = 0;
-};
-
-GridContacts grid_contacts(const Model& m, const std::vector<Vec3>& motion) {
-  physics::State s = physics::make_state(m);
-  const physics::Proxy& body = m.proxies[0];
-  GridContacts c{.masses = body.rows * body.cols};
-  for (const Vec3& p : motion) {
-    s.proxy_position_m[0] = p;
-    physics::step(m, s);
-    const auto first = s.in_contact.begin() + body.first_body;
-    const auto touching = std::count(first, first + c.masses, std::uint8_t{1});
-    c.mean += static_cast<double>(touching);
-    c.all_share += touching == c.masses ? 1.0 : 0.0;
-  }
-  c.mean /= static_cast<double>(motion.size());
-  c.all_share /= static_cast<double>(motion.size());
-  return c;
-}
 
 // ---- timing ----
 
@@ -365,193 +259,6 @@ void run_benchmarks(const Settings& settings, MedianReporter& reporter) {
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::ClearRegisteredBenchmarks();
   benchmark::Shutdown();
-}
-
-// ---- results ----
-
-struct Row {
-  Integrator integrator = Integrator::cordis;
-  double rate_hz = 0.0;
-  double ns_per_step = 0.0;
-  OscillatorErrors oscillator;
-  double damped_error = 0.0;
-  BounceErrors bounce;
-  BounceErrors passive_bounce;
-  double realtime_factor() const { return 1e9 / rate_hz / ns_per_step; }
-};
-
-struct MeshRow {
-  int triangles = 0;
-  double ns_per_step = 0.0;
-};
-
-struct ChainRow {
-  int masses = 0;
-  double ns_per_step = 0.0;
-  double ns_per_element() const { return ns_per_step / (2.0 * masses); }  // masses + links
-};
-
-// the step cost of the bounce with the plain and the passive contact
-struct PassiveCost {
-  Integrator integrator = Integrator::cordis;
-  double plain_ns = 0.0;
-  double passive_ns = 0.0;
-  double ratio() const { return passive_ns / plain_ns; }
-};
-
-struct Machine {
-  std::string arch;
-  std::string cpu = "unknown";
-  int cores = 0;
-};
-
-struct Results {
-  Machine machine;
-  Settings settings;
-  std::vector<Row> rows;
-  std::vector<ChainRow> chain;
-  std::vector<MeshRow> mesh;
-  std::vector<PassiveCost> passive_cost;
-  double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
-  std::vector<reference::SweepRow> bridge_rows;
-  double bridge_path_ns = 0.0;  // along the scripted hand path
-  double bridge_path_unculled_ns = 0.0;  // the same evaluating every pair
-  double bridge_path_no_hold_ns = 0.0;   // the same with the full face test every step
-  double bridge_no_hold_ns = 0.0;        // at a turn, the full face test every step
-  double bridge_cull_test_ns = 0.0;      // the culling test alone, per step
-  GridContacts bridge_contacts;
-  std::optional<ode_peer::Comparison> ode;  // when built with ODE
-  BodyRows deformable;  // the deformable fingertip's sweep (bench_physics_body.cpp)
-  double bridge_share() const { return bridge_ns * 1e-9 * kBridgeRate_hz; }
-};
-
-// `uname -m`, the CPU model from /proc/cpuinfo, `nproc`
-Machine machine() {
-  Machine m;
-  utsname u{};
-  if (uname(&u) == 0) m.arch = u.machine;
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  for (std::string line; std::getline(cpuinfo, line);) {
-    const auto colon = line.find(':');
-    if (line.rfind("model name", 0) == 0 && colon != std::string::npos) {
-      m.cpu = line.substr(line.find_first_not_of(" \t", colon + 1));
-      break;
-    }
-  }
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  m.cores = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
-  return m;
-}
-
-// observed order of the global error: slope of log(error) against log(rate), least squares
-double convergence_order(const std::vector<Row>& rows, Integrator integrator) {
-  double n = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
-  for (const Row& r : rows) {
-    if (r.integrator != integrator) continue;
-    const double lx = std::log(r.rate_hz), ly = std::log(r.oscillator.global);
-    n += 1.0;
-    sx += lx;
-    sy += ly;
-    sxx += lx * lx;
-    sxy += lx * ly;
-  }
-  return -(n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
-void print_table(const Results& r) {
-  std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s %10s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
-              "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max", "P drift");
-  for (const Row& w : r.rows) {
-    std::printf("%-16s %6.0f %9.1f %9.0f %9.2e %9.2e %9.2e %10.2e %9.2e %9.2e %10.2e %9.2e %10.2e\n", physics::to_string(w.integrator),
-                w.rate_hz / 1e3, w.ns_per_step, w.realtime_factor(), w.oscillator.global, w.oscillator.amplitude,
-                w.oscillator.phase_rad, w.oscillator.freq_vs_predicted, w.damped_error, w.bounce.peak_penetration,
-                w.bounce.energy_drift, w.bounce.energy_drift_max, w.passive_bounce.energy_drift);
-  }
-  for (const PassiveCost& c : r.passive_cost) {
-    std::printf("passive contact  %-16s bounce step %.1f ns plain, %.1f ns passive (x%.2f)\n", physics::to_string(c.integrator), c.plain_ns,
-                c.passive_ns, c.ratio());
-  }
-  std::printf("\nobserved order of the global error (1 to 44 kHz):");
-  for (Integrator integrator : kIntegrators) std::printf(" %s %.2f", physics::to_string(integrator), convergence_order(r.rows, integrator));
-  const GridContacts& c = r.bridge_contacts;
-  std::printf("\nbridge step  along the scripted hand path: %.1f ns median at 44 kHz, %.2f %% of the 22.7 us period (target %.0f ns: %s)\n",
-              r.bridge_path_ns, 100.0 * r.bridge_path_ns * 1e-9 * kBridgeRate_hz, kBridgeTarget_ns,
-              r.bridge_path_ns <= kBridgeTarget_ns ? "met" : "NOT met");
-  std::printf("bridge step  the same evaluating every pair: %.1f ns; the culling test alone: %.1f ns per step\n", r.bridge_path_unculled_ns,
-              r.bridge_cull_test_ns);
-  std::printf("bridge step  at a turn (worst case): %.1f ns median, %.2f %% of the period (target %.0f ns: %s); "
-              "%.1f of %d grid masses touching on average, all on %.0f %% of steps\n",
-              r.bridge_ns, 100.0 * r.bridge_share(), kBridgeTurnTarget_ns, r.bridge_ns <= kBridgeTurnTarget_ns ? "met" : "NOT met", c.mean,
-              c.masses, 100.0 * c.all_share);
-  std::printf("bridge step  the full face test every step (no held faces): %.1f ns along the path (x%.2f), %.1f ns at a turn (x%.2f)\n",
-              r.bridge_path_no_hold_ns, r.bridge_path_no_hold_ns / r.bridge_path_ns, r.bridge_no_hold_ns, r.bridge_no_hold_ns / r.bridge_ns);
-  print_sweep(r.bridge_rows, "bridge along its scripted path (CM1), device force against the reference");
-  if (r.ode) ode_peer::print(*r.ode);
-  print_deformable_rows(r.deformable);
-  for (const ChainRow& w : r.chain) {
-    std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
-  }
-  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
-    const MeshRow& w = r.mesh[k];
-    std::printf("mesh %-7d %.1f ns per step", w.triangles, w.ns_per_step);
-    if (k > 0) {
-      const MeshRow& before = r.mesh[k - 1];
-      std::printf(" (x%.2f the %d-triangle row's; log(triangles) x%.2f)", w.ns_per_step / before.ns_per_step, before.triangles,
-                  std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before.triangles)));
-    }
-    std::printf("\n");
-  }
-  std::printf("machine      %s, %s, %d cores; times are wall-clock medians of %d repetitions (min %g s each)\n",
-              r.machine.arch.c_str(), r.machine.cpu.c_str(), r.machine.cores, r.settings.repetitions, r.settings.min_time_s);
-}
-
-void write_json(const Results& r, const std::string& path) {
-  Json j;
-  j.begin_object().key("machine").begin_object().field("arch", r.machine.arch).field("cpu", r.machine.cpu);
-  j.field("cores", r.machine.cores).end_object();
-  j.field("repetitions", r.settings.repetitions).field("min_time_s", r.settings.min_time_s);
-  j.field("bounce_steps", static_cast<long long>(r.settings.bounce_steps));
-  j.field("bridge_step_ns_median", r.bridge_path_ns).field("bridge_share_of_44khz_period", r.bridge_path_ns * 1e-9 * kBridgeRate_hz);
-  j.field("bridge_step_unculled_ns_median", r.bridge_path_unculled_ns).field("bridge_cull_test_ns_median", r.bridge_cull_test_ns);
-  j.field("bridge_turn_step_ns_median", r.bridge_ns).field("bridge_turn_share_of_44khz_period", r.bridge_share());
-  j.field("bridge_step_no_hold_ns_median", r.bridge_path_no_hold_ns).field("bridge_turn_step_no_hold_ns_median", r.bridge_no_hold_ns);
-  j.field("bridge_grid_contacts_mean", r.bridge_contacts.mean).field("bridge_all_grid_contacts_share", r.bridge_contacts.all_share);
-  if (r.ode) ode_peer::json(j, *r.ode);
-  j.key("chain").begin_array();
-  for (const ChainRow& w : r.chain) {
-    j.begin_object().field("masses", w.masses).field("ns_per_step", w.ns_per_step).field("ns_per_element", w.ns_per_element()).end_object();
-  }
-  j.end_array().key("mesh_rows").begin_array();
-  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
-    const MeshRow& w = r.mesh[k];
-    j.begin_object().field("triangles", w.triangles).field("ns_per_step", w.ns_per_step);
-    if (k > 0) j.field("ratio_to_previous", w.ns_per_step / r.mesh[k - 1].ns_per_step);
-    j.end_object();
-  }
-  j.end_array().key("rows").begin_array();
-  for (const Row& w : r.rows) {
-    j.begin_object().field("integrator", physics::to_string(w.integrator)).field("rate_hz", w.rate_hz);
-    j.field("ns_per_step", w.ns_per_step).field("realtime_factor", w.realtime_factor()).field("error", w.oscillator.global);
-    j.field("amplitude_error", w.oscillator.amplitude).field("phase_error_rad", w.oscillator.phase_rad);
-    j.field("freq_error_vs_predicted", w.oscillator.freq_vs_predicted).field("freq_warping", w.oscillator.freq_warping);
-    j.field("damped_error", w.damped_error).field("bounce_peak_penetration_error", w.bounce.peak_penetration);
-    j.field("bounce_energy_drift", w.bounce.energy_drift).field("bounce_energy_drift_max", w.bounce.energy_drift_max);
-    j.field("passive_bounce_energy_drift", w.passive_bounce.energy_drift);
-    j.field("passive_bounce_energy_drift_max", w.passive_bounce.energy_drift_max).end_object();
-  }
-  j.end_array().key("bridge_rows");
-  sweep_json(j, r.bridge_rows);
-  deformable_rows_json(j, r.deformable);
-  j.key("passive_cost").begin_array();
-  for (const PassiveCost& c : r.passive_cost) {
-    j.begin_object().field("integrator", physics::to_string(c.integrator)).field("rate_hz", kBounceTiming_hz);
-    j.field("bounce_ns_per_step", c.plain_ns).field("passive_bounce_ns_per_step", c.passive_ns).field("ratio", c.ratio()).end_object();
-  }
-  j.end_array().end_object();
-  std::ofstream out(path);
-  out << j.str() << "\n";
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 // the deterministic error part of every row
