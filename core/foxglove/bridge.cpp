@@ -442,7 +442,7 @@ void Bridge::update_subscriptions() {
     std::lock_guard lock(mutex_);
     for (const auto& [c, client] : clients_) {
       for (const auto& [channel, sub] : client.subscription_of) {
-        const auto ch = std::find_if(channels_.begin(), channels_.end(), [&](const Channel& x) { return x.id == channel; });
+        const auto ch = std::find_if(channels_.begin(), channels_.end(), [id = channel](const Channel& x) { return x.id == id; });
         if (ch == channels_.end()) continue;
         const std::string& topic = ch->topic;
         wanted.insert(topic == kSceneTopic ? std::string(graph::kSceneState) : topic);

@@ -63,7 +63,7 @@ TEST_F(Dhd, CommandsTheForceInTheDhdFrame) {
   // enact +x (right) is DHD +y; enact +y (away) is DHD -x; z is z
   const std::pair<Vec3, Vec3> cases[] = {{{1.0, 0, 0}, {0, 1.0, 0}}, {{0, 2.0, 0}, {-2.0, 0, 0}}, {{0, 0, -3.0}, {0, 0, -3.0}}};
   for (const auto& [enact_n, dhd_n] : cases) {
-    ASSERT_TRUE(test::eventually([&] {
+    ASSERT_TRUE(test::eventually([&, enact_n = enact_n, dhd_n = dhd_n] {
       d->write(rt::now_ns(), enact_n);
       return math::norm(fake.force_n() - dhd_n) < 1e-12;
     })) << "sent " << fake.force_n().x << " " << fake.force_n().y << " " << fake.force_n().z;

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/devices/vendor/hd_device.h"
 #include "tests/devices/vendor/fake_arm.h"
 
 namespace {
@@ -24,11 +25,10 @@ Vec3 enact_to_hd(const Vec3& e) { return {e.x, e.z, -e.y}; }
 
 constexpr double kMillimetresPerMetre = 1000.0;
 
-struct HDErrorInfo {
-  unsigned int errorCode;
-  int internalErrorCode;
-  unsigned int hHD;
-};
+// the SDK's error record as the backend declares it (hd_device.h stands for hdDefines.h on both
+// sides, as the SDK's header does for a program and the library: a type of the fake's own
+// would make the backend call hdGetError through a pointer of another function type)
+using enact::devices::vendor::HDErrorInfo;
 using Callback = unsigned int (*)(void*);
 struct Scheduled {
   unsigned long handle;
