@@ -239,15 +239,17 @@ TEST(Recording, InSimulatedTimeTheDistributedGraphIsTheColocatedGraphsTwin) {
   std::printf("[ twin ] %zu ticks of the distributed graph equal to the co-located graph's\n", n);
 }
 
-// `graph` recorded from its first tick to its end (8 s) while live changes of seven kinds
-// come: resim re-applies each where it took effect and is identical, and the metrics agree
+// `graph` recorded from its first tick to its end while live changes of seven kinds come, then
+// stopped (a clean stop once the last change is answered: a fixed duration ended the graph
+// before the eighth change on a loaded machine): resim re-applies each where it took effect
+// and is identical, and the metrics agree
 void live_changes_replay_exactly(const std::string& graph_file, const std::string& started) {
   TempDir dir;
   const std::string file = dir.file("live.mcap");
   {
-    Launcher graph(dir, source_path(graph_file), 8.0, {"observers=1"});
+    Launcher graph(dir, source_path(graph_file), 120.0, {"observers=1"});  // a safety net: stopped below
     ASSERT_TRUE(graph.wait_log(started, 15.0)) << graph.log();
-    const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 12 >" + dir.file("rec.out") +
+    const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 180 >" + dir.file("rec.out") +
                               " 2>&1 & echo $!");
     const pid_t recorder = static_cast<pid_t>(std::stol(rec.out));
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -258,6 +260,7 @@ void live_changes_replay_exactly(const std::string& graph_file, const std::strin
       EXPECT_NE(set.out.find("applied from ffd/state seq "), std::string::npos) << set.out;
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
+    graph.stop(10.0);  // the recorder ends with the graph
     const auto end = after(20.0);
     while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
