@@ -25,10 +25,9 @@
 namespace enact::cli {
 namespace {
 
-using physics::Integrator;
 using physics::Model;
 using math::Vec3;
-namespace reference = physics::reference;
+using namespace physics_bench;  // Settings, Results, Integrator, reference, kBridgeRate_hz
 using reference::bounce_errors;
 using reference::chain;
 using reference::damped_error;
@@ -37,7 +36,6 @@ using reference::steps_in;
 using reference::kIntegrators;
 using reference::kRates_hz;
 using reference::undamped_errors;
-using namespace physics_bench;
 using bridge_rows::bridge;
 using bridge_rows::bridge_motion;
 using bridge_rows::grid_contacts;
