@@ -15,13 +15,14 @@
 #include "core/config/yaml.h"
 #include "core/devices/simulated_force.h"
 #include "tests/support/alloc_guard.h"
+#include "tests/support/test_util.h"
 
 namespace enact::devices {
 namespace {
 
 using math::Vec3;
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 constexpr std::int64_t kT0 = 2'000 * kMs;  // an arbitrary time of the last write
 
 // what the wrapper did to the device under it, in order

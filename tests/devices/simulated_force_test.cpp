@@ -19,7 +19,7 @@ namespace {
 
 using math::Vec3;
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 constexpr std::int64_t kUs = 1'000;
 
 SimulatedForceParams free_device() {

@@ -8,11 +8,12 @@
 #include <string>
 
 #include "core/config/yaml.h"
+#include "tests/support/test_util.h"
 
 namespace enact::devices {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 constexpr std::int64_t kT = 1'000 * kMs;  // an arbitrary start time
 
 SimulatedTactileDevice started(SimulatedTactileParams p = {}) {

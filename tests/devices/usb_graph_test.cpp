@@ -13,13 +13,14 @@
 #include <string>
 
 #include "tests/integration/integration_util.h"
+#include "tests/support/test_util.h"
 
 namespace enact::test {
 namespace {
 
 constexpr double kReadyTimeout_s = 30.0;
 constexpr double kGraphDuration_s = 20.0;  // a safety net: the test stops the graph itself
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 TEST(UsbGraph, FalconAndMetecOnTheirEmulatorsRunTheBridge) {
   TempDir dir;

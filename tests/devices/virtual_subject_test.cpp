@@ -19,7 +19,7 @@ namespace {
 
 using math::Vec3;
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 const Vec3 kStart{0.0, 0.0, 0.013};
 
 // a subject that reacts in 100 ms, with no noise (it settles 150 ms: the delay and 50 ms)

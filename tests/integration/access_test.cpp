@@ -20,10 +20,8 @@
 namespace enact::test {
 namespace {
 
-constexpr double kReadyTimeout_s = 20.0;
 constexpr double kGraphDuration_s = 40.0;  // a safety net: every test stops its graph itself
 constexpr double kLoopRate_hz = 5000.0;    // bridge_rt.yaml's default rate
-const std::string kCli = ENACT_CLI;
 
 // a graph launched with an access file: key "alice" operates, "bob" observes, "eve" has a
 // key the file does not list

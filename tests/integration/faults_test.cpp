@@ -28,7 +28,6 @@
 namespace enact::test {
 namespace {
 
-constexpr double kReadyTimeout_s = 20.0;
 constexpr double kRate_hz = 5000.0;  // bridge.yaml's
 
 // whether child `pid` exits within timeout_s (reaped); if not, it is killed (and reaped)

@@ -23,7 +23,6 @@
 namespace enact::test {
 namespace {
 
-constexpr double kReadyTimeout_s = 20.0;
 constexpr double kGraphDuration_s = 15.0;  // a safety net: every test stops its graph itself
 
 // the topics every graph publishes, with their message types

@@ -35,6 +35,11 @@ namespace enact::test {
 
 using Clock = std::chrono::steady_clock;
 
+// how long a graph may take to say it is ready: only keeps a broken program from hanging a test
+inline constexpr double kReadyTimeout_s = 20.0;
+// the enact command line of this build
+inline const std::string kCli = ENACT_CLI;
+
 inline Clock::time_point after(double seconds) {
   return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }

@@ -11,8 +11,6 @@
 namespace enact::test {
 namespace {
 
-const std::string kCli = ENACT_CLI;
-
 struct Shipped {
   const char* file;
   const char* started;                     // the log line once its last node runs

@@ -18,8 +18,6 @@
 namespace enact::test {
 namespace {
 
-const std::string kCli = ENACT_CLI;
-
 struct Summary {
   std::uint64_t states = 0, forces = 0, first_state_seq = 0, state_gaps = 0;
   std::uint64_t watchdog_states = 0;  // carrying DEVICE_FAULT_WATCHDOG

@@ -7,18 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "tests/sim/sim_test_util.h"
 #include "tests/support/test_util.h"
 
 namespace enact::sim {
 namespace {
 
-SimParams bridge(const std::string& model = "CM1", double rate_hz = 0.0) {
-  SimParams p;
-  p.scene = test::source_path("launch/scenes/bridge.yaml");
-  p.model = model;
-  p.rate_hz = rate_hz;
-  return p;
-}
+using test_util::bridge;
 
 // one step's output, kept from a run
 struct Row {

@@ -11,17 +11,19 @@
 
 #include "core/sim/simulator.h"
 #include "tests/support/alloc_guard.h"
+#include "tests/sim/sim_test_util.h"
 #include "tests/support/test_util.h"
 
 namespace enact::sim {
 namespace {
 
-// the middle of the first segment's top, 1 mm deep: 14 grid masses touch (simulator_test.cpp)
-const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
+// the middle of the first segment's top, 1 mm deep: 14 grid masses touch
+using test_util::kPressed;
 const math::Vec3 kAbove{0.0, -0.0148492, 0.020};
 constexpr std::int64_t kPeriod_ns = 200'000;
 
-SimParams bridge(const std::string& scene = "launch/scenes/bridge.yaml") {
+// the parameters of a scene file (a path under the source tree, or absolute)
+SimParams on_scene(const std::string& scene = "launch/scenes/bridge.yaml") {
   SimParams p;
   p.scene = scene.starts_with("/") ? scene : test::source_path(scene);
   return p;
@@ -43,7 +45,7 @@ std::string bridge_with_stiffness(const test::TempDir& dir, const std::string& s
 struct Rig {
   Simulator sim;
   std::int64_t n = 0;
-  explicit Rig(SimParams p = bridge()) {
+  explicit Rig(SimParams p = on_scene()) {
     sim.configure(p);
     sim.activate(0);
   }
@@ -103,7 +105,7 @@ TEST(ParamPlanner, PassiveSceneMayRiseUpToTheDeviceDamping) {
   // 1000 N/m per pair: K T/2 + B = 17 x 1000 x 1e-4 + 0.34 = 2.04 N s/m, passive on the ERGOS
   // (b = 6): the envelope is b, reached at (6 - 0.34) / (17 x 1e-4) = 3329.41 N/m
   const test::TempDir dir;
-  Rig rig(bridge(bridge_with_stiffness(dir, "1000")));
+  Rig rig(on_scene(bridge_with_stiffness(dir, "1000")));
   ParamPlanner planner(rig.sim);
   EXPECT_DOUBLE_EQ(planner.passivity_envelope_n_s_per_m(), 6.0);
   EXPECT_TRUE(planner.plan("stiffness_n_per_m", number(3300.0), 1).accepted);
@@ -189,7 +191,7 @@ TEST(SimulatorApply, StiffnessDownBlendsOverTheRampWithoutAJolt) {
 
 TEST(SimulatorApply, StiffnessUpNeverReleasesThePenetrationAtOnce) {
   const test::TempDir dir;
-  Rig rig(bridge(bridge_with_stiffness(dir, "1000")));
+  Rig rig(on_scene(bridge_with_stiffness(dir, "1000")));
   ParamPlanner planner(rig.sim);
   for (int i = 0; i < 3; ++i) rig.step(kPressed);
   const double before = rig.step(kPressed).force_n.z;
@@ -213,7 +215,7 @@ TEST(SimulatorApply, TheReentrySpeedBoundsHowFastTheSurfaceRisesBack) {
   const std::string scene = bridge_with_stiffness(dir, "1000");
   // steps from the change until the new law's force, and the largest rise of one step
   auto rise = [&](double speed_m_per_s, double& largest_n) {
-    SimParams p = bridge(scene);
+    SimParams p = on_scene(scene);
     p.reentry_speed_m_per_s = speed_m_per_s;
     Rig rig(p);
     ParamPlanner planner(rig.sim);
@@ -263,7 +265,7 @@ TEST(SimulatorApply, ModelAndThresholdChangeForceAndPins) {
 }
 
 TEST(SimulatorApply, TrialStopFreezesTheTaskAndStartBeginsANewOne) {
-  SimParams p = bridge();
+  SimParams p = on_scene();
   p.task.min_fall_s = 0.01;  // a fall after 50 steps off the top
   Rig rig(p);
   ParamPlanner planner(rig.sim);

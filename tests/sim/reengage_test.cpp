@@ -9,14 +9,15 @@
 #include <cstdint>
 
 #include "tests/support/alloc_guard.h"
+#include "tests/sim/sim_test_util.h"
 #include "tests/support/test_util.h"
 
 namespace enact::sim {
 namespace {
 
 constexpr std::int64_t kStep_ns = 200'000;  // 5 kHz
-// 1 mm into the middle of the first segment's top (as in simulator_test.cpp), and 8 mm deeper
-const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
+// 1 mm into the middle of the first segment's top (tests/sim/sim_test_util.h), and 8 mm deeper
+using test_util::kPressed;
 const math::Vec3 kDeep{0.0, -0.0148492, 0.003};
 
 Simulator pressed_bridge() {

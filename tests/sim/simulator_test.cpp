@@ -7,22 +7,15 @@
 #include <string>
 
 #include "core/config/yaml.h"
+#include "tests/sim/sim_test_util.h"
 #include "tests/support/test_util.h"
 
 namespace enact::sim {
 namespace {
 
-SimParams bridge(const std::string& model = "CM1") {
-  SimParams p;
-  p.scene = test::source_path("launch/scenes/bridge.yaml");
-  p.model = model;
-  return p;
-}
+using test_util::bridge;
+using test_util::kPressed;
 
-// a point pressed 1 mm into the middle of the first segment's top. The segment runs at 45
-// degrees and is 10 mm wide, so the grid's far-left (r0c0) and near-right (r3c3) corners,
-// 5.2 mm from its centreline, overhang: 14 grid masses touch.
-const math::Vec3 kPressed{0.0, -0.0148492, 0.011};
 constexpr std::uint32_t kPressedPins = 0xffffu & ~((1u << 0) | (1u << 15));
 
 TEST(Simulator, StepBeforeActivateGivesZeroForce) {

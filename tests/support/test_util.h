@@ -2,6 +2,7 @@
 // Test helpers: temporary directories, files, bounded waits, and running the enact command
 // line. Refusals (the message of a config::Error): tests/support/refusal.h.
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -9,6 +10,8 @@
 #include "core/graph/temp_folder.h"
 
 namespace enact::test {
+
+inline constexpr std::int64_t kMs = 1'000'000;  // one millisecond, in ns
 
 // a fresh directory under $TMPDIR (enact-test-XXXXXX), removed with everything in it when
 // destroyed: the project's TempFolder with a test prefix
