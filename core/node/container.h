@@ -47,6 +47,7 @@ class Container {
   rt::SchedulerParams sched_;
   rt::RtParams rtp_;
   std::string wait_why_;
+  double spin_floor_ = -1.0;  // spinning whole: what a thread spinning with no work misses here (the probe's)
   rt::GraphClock clock_ = rt::GraphClock::real;
   double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
   int observers_;

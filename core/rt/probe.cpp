@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -20,16 +21,18 @@
 #include "core/rt/clock.h"
 #include "core/rt/histogram.h"
 #include "core/rt/profile.h"
+#include "core/rt/scheduler.h"
 
 namespace enact::rt {
 namespace {
 
-constexpr int kFormat = 2;           // the cache's format; another one is measured again
+constexpr int kFormat = 3;           // the cache's format; another one is measured again
 constexpr int kProbeFifo = 50;       // the priority the FIFO sleeps are measured at
 constexpr int kSameCpuTrips = 2000;  // pipe round trips on one CPU (~14-40 ms)
 constexpr int kCrossCpuTrips = 1000;  // and across two (~15-100 ms)
 
 constexpr int kRounds = 5;           // each figure is measured in rounds: the quietest is the machine's
+constexpr std::int64_t kSpinRound_ns = 100'000'000;  // a round of the spinning floor: 4,400 deadlines at 44 kHz
 
 Spread spread_of(const LatencyHistogram& h) {
   return {h.percentile(50.0), h.percentile(99.0), h.max(), static_cast<std::int64_t>(h.count())};
@@ -131,6 +134,31 @@ std::string spread_text(const Spread& s) {
 
 }  // namespace
 
+void measure_spin_floor(int cpu, MachineProbe& p) {
+  p.spin_missed_44k = -1.0;
+  p.spin_longest_late_ns = 0;
+  p.spin_deadlines = 0;
+  on_thread([&] {
+    // normal scheduling at nice 0: on an idle CPU it is all the same, and on a CPU where a
+    // running graph's loop spins (at nice -20) the probe takes a sliver, never the loop's time
+    if (!pin_to(cpu)) return;
+    SchedulerParams params;
+    params.rate_hz = kMaxRate_hz;
+    params.spin_ns = std::llround(1e9 / kMaxRate_hz) + 1;  // a window longer than the period: never sleeps
+    PeriodicScheduler scheduler(params);
+    const auto per_round = static_cast<std::uint64_t>(kSpinRound_ns / scheduler.period_ns());
+    std::uint64_t missed = 0;
+    for (int r = 0; r < kRounds; ++r) {
+      scheduler.start(now_ns() + 100'000);
+      while (scheduler.ticks() + scheduler.skipped() < per_round) scheduler.wait();
+      missed += scheduler.overruns();
+      p.spin_deadlines += static_cast<std::int64_t>(scheduler.ticks() + scheduler.skipped());
+      p.spin_longest_late_ns = std::max(p.spin_longest_late_ns, scheduler.jitter().max());
+    }
+    p.spin_missed_44k = static_cast<double>(missed) / static_cast<double>(p.spin_deadlines);
+  });
+}
+
 MachineProbe probe_machine(std::int64_t period_ns, int sleeps) {
   MachineProbe p;
   p.period_ns = period_ns;
@@ -157,6 +185,7 @@ MachineProbe probe_machine(std::int64_t period_ns, int sleeps) {
   if (cpus.size() >= 2) {
     p.pipe_cross_cpu = quietest_round(kCrossCpuTrips / kRounds, [&](int n, LatencyHistogram& h) { pipe_round_trip(cpus.back(), cpus.front(), n, h); });
   }
+  if (!cpus.empty()) measure_spin_floor(cpus.back(), p);
   if (p.cpu_latency_held) sys.release_cpu_latency(latency_fd);
   return p;
 }
@@ -212,6 +241,7 @@ std::string to_text(const MachineProbe& p) {
   out << "rt_throttling_us " << p.rt_runtime_us << " " << p.rt_period_us << "\n";
   out << "cpu_latency_held " << p.cpu_latency_held << "\n";
   out << "load_per_cpu " << p.load_per_cpu << "\n";
+  out << "spin_floor_44k " << p.spin_missed_44k << " " << p.spin_longest_late_ns << " " << p.spin_deadlines << "\n";
   return out.str();
 }
 
@@ -254,8 +284,22 @@ std::optional<MachineProbe> from_text(const std::string& text) {
   }
   one("cpu_latency_held", p.cpu_latency_held);
   one("load_per_cpu", p.load_per_cpu);
+  {
+    auto w = words("spin_floor_44k");
+    ok = ok && static_cast<bool>(w >> p.spin_missed_44k >> p.spin_longest_late_ns >> p.spin_deadlines);
+  }
   if (!ok) return std::nullopt;
   return p;
+}
+
+std::string spin_floor_text(const MachineProbe& p) {
+  if (p.spin_missed_44k < 0.0) return "a spinning thread's floor: not measured (no CPU could be pinned)";
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "a thread spinning to 44 kHz deadlines (22.7 us apart) on CPU %d, no work, misses %.3f %% of them by itself, the latest %.1f us late "
+                "(%lld deadlines): the floor of any spinning loop here",
+                p.cpus - 1, 100.0 * p.spin_missed_44k, to_us(p.spin_longest_late_ns), static_cast<long long>(p.spin_deadlines));
+  return text;
 }
 
 WaitPlan plan_wait(const MachineProbe& probe, std::int64_t period_ns, bool fifo, bool must_sleep, bool own_cpu) {
@@ -268,7 +312,7 @@ WaitPlan plan_wait(const MachineProbe& probe, std::int64_t period_ns, bool fifo,
   if (!must_sleep && own_cpu && period_ns < 2 * late.p99_ns) {
     std::snprintf(why, sizeof why, "spins the whole %.1f us period on a CPU of its own, normal scheduling: this machine wakes a sleeping thread %.1f us late (p99)",
                   to_us(period_ns), to_us(late.p99_ns));
-    return {true, period_ns, false, why};
+    return {true, period_ns, false, why, probe.spin_missed_44k};
   }
   // a FIFO loop, or one whose CPU's other thread must run, sleeps every tick
   const std::int64_t spin = fifo || must_sleep ? std::min(window, period_ns / 2) : std::min(window, period_ns);
@@ -302,6 +346,7 @@ std::string describe(const MachineProbe& p) {
   out << "  default timer slack " << p.default_timer_slack_ns << " ns (loops set 1 ns); real-time throttling "
       << (p.rt_runtime_us < 0 ? std::string("off") : std::to_string(p.rt_runtime_us) + " of every " + std::to_string(p.rt_period_us) + " us")
       << "; CPU latency request " << (p.cpu_latency_held ? "held while measuring" : "refused") << "\n";
+  out << "  " << spin_floor_text(p) << "\n";
   return out.str();
 }
 

@@ -44,12 +44,25 @@ struct MachineProbe {
   std::string boot_id;               // the boot it was measured in (the cache's key)
   std::int64_t probed_at_ns = 0;     // CLOCK_REALTIME when measured
   double load_per_cpu = 0.0;         // the 1-minute load average over the CPUs, when measured
+  // the floor of a loop that spins: a thread on the loop's CPU (the last one), normal
+  // scheduling, spinning on the clock to 44 kHz deadlines (22.7 us
+  // apart) with no work at all. What it misses (the scheduler's count: a wake-up a period or
+  // more late, and the deadlines it skips) is the machine's, not the loop's: the hypervisor,
+  // interrupts, the kernel's own threads. Fraction of deadlines, -1: not measured
+  double spin_missed_44k = -1.0;
+  std::int64_t spin_longest_late_ns = 0;  // its latest wake-up
+  std::int64_t spin_deadlines = 0;        // deadlines counted (every round)
 };
 
-// measures this machine now (about 0.5 s, most of it sleeping): `sleeps` wake-ups at
-// period_ns each way, then the pipe round trips. Runs on threads of its own: the caller's
+// measures this machine now (about 1 s): `sleeps` wake-ups at period_ns each way, the pipe
+// round trips, then 0.5 s of spinning to 44 kHz deadlines. Runs on threads of its own: the caller's
 // CPUs and scheduling are untouched. Never throws for a refusal (FIFO, a CPU): it is recorded.
 MachineProbe probe_machine(std::int64_t period_ns = 200'000, int sleeps = 1000);
+
+// the spinning floor alone (MachineProbe::spin_missed_44k and the two after it): 5 rounds of
+// 0.1 s on `cpu`, the share of missed deadlines over all of them (a rate of rare events: the
+// quietest round would understate it; not measured: -1, when the CPU cannot be pinned)
+void measure_spin_floor(int cpu, MachineProbe& probe);
 
 // the probe of this boot: read from the cache file (cache_path()), else measured and stored
 // there (a cache that cannot be written is not an error). `fresh` measures again and stores.
@@ -73,6 +86,7 @@ struct WaitPlan {
   std::int64_t spin_ns = 0;        // otherwise: sleeps to spin_ns before each deadline, then spins
   bool fifo = false;               // runs under SCHED_FIFO (asked for, permitted, and it sleeps)
   std::string why;                 // one line for people: how it waits, and the figure it comes from
+  double spin_floor = -1.0;        // spinning whole: the probe's spin_missed_44k (-1: not measured)
 };
 
 // the wait for a loop at period_ns that asks for SCHED_FIFO (fifo) or not: a spin window of
@@ -90,6 +104,9 @@ WaitPlan loop_wait(double spin_us, std::int64_t period_ns, bool fifo, bool must_
 // the highest rate (Hz, at most 44 kHz) a sleeping loop holds here: its period twice the
 // p99 lateness and the tick's work (work_ns)
 double sleeping_rate_limit_hz(const MachineProbe& probe, bool fifo, std::int64_t work_ns);
+
+// one line for people: the spinning floor (MachineProbe::spin_missed_44k) and where it was measured
+std::string spin_floor_text(const MachineProbe& probe);
 
 // a few lines for people: every figure with its unit
 std::string describe(const MachineProbe& probe);

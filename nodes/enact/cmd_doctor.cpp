@@ -73,7 +73,9 @@ void machine_section(bool fresh) {
   std::printf("\nrates this machine holds (from the figures above):\n");
   std::printf("  co-located (enact-rt), sleeping each tick: up to %.1f kHz\n", khz(sleeping_hz));
   if (spinning_hz > 0.0) {
-    std::printf("  co-located, spinning on a CPU of its own (what enact-rt does when the period is under twice the lateness): %.1f kHz\n", khz(spinning_hz));
+    std::printf("  co-located, spinning on a CPU of its own (what enact-rt does when the period is under twice the lateness): %.1f kHz", khz(spinning_hz));
+    if (p.spin_missed_44k > 0.001) std::printf(", missing at least %.2f %% of 44 kHz deadlines (the spinning floor)", 100.0 * p.spin_missed_44k);
+    std::printf("\n");
   } else {
     std::printf("  co-located, spinning: not here (one CPU: the loop would starve everything else)\n");
   }
@@ -101,6 +103,12 @@ void machine_section(bool fresh) {
   if (sleeping_hz < 5'000.0) {
     ++tips;
     std::printf("  - a sleeping loop cannot hold 5 kHz here: the co-located loop spins (realtime profile, a CPU of its own)\n");
+  }
+  if (p.spin_missed_44k > 0.001) {
+    ++tips;
+    std::printf("  - a thread spinning with no work misses %.2f %% of 44 kHz deadlines here (the latest %.0f us late): the virtual CPU is interrupted "
+                "or taken away by the host, and no loop here misses fewer; fix: a machine whose CPUs are its own (dedicated vCPUs or bare metal)\n",
+                100.0 * p.spin_missed_44k, rt::to_us(p.spin_longest_late_ns));
   }
   if (tips == 0) std::printf("  nothing to change for the shipped rates (5 kHz distributed, 44 kHz co-located)\n");
 }

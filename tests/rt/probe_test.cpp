@@ -1,6 +1,7 @@
 // The machine probe: its figures, its cache per boot, and the wait a loop plans from them.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <thread>
 
 #include "core/rt/probe.h"
+#include "core/rt/profile.h"
 #include "tests/support/test_util.h"
 
 namespace enact::rt {
@@ -38,7 +40,36 @@ TEST(MachineProbe, MeasuresEveryFigureOnThisMachine) {
   EXPECT_EQ(p.fifo_permitted, p.sleep_late_fifo.count == 200);
   EXPECT_GT(p.cpus, 0);
   EXPECT_FALSE(p.boot_id.empty());
+  // the spinning floor: 5 rounds of at least 4,400 deadlines at 44 kHz (a late last wake-up
+  // skips past the round's end), a share of them missed
+  EXPECT_GE(p.spin_deadlines, 5 * 4400);
+  EXPECT_GE(p.spin_missed_44k, 0.0);
+  EXPECT_LE(p.spin_missed_44k, 1.0);
+  EXPECT_GE(p.spin_longest_late_ns, 0);
   std::printf("[ measure ] %s", describe(p).c_str());
+}
+
+TEST(MachineProbe, TheSpinningFloorSeesACpuTakenAway) {
+  // a thread spinning beside the probe on its CPU, at the same priority, takes half of it: the
+  // probe then misses many of its 44 kHz deadlines, which the floor is there to tell
+  const int cpu = system_calls().allowed_cpus().back();
+  MachineProbe quiet;
+  measure_spin_floor(cpu, quiet);
+  ASSERT_GE(quiet.spin_missed_44k, 0.0) << "CPU " << cpu << " could not be pinned";
+  std::atomic<bool> stop{false};
+  std::thread hog([&] {
+    system_calls().pin_thread({cpu});
+    while (!stop.load(std::memory_order_relaxed)) {
+    }
+  });
+  MachineProbe shared;
+  measure_spin_floor(cpu, shared);
+  stop.store(true);
+  hog.join();
+  std::printf("[ measure ] the spinning floor alone %.3f %%, beside a thread spinning on its CPU %.3f %%\n", 100.0 * quiet.spin_missed_44k,
+              100.0 * shared.spin_missed_44k);
+  EXPECT_GT(shared.spin_missed_44k, 0.2);
+  EXPECT_GT(shared.spin_missed_44k, quiet.spin_missed_44k);
 }
 
 TEST(MachineProbe, ItsTextFormReadsBackWholeAndRefusesAnythingLess) {
@@ -47,12 +78,17 @@ TEST(MachineProbe, ItsTextFormReadsBackWholeAndRefusesAnythingLess) {
   p.rt_runtime_us = 950000;
   p.rt_period_us = 1000000;
   p.default_timer_slack_ns = 50000;
+  p.spin_missed_44k = 0.0184;
+  p.spin_longest_late_ns = 2'116'900;
+  p.spin_deadlines = 22000;
   const std::string text = to_text(p);
   const auto back = from_text(text);
   ASSERT_TRUE(back);
   EXPECT_EQ(to_text(*back), text);
   EXPECT_EQ(back->sleep_late.p99_ns, 41'000);
   EXPECT_EQ(back->pipe_cross_cpu.p50_ns, 83'000);
+  EXPECT_DOUBLE_EQ(back->spin_missed_44k, 0.0184);
+  EXPECT_EQ(back->spin_longest_late_ns, 2'116'900);
   // a file cut short, another format, or nothing at all is measured again
   EXPECT_FALSE(from_text(text.substr(0, text.size() / 2)));
   EXPECT_FALSE(from_text("enact_probe 0\n" + text.substr(text.find('\n') + 1)));
@@ -119,6 +155,10 @@ TEST(WaitPlan, APeriodShorterThanTwiceTheLatenessIsSpunWholeOnACpuOfItsOwn) {
   EXPECT_TRUE(p.spin_whole_period);
   EXPECT_GE(p.spin_ns, 22'727);
   EXPECT_NE(p.why.find("spins the whole"), std::string::npos) << p.why;
+  EXPECT_EQ(p.spin_floor, -1.0);  // the machine above measured none
+  MachineProbe floored = machine(41.0);
+  floored.spin_missed_44k = 0.0184;
+  EXPECT_EQ(plan_wait(floored, 22'727, false, false, true).spin_floor, 0.0184);
   // the same rate on a machine that wakes 3 us late sleeps
   EXPECT_FALSE(plan_wait(machine(3.0), 22'727, false, false, true).spin_whole_period);
   // without a CPU of its own, or when it must sleep (FIFO, a shared CPU), it never spins whole
