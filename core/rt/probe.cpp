@@ -138,6 +138,7 @@ void measure_spin_floor(int cpu, MachineProbe& p) {
   p.spin_missed_44k = -1.0;
   p.spin_longest_late_ns = 0;
   p.spin_deadlines = 0;
+  p.spin_cpu = cpu;
   on_thread([&] {
     // normal scheduling at nice 0: on an idle CPU it is all the same, and on a CPU where a
     // running graph's loop spins (at nice -20) the probe takes a sliver, never the loop's time
@@ -241,7 +242,7 @@ std::string to_text(const MachineProbe& p) {
   out << "rt_throttling_us " << p.rt_runtime_us << " " << p.rt_period_us << "\n";
   out << "cpu_latency_held " << p.cpu_latency_held << "\n";
   out << "load_per_cpu " << p.load_per_cpu << "\n";
-  out << "spin_floor_44k " << p.spin_missed_44k << " " << p.spin_longest_late_ns << " " << p.spin_deadlines << "\n";
+  out << "spin_floor_44k " << p.spin_missed_44k << " " << p.spin_longest_late_ns << " " << p.spin_deadlines << " " << p.spin_cpu << "\n";
   return out.str();
 }
 
@@ -286,7 +287,7 @@ std::optional<MachineProbe> from_text(const std::string& text) {
   one("load_per_cpu", p.load_per_cpu);
   {
     auto w = words("spin_floor_44k");
-    ok = ok && static_cast<bool>(w >> p.spin_missed_44k >> p.spin_longest_late_ns >> p.spin_deadlines);
+    ok = ok && static_cast<bool>(w >> p.spin_missed_44k >> p.spin_longest_late_ns >> p.spin_deadlines >> p.spin_cpu);
   }
   if (!ok) return std::nullopt;
   return p;
@@ -298,7 +299,7 @@ std::string spin_floor_text(const MachineProbe& p) {
   std::snprintf(text, sizeof text,
                 "a thread spinning to 44 kHz deadlines (22.7 us apart) on CPU %d, no work, misses %.3f %% of them by itself, the latest %.1f us late "
                 "(%lld deadlines): the floor of any spinning loop here",
-                p.cpus - 1, 100.0 * p.spin_missed_44k, to_us(p.spin_longest_late_ns), static_cast<long long>(p.spin_deadlines));
+                p.spin_cpu, 100.0 * p.spin_missed_44k, to_us(p.spin_longest_late_ns), static_cast<long long>(p.spin_deadlines));
   return text;
 }
 

@@ -52,6 +52,7 @@ struct MachineProbe {
   double spin_missed_44k = -1.0;
   std::int64_t spin_longest_late_ns = 0;  // its latest wake-up
   std::int64_t spin_deadlines = 0;        // deadlines counted (every round)
+  int spin_cpu = -1;                      // the CPU it spun on
 };
 
 // measures this machine now (about 1 s): `sleeps` wake-ups at period_ns each way, the pipe

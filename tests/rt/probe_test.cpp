@@ -46,6 +46,7 @@ TEST(MachineProbe, MeasuresEveryFigureOnThisMachine) {
   EXPECT_GE(p.spin_missed_44k, 0.0);
   EXPECT_LE(p.spin_missed_44k, 1.0);
   EXPECT_GE(p.spin_longest_late_ns, 0);
+  EXPECT_EQ(p.spin_cpu, system_calls().allowed_cpus().back());
   std::printf("[ measure ] %s", describe(p).c_str());
 }
 
@@ -81,6 +82,7 @@ TEST(MachineProbe, ItsTextFormReadsBackWholeAndRefusesAnythingLess) {
   p.spin_missed_44k = 0.0184;
   p.spin_longest_late_ns = 2'116'900;
   p.spin_deadlines = 22000;
+  p.spin_cpu = 3;
   const std::string text = to_text(p);
   const auto back = from_text(text);
   ASSERT_TRUE(back);
@@ -89,6 +91,8 @@ TEST(MachineProbe, ItsTextFormReadsBackWholeAndRefusesAnythingLess) {
   EXPECT_EQ(back->pipe_cross_cpu.p50_ns, 83'000);
   EXPECT_DOUBLE_EQ(back->spin_missed_44k, 0.0184);
   EXPECT_EQ(back->spin_longest_late_ns, 2'116'900);
+  EXPECT_EQ(back->spin_cpu, 3);
+  EXPECT_NE(describe(*back).find("on CPU 3,"), std::string::npos) << describe(*back);
   // a file cut short, another format, or nothing at all is measured again
   EXPECT_FALSE(from_text(text.substr(0, text.size() / 2)));
   EXPECT_FALSE(from_text("enact_probe 0\n" + text.substr(text.find('\n') + 1)));
