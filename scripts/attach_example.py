@@ -95,7 +95,7 @@ def receive(sub, topics, deadline):
 
 
 def registry_dir():
-    """The registry of running graphs (core/graph/registry.h): one small YAML file each."""
+    """The registry of running graphs (core/session/registry.h): one small YAML file each."""
     return os.environ.get("ENACT_REGISTRY") or os.path.join(tempfile.gettempdir(), f"enact-{os.getuid()}", "graphs")
 
 

@@ -7,7 +7,7 @@
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
 #include "core/graph/topics.h"
 #include "core/record/reader.h"
 #include "msgs/device_state.pb.h"

@@ -14,7 +14,7 @@
 #include "core/experiment/results.h"
 #include "core/experiment/trial_graph.h"
 #include "core/graph/topics.h"
-#include "core/graph/node_params.h"
+#include "core/params/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/rt/clock.h"
 #include "msgs/task_event.pb.h"

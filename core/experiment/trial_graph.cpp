@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "core/config/yaml.h"
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "core/graph/topics.h"
 #include "core/launch/realtime.h"
 #include "core/launch/supervisor.h"

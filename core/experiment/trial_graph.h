@@ -11,7 +11,7 @@
 #include <string>
 
 #include "core/bus/bytes.h"
-#include "core/graph/session.h"
+#include "core/session/session.h"
 #include "core/launch/launch_file.h"
 #include "core/rt/clock.h"
 

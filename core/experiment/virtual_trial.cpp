@@ -4,8 +4,9 @@
 #include <cstring>
 
 #include "core/devices/virtual_subject.h"
-#include "core/graph/colocated.h"
-#include "core/graph/components.h"
+#include "core/node/colocated.h"
+#include "core/node/components.h"
+#include "core/params/node_params.h"
 
 namespace enact::experiment {
 namespace {

@@ -6,7 +6,7 @@
 // experiment runner itself runs real graphs (core/experiment/runner.h).
 #include <cstdint>
 
-#include "core/graph/params.h"
+#include "core/params/params.h"
 #include "core/task/bridge_task.h"
 
 namespace enact::experiment {

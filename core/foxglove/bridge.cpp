@@ -8,8 +8,8 @@
 #include "core/bus/schema.h"
 #include "core/config/yaml.h"
 #include "core/foxglove/parameters.h"
-#include "core/graph/param_bus.h"
-#include "core/graph/registry.h"
+#include "core/params/param_bus.h"
+#include "core/session/registry.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 

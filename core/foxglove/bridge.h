@@ -13,7 +13,7 @@
 // slow observer, and the observer thread (run()) never waits for the WebSocket thread.
 // Clients publish (clientPublish, encodings json and protobuf) on the graph's inbound topics
 // (param/set), and see and set the graph's parameters (parameters, parametersSubscribe): both
-// go the way `enact param set` sends (core/graph/param_bus.h): the same refusal of a
+// go the way `enact param set` sends (core/params/param_bus.h): the same refusal of a
 // parameter that is not live, the same role at the attach point, the node's ParamAck.
 #include <atomic>
 #include <cstdint>

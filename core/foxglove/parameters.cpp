@@ -6,7 +6,7 @@
 
 #include <google/protobuf/util/json_util.h>
 
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 
 namespace enact::foxglove {
 

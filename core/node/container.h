@@ -9,8 +9,8 @@
 #include <string>
 
 #include "core/devices/device.h"
-#include "core/graph/colocated.h"
-#include "core/graph/params.h"
+#include "core/node/colocated.h"
+#include "core/params/params.h"
 #include "core/node/host.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"

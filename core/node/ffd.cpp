@@ -8,7 +8,7 @@
 #include "core/bus/typed.h"
 #include "core/devices/hand.h"
 #include "core/devices/safety.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"

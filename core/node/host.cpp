@@ -4,8 +4,8 @@
 #include <exception>
 
 #include "core/graph/node.h"
-#include "core/graph/node_params.h"
-#include "core/graph/param_table.h"
+#include "core/params/node_params.h"
+#include "core/params/param_table.h"
 
 namespace enact::node {
 

@@ -13,8 +13,8 @@
 #include <string>
 
 #include "core/bus/bytes.h"
-#include "core/graph/param_board.h"
-#include "core/graph/params.h"
+#include "core/params/param_board.h"
+#include "core/params/params.h"
 
 namespace enact::node {
 

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "core/foxglove/bridge.h"
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
 #include "core/node/host.h"
 
 namespace enact::node {

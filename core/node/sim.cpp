@@ -5,10 +5,11 @@
 
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
+#include "core/params/node_params.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/launch/env.h"

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/bus/typed.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"

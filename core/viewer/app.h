@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/bus/client.h"
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 
 namespace enact::viewer {
 

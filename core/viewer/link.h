@@ -2,7 +2,7 @@
 // The viewer's connection to a graph: one SUB socket on the attach point for the observer
 // topics (decimated sim/scene, task/event, node/status, tactile/shown, param/ack and
 // graph/topics, task/state: never the loop-rate ones), and a ParamClient to send param/set.
-// It follows the registry (graph/registry.h): a graph by name (connected when it appears,
+// It follows the registry (core/session/registry.h): a graph by name (connected when it appears,
 // again when it is launched anew), the first graph whose name starts with a prefix (an
 // experiment's current trial), or the only graph running; so a viewer started before its
 // graph connects when the graph appears. The graph never notices an observer coming or going.
@@ -14,8 +14,8 @@
 #include "core/bus/bytes.h"
 #include "core/bus/client.h"
 #include "core/bus/typed.h"
-#include "core/graph/param_bus.h"
-#include "core/graph/registry.h"
+#include "core/params/param_bus.h"
+#include "core/session/registry.h"
 #include "core/viewer/view_model.h"
 #include "msgs/graph.pb.h"
 #include "msgs/node_status.pb.h"

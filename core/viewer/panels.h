@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/sim/params.h"
 #include "core/viewer/layout.h"
 #include "core/viewer/view_model.h"

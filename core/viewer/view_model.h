@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/math/vec3.h"
 #include "core/viewer/ring.h"
 #include "core/viewer/scene_geometry.h"

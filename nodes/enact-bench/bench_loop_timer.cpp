@@ -5,7 +5,7 @@
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
-#include "core/graph/colocated.h"
+#include "core/node/colocated.h"
 #include "core/rt/clock.h"
 #include "core/rt/scheduler.h"
 #include "core/rt/probe.h"

@@ -16,7 +16,7 @@
 #include "core/bus/attach.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
 #include "core/graph/temp_folder.h"
 #include "core/record/writer.h"
 #include "core/rt/clock.h"

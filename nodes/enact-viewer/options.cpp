@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "nodes/enact/args.h"
 
 namespace enact::viewer {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/bus/client.h"
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "nodes/enact/args.h"
 
 namespace enact::cli {

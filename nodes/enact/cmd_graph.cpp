@@ -1,7 +1,7 @@
 // enact graph list: the running graphs of this user, from the registry.
 #include <cstdio>
 
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {

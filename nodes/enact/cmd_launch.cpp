@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <optional>
 
-#include "core/graph/registry.h"
-#include "core/graph/session.h"
-#include "core/graph/status_watch.h"
-#include "core/graph/node_params.h"
+#include "core/session/registry.h"
+#include "core/session/session.h"
+#include "core/session/status_watch.h"
+#include "core/params/node_params.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/realtime.h"
 #include "core/rt/profile.h"

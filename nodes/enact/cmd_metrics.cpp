@@ -4,7 +4,7 @@
 
 #include "core/config/format.h"
 #include "core/experiment/results.h"
-#include "core/graph/replay.h"
+#include "core/replay/replay.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {

@@ -1,6 +1,6 @@
 // enact param set / list / get / dump / load: the parameters of a running graph, through its
 // attach point. Every node publishes its declared parameters with the values in force on
-// param/values/<node> (core/graph/param_board.h); changes go on param/set, answered on
+// param/values/<node> (core/params/param_board.h); changes go on param/set, answered on
 // param/ack.
 #include <cstdio>
 #include <map>
@@ -10,7 +10,7 @@
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/graph/node.h"
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "msgs/graph.pb.h"

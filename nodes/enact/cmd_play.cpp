@@ -11,10 +11,10 @@
 
 #include "core/bus/bytes.h"
 #include "core/config/suggest.h"
-#include "core/graph/session.h"
+#include "core/session/session.h"
 #include "core/graph/node.h"
-#include "core/graph/params.h"
-#include "core/graph/player.h"
+#include "core/params/params.h"
+#include "core/replay/player.h"
 #include "core/launch/env.h"
 #include "core/config/format.h"
 #include "core/record/reader.h"

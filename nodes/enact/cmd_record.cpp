@@ -16,9 +16,9 @@
 
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
 #include "core/graph/node.h"
-#include "core/graph/replay.h"
+#include "core/replay/replay.h"
 #include "core/graph/topics.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"

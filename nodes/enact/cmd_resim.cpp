@@ -2,7 +2,7 @@
 // with the recorded forces and pins.
 #include <cstdio>
 
-#include "core/graph/replay.h"
+#include "core/replay/replay.h"
 #include "nodes/enact/commands.h"
 #include "nodes/enact/json.h"
 

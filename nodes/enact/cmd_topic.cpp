@@ -10,8 +10,8 @@
 
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
-#include "core/graph/logger.h"
-#include "core/graph/param_bus.h"
+#include "core/record/logger.h"
+#include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/graph/node.h"
 #include "core/rt/clock.h"

@@ -7,8 +7,8 @@
 
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
-#include "core/graph/node_params.h"
-#include "core/graph/param_table.h"
+#include "core/params/node_params.h"
+#include "core/params/param_table.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {

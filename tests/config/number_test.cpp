@@ -9,7 +9,7 @@
 
 #include "core/config/yaml.h"
 #include "core/task/trajectory.h"
-#include "core/graph/params.h"
+#include "core/params/params.h"
 #include "tests/support/test_util.h"
 
 namespace enact::config {

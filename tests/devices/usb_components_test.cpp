@@ -1,4 +1,4 @@
-// The wiring of the USB backends into a graph's components (core/graph/components.cpp):
+// The wiring of the USB backends into a graph's components (core/node/components.cpp):
 // device falcon and device metec on their emulators from node params, the Falcon inside the
 // safety layer, and params that do not belong to the chosen device or transport refused.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include "core/devices/falcon/falcon_device.h"
 #include "core/devices/metec/metec_device.h"
 #include "core/devices/safety.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
 #include "core/rt/clock.h"
 #include "tests/devices/usb_test_util.h"
 #include "tests/support/test_util.h"

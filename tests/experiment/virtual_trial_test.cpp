@@ -8,8 +8,9 @@
 #include <string>
 
 #include "core/devices/safety.h"
-#include "core/graph/colocated.h"
-#include "core/graph/components.h"
+#include "core/node/colocated.h"
+#include "core/node/components.h"
+#include "core/params/node_params.h"
 #include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
 

@@ -8,7 +8,7 @@
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
 #include "core/graph/node.h"
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/sim/simulator.h"
 #include "tests/fuzz/fuzz.h"

@@ -9,7 +9,7 @@
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
-#include "core/graph/colocated.h"
+#include "core/node/colocated.h"
 #include "core/haptics/computer_model.h"
 #include "core/devices/device_profile.h"
 #include "core/sim/params.h"

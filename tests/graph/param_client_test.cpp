@@ -8,7 +8,7 @@
 #include "core/bus/attach.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "msgs/param_update.pb.h"

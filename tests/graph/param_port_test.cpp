@@ -12,7 +12,7 @@
 #include "core/bus/typed.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "core/sim/simulator.h"

@@ -6,9 +6,9 @@
 
 #include "core/config/yaml.h"
 #include "core/devices/simulated_tactile.h"
-#include "core/graph/components.h"
-#include "core/graph/node_params.h"
-#include "core/graph/params.h"
+#include "core/node/components.h"
+#include "core/params/node_params.h"
+#include "core/params/params.h"
 #include "tests/support/refusal.h"
 #include "tests/support/test_util.h"
 

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "tests/support/test_util.h"
 
 namespace enact::test {

@@ -4,7 +4,8 @@
 
 #include <utility>
 
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
+#include "core/session/launch_info.h"
 #include "core/graph/node.h"
 
 namespace enact::graph {

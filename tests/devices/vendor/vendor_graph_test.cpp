@@ -1,4 +1,4 @@
-// The vendor backends in a graph: wired from node params (core/graph/components.cpp) inside
+// The vendor backends in a graph: wired from node params (core/node/components.cpp) inside
 // the safety layer, with the params of other devices refused; and the co-located bridge
 // started with the real `enact launch` for 10 s on each fake library (bridge_rt_dhd.yaml,
 // bridge_rt_hd.yaml: the fake's hand walking the bridge path) and on the emulated Inverse
@@ -19,7 +19,7 @@
 #include "core/devices/safety.h"
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
 #include "core/rt/clock.h"
 #include "tests/devices/vendor/fake_library.h"
 #include "tests/integration/integration_util.h"

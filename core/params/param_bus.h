@@ -20,7 +20,7 @@
 #include "core/bus/attach.h"
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
-#include "core/graph/param_board.h"
+#include "core/params/param_board.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
 #include "core/sim/simulator.h"

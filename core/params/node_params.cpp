@@ -1,4 +1,4 @@
-#include "core/graph/node_params.h"
+#include "core/params/node_params.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -12,9 +12,9 @@
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
-#include "core/graph/logger.h"
-#include "core/graph/device_config.h"
-#include "core/graph/param_binding.h"
+#include "core/record/logger.h"
+#include "core/params/device_config.h"
+#include "core/params/param_binding.h"
 #include "core/devices/device_profile.h"
 #include "core/rt/scheduler.h"
 #include "core/sim/reengage.h"
@@ -191,6 +191,8 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
 }
 
 const ParamTable& sim_table() { return sim_bindings().table(); }
+
+sim::SimParams sim_params(const Params& p) { return sim_bindings().read(p); }
 
 const ParamBindings<ForceConfig>& force_bindings() {
   using F = ForceConfig;

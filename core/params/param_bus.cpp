@@ -1,4 +1,4 @@
-#include "core/graph/param_bus.h"
+#include "core/params/param_bus.h"
 
 #include <algorithm>
 #include <chrono>

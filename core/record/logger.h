@@ -142,8 +142,4 @@ std::string format(const LoggerProgress& p);
 // the end-of-recording table: per channel, messages and gaps, then the totals
 std::string format(const std::vector<ChannelReport>& channels);
 
-// how a graph was started, for GraphInfo (and so for recordings): the launch file, its
-// text, every node's parameters, and the files they name (read now; at most 1 MiB each)
-msgs::GraphInfo launch_info(const std::string& launch_path, const launch::LaunchDescription& graph);
-
 }  // namespace enact::graph

@@ -1,4 +1,4 @@
-#include "core/graph/param_table.h"
+#include "core/params/param_table.h"
 
 #include <cmath>
 #include <sstream>

@@ -1,12 +1,10 @@
-#include "core/graph/logger.h"
+#include "core/record/logger.h"
 
 #include <csignal>
 #include <cstdlib>
 #include <algorithm>
 #include <filesystem>
 #include <tuple>
-#include <fstream>
-#include <sstream>
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/descriptor.pb.h>
@@ -16,7 +14,6 @@
 #include "core/bus/schema.h"
 #include "core/config/yaml.h"
 #include "core/graph/node.h"
-#include "core/graph/node_params.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 
@@ -36,13 +33,6 @@ bool parse_header(const bus::RawMessage& m, msgs::Header& out) {
     if (!(p[at++] & 0x80)) break;
   }
   return len <= n - at && out.ParseFromArray(p + at, static_cast<int>(len));
-}
-
-const char* media_type(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext == ".yaml" || ext == ".yml") return "application/yaml";
-  if (ext == ".csv") return "text/csv";
-  return "application/octet-stream";
 }
 
 std::string numbered(const std::string& output, int index) {
@@ -318,47 +308,6 @@ std::string format(const std::vector<ChannelReport>& channels) {
   std::snprintf(line, sizeof line, "  total: %llu messages, %llu gaps\n", static_cast<unsigned long long>(messages),
                 static_cast<unsigned long long>(gaps));
   return out + line;
-}
-
-msgs::GraphInfo launch_info(const std::string& launch_path, const launch::LaunchDescription& graph) {
-  msgs::GraphInfo info;
-  info.set_launch_file(std::filesystem::absolute(launch_path).string());
-  std::ifstream in(launch_path);
-  std::stringstream text;
-  text << in.rdbuf();
-  info.set_launch_text(text.str());
-  info.set_clock(rt::to_string(graph.clock));
-  auto add = [&](const std::string& name, const std::string& value) {
-    auto& p = *info.add_params();
-    p.set_name(name);
-    p.set_value(value);
-    // a parameter naming a file: keep the file (small ones only)
-    std::error_code ec;
-    if (value.empty() || !std::filesystem::is_regular_file(value, ec) || std::filesystem::file_size(value, ec) > (1u << 20)) return;
-    std::ifstream f(value, std::ios::binary);
-    std::stringstream data;
-    data << f.rdbuf();
-    auto& file = *info.add_files();
-    file.set_name(name);
-    file.set_path(std::filesystem::absolute(value).string());
-    file.set_media_type(media_type(value));
-    file.set_data(data.str());
-  };
-  bool ffd = false, sim = false, zeromq = false, colocated = false;
-  for (const auto& n : graph.nodes) {
-    for (const auto& p : n.params) add(n.name + "." + p.name, p.value);
-    for (const auto& c : n.components) {
-      for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
-    }
-    const std::string exe = std::filesystem::path(n.exec).filename().string();
-    if (node_table(exe)) info.add_param_nodes(n.name);
-    colocated = colocated || exe == "enact-rt";
-    ffd = ffd || exe == "enact-ffd";
-    sim = sim || exe == "enact-sim";
-    for (const auto& p : n.params) zeromq = zeromq || (p.name == "loop_transport" && p.value == "zeromq");
-  }
-  info.set_loop_hop(colocated ? "co-located" : ffd && sim ? (zeromq ? "zeromq" : "local") : "");
-  return info;
 }
 
 }  // namespace enact::graph

@@ -1,10 +1,10 @@
-#include "core/graph/player.h"
+#include "core/replay/player.h"
 
 #include <algorithm>
 
 #include "core/config/format.h"
 #include "core/graph/node.h"
-#include "core/graph/session.h"
+#include "core/session/session.h"
 #include "core/rt/clock.h"
 
 namespace enact::graph {

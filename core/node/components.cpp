@@ -1,4 +1,4 @@
-#include "core/graph/components.h"
+#include "core/node/components.h"
 
 #include "core/config/yaml.h"
 #include "core/devices/falcon/emulator.h"
@@ -13,9 +13,9 @@
 #include "core/devices/usb/libusb.h"
 #include "core/devices/vendor/dhd_device.h"
 #include "core/devices/vendor/hd_device.h"
-#include "core/graph/device_config.h"
-#include "core/graph/node_params.h"
-#include "core/graph/param_binding.h"
+#include "core/params/device_config.h"
+#include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/physics/scene.h"
 
 namespace enact::graph {
@@ -156,8 +156,6 @@ std::unique_ptr<devices::TactileDevice> metec_tactile(const TactileConfig& c) {
 }
 
 }  // namespace
-
-sim::SimParams sim_params(const Params& p) { return sim_bindings().read(p); }
 
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   const ForceConfig c = force_bindings().read(p);

@@ -1,4 +1,4 @@
-#include "core/graph/status_watch.h"
+#include "core/session/status_watch.h"
 
 #include <cmath>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/graph/param_table.h"
+#include "core/params/param_table.h"
 #include "core/math/vec3.h"
 
 namespace enact::graph {

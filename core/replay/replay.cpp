@@ -1,4 +1,4 @@
-#include "core/graph/replay.h"
+#include "core/replay/replay.h"
 
 #include <cstdio>
 #include <cstring>
@@ -9,11 +9,11 @@
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
-#include "core/graph/components.h"
+#include "core/node/components.h"
 #include "core/graph/messages.h"
-#include "core/graph/node_params.h"
-#include "core/graph/param_bus.h"
-#include "core/graph/params.h"
+#include "core/params/node_params.h"
+#include "core/params/param_bus.h"
+#include "core/params/params.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/sim/reengage.h"

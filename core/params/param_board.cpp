@@ -1,4 +1,4 @@
-#include "core/graph/param_board.h"
+#include "core/params/param_board.h"
 
 #include <pthread.h>
 #include <sched.h>

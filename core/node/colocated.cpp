@@ -1,4 +1,4 @@
-#include "core/graph/colocated.h"
+#include "core/node/colocated.h"
 
 #include "core/devices/hand.h"
 #include "core/graph/messages.h"

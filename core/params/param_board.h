@@ -12,7 +12,7 @@
 
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
-#include "core/graph/params.h"
+#include "core/params/params.h"
 #include "msgs/param_update.pb.h"
 
 namespace enact::graph {

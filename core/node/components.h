@@ -1,19 +1,17 @@
 #pragma once
-// The components of a graph, built from node parameters: the simulator, the force-feedback
-// device driver and the tactile device driver. The same objects run in their own processes
-// (wired by the bus) or together in the co-located real-time container (wired by calls).
+// The devices of a graph's components, built from node parameters: the force-feedback device
+// and the tactile device (the simulator's parameters: graph::sim_params, node_params.h). The
+// same objects run in their own processes (wired by the bus) or together in the co-located
+// real-time container (wired by calls).
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/devices/device.h"
-#include "core/graph/params.h"
+#include "core/params/params.h"
 #include "core/sim/simulator.h"
 
 namespace enact::graph {
-
-// the simulator's parameters (node_params.h: sim_table(), declared here)
-sim::SimParams sim_params(const Params& p);
 
 // the force device of force_table() (declared here): simulated (profile, a scripted hand or a
 // virtual subject), falcon (transport usb or emulator: serial, firmware, homing_timeout_s,

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "core/config/format.h"
-#include "core/graph/param_table.h"
-#include "core/graph/params.h"
+#include "core/params/param_table.h"
+#include "core/params/params.h"
 #include "core/math/vec3.h"
 
 namespace enact::graph {

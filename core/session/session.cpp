@@ -1,4 +1,4 @@
-#include "core/graph/session.h"
+#include "core/session/session.h"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/bus/endpoints.h"
-#include "core/graph/logger.h"
+#include "core/session/launch_info.h"
 #include "core/graph/topics.h"
 #include "core/launch/env.h"
 #include "msgs/param_update.pb.h"

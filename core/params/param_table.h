@@ -3,7 +3,7 @@
 // type, default, range or choices, one line of doc, and whether it may change while the graph
 // runs. A node's --help, its refusal of unknown names and bad values (with the fix), the
 // check of a launch file before anything starts, and `enact param list/get/dump/load` all
-// read these tables (core/graph/node_params.h holds every node's).
+// read these tables (core/params/node_params.h holds every node's).
 #include <cstdint>
 #include <limits>
 #include <optional>

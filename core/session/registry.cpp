@@ -1,4 +1,4 @@
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

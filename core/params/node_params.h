@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/graph/param_table.h"
+#include "core/params/param_table.h"
 #include "core/launch/launch_file.h"
 
 namespace enact::sim {
@@ -22,6 +22,9 @@ class ParamBindings;  // param_binding.h
 
 // the simulator's parameters bound to the fields of sim::SimParams (graph::sim_params reads them)
 const ParamBindings<sim::SimParams>& sim_bindings();
+// the simulator's parameters as given
+class Params;
+sim::SimParams sim_params(const Params& p);
 // the devices', bound to ForceConfig and TactileConfig (device_config.h; make_force_device and
 // make_tactile_device read them)
 struct ForceConfig;

@@ -21,7 +21,7 @@
 #include "core/bus/access.h"
 #include "core/bus/attach.h"
 #include "core/bus/client.h"
-#include "core/graph/registry.h"
+#include "core/session/registry.h"
 #include "core/graph/temp_folder.h"
 #include "core/launch/launch_file.h"
 #include "core/launch/supervisor.h"

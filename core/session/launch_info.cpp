@@ -1,0 +1,63 @@
+#include "core/session/launch_info.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/params/node_params.h"
+#include "core/rt/clock.h"
+
+namespace enact::graph {
+namespace {
+
+const char* media_type(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".yaml" || ext == ".yml") return "application/yaml";
+  if (ext == ".csv") return "text/csv";
+  return "application/octet-stream";
+}
+
+}  // namespace
+
+msgs::GraphInfo launch_info(const std::string& launch_path, const launch::LaunchDescription& graph) {
+  msgs::GraphInfo info;
+  info.set_launch_file(std::filesystem::absolute(launch_path).string());
+  std::ifstream in(launch_path);
+  std::stringstream text;
+  text << in.rdbuf();
+  info.set_launch_text(text.str());
+  info.set_clock(rt::to_string(graph.clock));
+  auto add = [&](const std::string& name, const std::string& value) {
+    auto& p = *info.add_params();
+    p.set_name(name);
+    p.set_value(value);
+    // a parameter naming a file: keep the file (small ones only)
+    std::error_code ec;
+    if (value.empty() || !std::filesystem::is_regular_file(value, ec) || std::filesystem::file_size(value, ec) > (1u << 20)) return;
+    std::ifstream f(value, std::ios::binary);
+    std::stringstream data;
+    data << f.rdbuf();
+    auto& file = *info.add_files();
+    file.set_name(name);
+    file.set_path(std::filesystem::absolute(value).string());
+    file.set_media_type(media_type(value));
+    file.set_data(data.str());
+  };
+  bool ffd = false, sim = false, zeromq = false, colocated = false;
+  for (const auto& n : graph.nodes) {
+    for (const auto& p : n.params) add(n.name + "." + p.name, p.value);
+    for (const auto& c : n.components) {
+      for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
+    }
+    const std::string exe = std::filesystem::path(n.exec).filename().string();
+    if (node_table(exe)) info.add_param_nodes(n.name);
+    colocated = colocated || exe == "enact-rt";
+    ffd = ffd || exe == "enact-ffd";
+    sim = sim || exe == "enact-sim";
+    for (const auto& p : n.params) zeromq = zeromq || (p.name == "loop_transport" && p.value == "zeromq");
+  }
+  info.set_loop_hop(colocated ? "co-located" : ffd && sim ? (zeromq ? "zeromq" : "local") : "");
+  return info;
+}
+
+}  // namespace enact::graph
