@@ -34,7 +34,7 @@ VirtualTrialResult run_virtual_trial(const VirtualTrialParams& params) {
   params.ffd.refuse_unknown();
   params.tactile.refuse_unknown();
 
-  graph::ColocatedLoop loop(simulator, *force, *tactile, &synthetic_clock);
+  graph::ColocatedLoop loop(simulator, *force, tactile.get(), &synthetic_clock);
   const std::int64_t period_ns = std::llround(1e9 / params.rate_hz);
   const std::int64_t ticks = std::llround(params.limit_s * params.rate_hz);
   VirtualTrialResult result;

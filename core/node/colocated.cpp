@@ -5,16 +5,16 @@
 
 namespace enact::graph {
 
-ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock,
+ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock,
                              double reengage_s)
     : sim_(simulator), force_(force), tactile_(tactile), clock_(clock), reengage_(reengage_s) {}
 
 void ColocatedLoop::activate() {
   force_.activate();
-  tactile_.activate();
+  if (tactile_) tactile_->activate();
   sim_.activate(0);
   devices::HandSource* hand = force_.simulated_hand();
-  hand_ = hand && hand->feels_pins() ? hand : nullptr;
+  hand_ = hand && hand->feels_pins() && tactile_ ? hand : nullptr;
   start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
   obs_ = {};
   reengage_.interrupt();  // the force path starts here
@@ -41,11 +41,11 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow
-  if (obs_.step.frame_due) tactile_.write(now_ns, obs_.step.frame);
+  if (tactile_ && obs_.step.frame_due) tactile_->write(now_ns, obs_.step.frame);
   // a virtual subject's fingertip feels what the pins show
   if (hand_) {
-    tactile_.shown(now_ns, shown_, tactile_.rows() * tactile_.cols());
-    hand_->feel_pins(shown_, tactile_.rows(), tactile_.cols());
+    tactile_->shown(now_ns, shown_, tactile_->rows() * tactile_->cols());
+    hand_->feel_pins(shown_, tactile_->rows(), tactile_->cols());
   }
   if (obs_.step.event.kind != task::TaskEventKind::none) obs_.step.event.time_ns += start_ns_;  // on the monotonic clock
   obs_.seq += 1;
@@ -54,7 +54,7 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
 
 void ColocatedLoop::deactivate() noexcept {
   force_.deactivate();
-  tactile_.deactivate();
+  if (tactile_) tactile_->deactivate();
   sim_.deactivate();
 }
 

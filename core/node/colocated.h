@@ -2,7 +2,8 @@
 // The co-located real-time tick: the simulator and both device drivers in one thread, wired
 // by calls: read the device, step the model, write the force, write the pins (down-sampled),
 // all in the same tick: the zero-delay loop. A simulated hand that feels pins (a virtual
-// subject) is given what the tactile device shows at the end of each tick. What happened is
+// subject) is given what the tactile device shows at the end of each tick. The tactile
+// device is optional: without one the model's frames are observed, written nowhere. What happened is
 // returned as a trivially copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
 // blocks and never throws.
 #include <cstdint>
@@ -41,8 +42,9 @@ using AppliedQueue = rt::SpscQueue<sim::ParamApplied, sim::kMaxParamsInFlight>;
 class ColocatedLoop {
  public:
   // reengage_s: after a cut of the force path, how long the simulator's body takes to return
-  // from out of the objects to the device (sim::Reengagement)
-  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice& tactile, Clock clock,
+  // from out of the objects to the device (sim::Reengagement); tactile: nullptr for none (a
+  // simulated hand that feels pins then feels nothing: the container refuses that graph)
+  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock,
                 double reengage_s = sim::kReengageDefault_s);
 
   // activate the devices and the simulator; zero force, pins down. The first tick is the
@@ -68,7 +70,7 @@ class ColocatedLoop {
  private:
   sim::Simulator& sim_;
   devices::ForceDevice& force_;
-  devices::TactileDevice& tactile_;
+  devices::TactileDevice* tactile_;  // nullptr: none
   Clock clock_;
   ParamQueue* changes_ = nullptr;
   AppliedQueue* applied_ = nullptr;

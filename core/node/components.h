@@ -9,7 +9,6 @@
 
 #include "core/devices/device.h"
 #include "core/params/params.h"
-#include "core/sim/simulator.h"
 
 namespace enact::graph {
 

@@ -11,6 +11,7 @@
 
 #include "core/bus/typed.h"
 #include "core/config/yaml.h"
+#include "core/devices/hand.h"
 #include "core/node/colocated.h"
 #include "core/node/components.h"
 #include "core/graph/messages.h"
@@ -45,6 +46,7 @@ std::string plugin_help() {
 
 // the components the container was given (--component NAME:PLUGIN, in order; none: the
 // default sim, ffd and tactile), refused unless they can run: the name of each role's one
+// (tactile_device empty: none)
 struct ComponentNames {
   std::string model, force_device, tactile_device;
 };
@@ -100,10 +102,11 @@ struct Scene {
 
 const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--component=NAME:PLUGIN...] --param NAME=VALUE...
 
-The co-located real-time container: components sim, ffd and tactile (one of each, any names;
-no --component: sim:sim, ffd:ffd and tactile:tactile) in one process and one real-time
-thread, ticking at rate_hz: read the device, step the model, write the force, write the
-pins (down-sampled), in the same tick. A non-real-time thread,
+The co-located real-time container: components sim, ffd and tactile (one of each, any names,
+the tactile display optional; no --component: sim:sim, ffd:ffd and tactile:tactile) in one
+process and one real-time thread, ticking at rate_hz: read the device, step the model, write
+the force, write the pins (down-sampled), in the same tick. Without a tactile component the
+model's frames are published and written nowhere, and tactile/shown is not published. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
 at scene_rate_hz, tactile/shown at shown_rate_hz, node/status at 1 Hz (at $ENACT_GRAPH_DIR/<name>.pub). Parameter changes on
@@ -122,10 +125,10 @@ struct Container::Io : SimTopics {
         shown_pub(out, graph::kTactileShown),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
-        loop(c.simulator_, *c.force_, *c.tactile_, c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
+        loop(c.simulator_, *c.force_, c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
         cuts(c.host_.name(), "force path cut (a late tick or a device error): body re-synchronised, force back from zero"),
-        rows(c.tactile_->rows()),
-        cols(c.tactile_->cols()) {}
+        rows(c.tactile_ ? c.tactile_->rows() : c.simulator_.model().proxies[0].rows),
+        cols(c.tactile_ ? c.tactile_->cols() : c.simulator_.model().proxies[0].cols) {}
   bus::BytePublisher& out;
   bus::Publisher<msgs::DeviceState> state_pub;
   bus::Publisher<msgs::TactileShown> shown_pub;
@@ -150,7 +153,7 @@ struct Container::Io : SimTopics {
   rt::RtReport report;
   // each cut of the force path (a late tick, a device error) said once, counted
   graph::WatchdogLog cuts;
-  const int rows, cols;
+  const int rows, cols;  // the tactile display's (none: the model's body grid)
   // the publisher thread's
   msgs::DeviceState state_msg;
   msgs::ForceCommand force_msg;
@@ -178,7 +181,7 @@ Container::Container(Host& host) : host_(host) {
   tac_name_ = names.tactile_device;
   sim_p_ = p.scoped(sim_name_);
   ffd_p_ = p.scoped(ffd_name_);
-  tac_p_ = p.scoped(tac_name_);
+  if (!tac_name_.empty()) tac_p_ = p.scoped(tac_name_);
   p.refuse_unknown();
   sched_.rate_hz = p.number("rate_hz");
   sched_.validate();
@@ -210,10 +213,15 @@ Container::Container(Host& host) : host_(host) {
   sp.rate_hz = sched_.rate_hz;
   simulator_.configure(sp);
   force_ = graph::make_force_device(ffd_p_);
-  tactile_ = graph::make_tactile_device(tac_p_);
+  if (!tac_name_.empty()) tactile_ = graph::make_tactile_device(tac_p_);
   sim_p_.refuse_unknown();
   ffd_p_.refuse_unknown();
   tac_p_.refuse_unknown();
+  if (!tactile_ && force_->simulated_hand() && force_->simulated_hand()->feels_pins()) {
+    throw config::Error(args.name + ": component '" + ffd_name_ + "' drives the device with a virtual subject, who feels the pins, and there is no tactile display\n"
+                        "  fix: add {name: tactile, plugin: tactile} to the component list, or give '" + ffd_name_ + "' a scripted hand (" + ffd_name_ +
+                        ".hand_path) instead of a virtual subject");
+  }
   scene_rate_hz_ = p.number("scene_rate_hz");
   shown_rate_hz_ = p.number("shown_rate_hz");
   observers_ = p.integer("observers");
@@ -288,7 +296,7 @@ void Container::rt_main() {
       graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
       deliver(io.scenes, scene);
     }
-    if (n % shown_every == 0) {
+    if (tactile_ && n % shown_every == 0) {
       levels.time_ns = tick_ns;
       tactile_->shown(tick_ns, levels.level, io.rows * io.cols);
       deliver(io.shown_queue, levels);
@@ -442,7 +450,7 @@ int Container::run() {
   graph::ParamBoard& board = host_.board();
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
-  board.add(tac_p_, tac_name_, tac_name_ + ".");
+  if (tactile_) board.add(tac_p_, tac_name_, tac_name_ + ".");
   // the parameter port copies the simulator's model, the keyframe is sized: before the
   // real-time thread starts
   io_ = std::make_unique<Io>(*this);

@@ -257,9 +257,9 @@ const ParamTable& tactile_table() { return tactile_bindings().table(); }
 
 const std::vector<ComponentKind>& component_kinds() {
   static const std::vector<ComponentKind> kinds{
-      {"sim", ComponentRole::model, "simulator", &sim_table},
-      {"ffd", ComponentRole::force_device, "force-feedback device", &force_table},
-      {"tactile", ComponentRole::tactile_device, "tactile display", &tactile_table},
+      {"sim", ComponentRole::model, "simulator", &sim_table, true},
+      {"ffd", ComponentRole::force_device, "force-feedback device", &force_table, true},
+      {"tactile", ComponentRole::tactile_device, "tactile display", &tactile_table, false},
   };
   return kinds;
 }
@@ -279,7 +279,8 @@ const ParamTable* component_table(const std::string& plugin) {
 std::optional<ComponentProblem> component_list_problem(const std::vector<std::pair<std::string, std::string>>& components) {
   std::string plugins;
   for (const ComponentKind& k : component_kinds()) plugins += std::string(plugins.empty() ? "" : ", ") + k.plugin + " (" + k.what + ")";
-  const std::string one_each = "enact-rt's one tick reads one force device, steps one model and writes one tactile display: one each of " + plugins;
+  const std::string one_each = "enact-rt's one tick reads one force device, steps one model and, if it has one, writes one tactile display: of " + plugins +
+                               " one each, the tactile display optional";
   std::vector<std::size_t> first(component_kinds().size(), static_cast<std::size_t>(-1));
   for (std::size_t i = 0; i < components.size(); ++i) {
     const auto& [name, plugin] = components[i];
@@ -292,8 +293,8 @@ std::optional<ComponentProblem> component_list_problem(const std::vector<std::pa
     seen = i;
   }
   for (std::size_t k = 0; k < first.size(); ++k) {
-    if (first[k] != static_cast<std::size_t>(-1)) continue;
     const ComponentKind& kind = component_kinds()[k];
+    if (first[k] != static_cast<std::size_t>(-1) || !kind.required) continue;
     return ComponentProblem{static_cast<std::size_t>(-1), std::string("it has no ") + kind.what + " (plugin " + kind.plugin + ")\n  fix: add {name: " + kind.plugin +
                                                               ", plugin: " + kind.plugin + "} to its component list; " + one_each};
   }

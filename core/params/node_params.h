@@ -47,14 +47,15 @@ struct ComponentKind {
   ComponentRole role;
   const char* what;    // for help and refusals
   const ParamTable& (*table)();
+  bool required;       // a container cannot run without one (the tactile display is optional)
 };
 // every kind of component a container (enact-rt) hosts, in the order of its --help
 const std::vector<ComponentKind>& component_kinds();
 const ComponentKind* find_component_kind(const std::string& plugin);
 
-// a container's component list (name, plugin), checked: each plugin known, one component of
-// each role (enact-rt's one tick reads one force device, steps one model, writes one tactile
-// display). The first problem, "what\n  fix: ..." (the plugins there are named), and the
+// a container's component list (name, plugin), checked: each plugin known, at most one
+// component of each role and one of each required role (enact-rt's one tick reads one force
+// device, steps one model and, if it has one, writes one tactile display). The first problem, "what\n  fix: ..." (the plugins there are named), and the
 // entry it is about (npos: the list as a whole); nullopt when the list can run
 struct ComponentProblem {
   std::size_t entry = static_cast<std::size_t>(-1);

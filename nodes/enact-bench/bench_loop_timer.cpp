@@ -32,7 +32,7 @@ struct Colocated {
     force = std::make_unique<devices::SafeForceDevice>(std::make_unique<devices::SimulatedForceDevice>(f));
     force->configure();
     tactile.configure();
-    loop = std::make_unique<graph::ColocatedLoop>(simulator, *force, tactile, &rt::now_ns);
+    loop = std::make_unique<graph::ColocatedLoop>(simulator, *force, &tactile, &rt::now_ns);
     loop->activate();
   }
   ~Colocated() { loop->deactivate(); }

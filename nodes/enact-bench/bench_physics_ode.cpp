@@ -5,7 +5,6 @@
 #include <ode/ode.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <string>
 
 #include "core/physics/state.h"
+#include "core/rt/clock.h"
 
 namespace enact::cli::ode_peer {
 
@@ -246,10 +246,9 @@ Spread spread(std::vector<double> v) {
 // wall-clock ns per step of one pass along the motion
 template <class Step>
 double ns_per_step(const std::vector<Vec3>& motion, Step&& step) {
-  const auto start = std::chrono::steady_clock::now();
+  const std::int64_t start_ns = rt::now_ns();
   for (const Vec3& p : motion) step(p);
-  const std::chrono::duration<double, std::nano> elapsed = std::chrono::steady_clock::now() - start;
-  return elapsed.count() / static_cast<double>(motion.size());
+  return static_cast<double>(rt::now_ns() - start_ns) / static_cast<double>(motion.size());
 }
 
 // |F - F_ref| over a pass: root mean square and largest

@@ -96,7 +96,7 @@ TEST(VirtualTrial, TickWithASubjectAllocatesNothing) {
   simulator.configure(sp);
   auto force = graph::make_force_device(p.ffd);
   auto tactile = graph::make_tactile_device(p.tactile);
-  graph::ColocatedLoop loop(simulator, *force, *tactile, &fake_clock);
+  graph::ColocatedLoop loop(simulator, *force, tactile.get(), &fake_clock);
   loop.activate();
   constexpr std::int64_t kPeriod = 200'000;
   for (std::int64_t n = 0; n < 100; ++n) loop.tick(g_clock_ns = n * kPeriod);

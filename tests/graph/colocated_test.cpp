@@ -46,7 +46,7 @@ struct Rig {
     force = std::make_unique<devices::SafeForceDevice>(std::move(inner), devices::SafetyParams{.reengage_s = 0.0});
     force->configure();
     tactile.configure();
-    loop = std::make_unique<ColocatedLoop>(simulator, *force, tactile, &fake_clock);
+    loop = std::make_unique<ColocatedLoop>(simulator, *force, &tactile, &fake_clock);
     loop->activate();
   }
 
@@ -333,7 +333,7 @@ AroundCut around(Cut cut) {
   force.configure();
   devices::SimulatedTactileDevice tactile;
   tactile.configure();
-  ColocatedLoop loop(simulator, force, tactile, &fake_clock);
+  ColocatedLoop loop(simulator, force, &tactile, &fake_clock);
   loop.activate();
   device.position_m = kPressed;
   AroundCut r;
