@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -25,6 +26,7 @@ std::int64_t fake_clock() { return g_clock_ns; }
 constexpr std::int64_t kPeriod_ns = 200'000;  // 5 kHz
 
 // the bridge with a simulated ERGOS whose hand walks the shipped path, and simulated cells
+// (or no tactile device)
 struct Rig {
   sim::Simulator simulator;
   devices::SimulatedForceDevice* device = nullptr;  // inside the safety layer
@@ -32,7 +34,7 @@ struct Rig {
   devices::SimulatedTactileDevice tactile;
   std::unique_ptr<ColocatedLoop> loop;
 
-  explicit Rig(const std::string& model) {
+  explicit Rig(const std::string& model, bool with_tactile = true) {
     sim::SimParams p;
     p.scene = test::source_path("launch/scenes/bridge.yaml");
     p.model = model;
@@ -46,7 +48,7 @@ struct Rig {
     force = std::make_unique<devices::SafeForceDevice>(std::move(inner), devices::SafetyParams{.reengage_s = 0.0});
     force->configure();
     tactile.configure();
-    loop = std::make_unique<ColocatedLoop>(simulator, *force, &tactile, &fake_clock);
+    loop = std::make_unique<ColocatedLoop>(simulator, *force, with_tactile ? &tactile : nullptr, &fake_clock);
     loop->activate();
   }
 
@@ -92,6 +94,32 @@ TEST(Colocated, PinsFollowTheComputerModelAtTheFrameRate) {
   }
   // one frame per 24 ms (120 ticks at 5 kHz), the first at tick 0
   EXPECT_EQ(frames, (10'000 + 119) / 120);
+}
+
+// the tactile device is optional: without one every tick's force and frame are the same
+// (the scripted hand feels no pins), the frames are written nowhere, and nothing allocates
+TEST(Colocated, WithoutATactileDeviceEveryTickIsTheSame) {
+  Rig with("CM1"), without("CM1", false);
+  int frames = 0, raised = 0;
+  std::size_t allocations = 0;
+  for (std::int64_t n = 0; n < 10'000; ++n) {
+    const Observation& a = with.tick(n);
+    std::optional<test::AllocGuard> guard;
+    if (n >= 100) guard.emplace();  // past first-use set-up
+    const Observation& b = without.tick(n);
+    if (guard) allocations += guard->allocations();
+    guard.reset();
+    ASSERT_EQ(a.step.force_n, b.step.force_n) << "tick " << n;
+    ASSERT_EQ(a.step.frame_due, b.step.frame_due) << "tick " << n;
+    if (!b.step.frame_due) continue;
+    ++frames;
+    raised += b.step.frame != 0;
+    EXPECT_EQ(b.step.frame, a.step.frame) << "tick " << n;
+    EXPECT_EQ(with.tactile.targets(), a.step.frame) << "the display was given the frame, tick " << n;
+    EXPECT_EQ(without.tactile.targets(), 0u) << "the rig's cells, not given to the loop, are never written, tick " << n;
+  }
+  EXPECT_GT(raised, 10) << "frames with pins up: the last check is not vacuous (of " << frames << " frames)";
+  EXPECT_EQ(allocations, 0u);
 }
 
 TEST(Colocated, TickAllocatesNothing) {
