@@ -228,7 +228,8 @@ void AttachPoint::forward_data() {
     std::size_t n = 0;
     for (bool more = true; more; ++n) {
       if (n == frames_.size()) frames_.emplace_back();
-      if (!xsub_.recv(frames_[n], n == 0 ? zmq::recv_flags::dontwait : zmq::recv_flags::none)) return;
+      if (n == 0 && recv_frame(xsub_, frames_[0], zmq::recv_flags::dontwait) != Received::frame) return;
+      if (n > 0) recv_more(xsub_, frames_[n]);
       more = frames_[n].more();
     }
     std::vector<std::string>* keep = nullptr;
@@ -251,7 +252,8 @@ bool AttachPoint::forward_from_observers() {
   // someone (re)subscribed to graph/topics
   bool wants_graph = false;
   zmq::message_t notice;
-  while (xpub_.recv(notice, zmq::recv_flags::dontwait)) {
+  for (Received got; (got = recv_frame(xpub_, notice, zmq::recv_flags::dontwait)) != Received::none;) {
+    if (got == Received::interrupted) continue;
     if (notice.more()) {
       relay_inbound(notice);
       continue;
@@ -272,7 +274,7 @@ void AttachPoint::relay_inbound(zmq::message_t& first) {
   frames.push_back(std::move(first));
   while (frames.back().more()) {
     frames.emplace_back();
-    (void)xpub_.recv(frames.back());
+    recv_more(xpub_, frames.back());
   }
   // a bus message (topic, type, payload) on an inbound topic, else dropped
   if (frames.size() != 3) return;

@@ -91,7 +91,8 @@ bool BytePublisher::send(std::string_view topic, std::string_view type, const vo
 void BytePublisher::read_subscriptions() {
   // the XPUB socket reports each subscriber's subscriptions (verboser)
   zmq::message_t notice;
-  while (socket_.recv(notice, zmq::recv_flags::dontwait)) {
+  for (Received got; (got = recv_frame(socket_, notice, zmq::recv_flags::dontwait)) != Received::none;) {
+    if (got == Received::interrupted) continue;
     const std::string_view n = notice.to_string_view();
     if (n.empty()) continue;
     const std::string_view prefix = n.substr(1);
@@ -149,7 +150,8 @@ void ByteSubscriber::set_conflate(bool conflate) {
 
 ByteSubscriber::Read ByteSubscriber::read_one(RawMessage& out, int timeout_ms) {
   // wait for the first frame; a whole multipart message arrives at once
-  if (!socket_.recv(out.topic_frame, zmq::recv_flags::dontwait)) {
+  Received got = recv_frame(socket_, out.topic_frame, zmq::recv_flags::dontwait);
+  if (got == Received::none) {
     if (timeout_ms == 0) return Read::none;
     zmq::pollitem_t item{socket_.handle(), 0, ZMQ_POLLIN, 0};
     try {
@@ -158,15 +160,21 @@ ByteSubscriber::Read ByteSubscriber::read_one(RawMessage& out, int timeout_ms) {
       if (e.num() == EINTR) return Read::interrupted;
       throw;
     }
-    if (!socket_.recv(out.topic_frame, zmq::recv_flags::dontwait)) return Read::skipped;
+    got = recv_frame(socket_, out.topic_frame, zmq::recv_flags::dontwait);
+    if (got == Received::none) return Read::skipped;
   }
-  // read every frame, keeping the first three
+  if (got == Received::interrupted) {
+    ++interruptions_;
+    return Read::interrupted;
+  }
+  // read every frame, keeping the first three: a multipart message is delivered whole, so
+  // its other frames are there (a signal only delays them)
   int frames = 1;
   bool more = out.topic_frame.more();
   zmq::message_t* const slots[] = {&out.type_frame, &out.payload_frame};
   for (; more; ++frames) {
     zmq::message_t& frame = frames < kFrames ? *slots[frames - 1] : extra_;
-    (void)socket_.recv(frame, zmq::recv_flags::none);
+    while (recv_frame(socket_, frame, zmq::recv_flags::none) == Received::interrupted) ++interruptions_;
     more = frame.more();
   }
   // exact topic, then shape

@@ -178,6 +178,10 @@ class ByteSubscriber {
   // for the typed layer: a jump in header.seq on `topic`, `lost` messages missing
   void count_gap(std::string_view topic, std::uint64_t lost) noexcept;
 
+  // receives a signal interrupted (libzmq's EINTR: the receive returns nothing yet, or is
+  // retried inside a multipart message): never an error, no message lost
+  std::uint64_t interruptions() const { return interruptions_; }
+
   // the ZMQ_SUB socket, for zmq::poll over several sockets
   zmq::socket_t& socket() { return socket_; }
 
@@ -191,6 +195,7 @@ class ByteSubscriber {
   std::set<std::string, std::less<>> subscribed_;
   RawMessage newer_;        // conflation: the message read after the one kept
   zmq::message_t extra_;    // frames past the third of a malformed message
+  std::uint64_t interruptions_ = 0;
 };
 
 }  // namespace enact::bus

@@ -92,8 +92,10 @@ void attach_connect(zmq::socket_t& socket, const std::string& endpoint, const Cl
     events.set(zmq::sockopt::rcvtimeo, static_cast<int>(left));
     // an event: [uint16 event, uint32 value] then the endpoint
     zmq::message_t head, address;
-    if (!events.recv(head) || head.size() < 6 || !head.more()) break;
-    (void)events.recv(address);
+    const Received got = recv_frame(events, head, zmq::recv_flags::none);
+    if (got == Received::interrupted) continue;
+    if (got == Received::none || head.size() < 6 || !head.more()) break;
+    recv_more(events, address);
     std::uint16_t event = 0;
     std::uint32_t value = 0;
     std::memcpy(&event, head.data(), 2);

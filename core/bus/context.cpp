@@ -1,5 +1,7 @@
 #include "core/bus/context.h"
 
+#include <cerrno>
+
 #include <sched.h>
 
 #include <atomic>
@@ -51,11 +53,28 @@ void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> 
   }
 }
 
+Received recv_frame(zmq::socket_t& socket, zmq::message_t& frame, zmq::recv_flags flags) {
+  try {
+    return socket.recv(frame, flags) ? Received::frame : Received::none;
+  } catch (const zmq::error_t& e) {
+    if (e.num() != EINTR) throw;
+    return Received::interrupted;
+  }
+}
+
+void recv_more(zmq::socket_t& socket, zmq::message_t& frame) {
+  while (recv_frame(socket, frame, zmq::recv_flags::none) == Received::interrupted) {
+  }
+}
+
 std::vector<std::string> receive_frames(zmq::socket_t& socket) {
   std::vector<std::string> frames;
   zmq::message_t frame;
   do {
-    if (!socket.recv(frame)) break;
+    Received got = Received::interrupted;
+    while ((got = recv_frame(socket, frame, zmq::recv_flags::none)) == Received::interrupted) {
+    }
+    if (got == Received::none) break;
     frames.push_back(frame.to_string());
   } while (frame.more());
   return frames;

@@ -34,6 +34,18 @@ zmq::context_t& context();
 // (closing never waits)
 zmq::socket_t make_socket(zmq::socket_type type);
 
+// one frame into `frame`; with dontwait `none` when nothing is waiting (a blocking receive
+// with a timeout: `none` at the timeout). libzmq returns a signal's EINTR (Ctrl-C, a stop
+// handler's SIGTERM, a child's SIGCHLD) from any receive while it checks its commands, even
+// one that does not wait, even inside a multipart message: that is `interrupted`, never an
+// error; the message is still there (a busy `enact record` died of it, "Interrupted system
+// call", its file without its summary)
+enum class Received { frame, none, interrupted };
+Received recv_frame(zmq::socket_t& socket, zmq::message_t& frame, zmq::recv_flags flags);
+// the next frame of a multipart message begun (it arrives whole, so it is there): retried
+// through signals
+void recv_more(zmq::socket_t& socket, zmq::message_t& frame);
+
 // sends every frame of a message (blocking), the last without sndmore: for command and
 // control sockets, not the data path
 void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames);

@@ -28,11 +28,11 @@ DisconnectWatch::~DisconnectWatch() { zmq_socket_monitor(socket_.handle(), nullp
 bool DisconnectWatch::disconnected() {
   // each report: a frame with the event (16 bits) and its value (32 bits), then the endpoint
   zmq::message_t frame;
-  while (reports_.recv(frame, zmq::recv_flags::dontwait)) {
+  for (Received got; (got = recv_frame(reports_, frame, zmq::recv_flags::dontwait)) != Received::none;) {
+    if (got == Received::interrupted) continue;
     std::uint16_t event = 0;
     if (frame.size() >= sizeof event) std::memcpy(&event, frame.data(), sizeof event);
-    while (frame.more() && reports_.recv(frame, zmq::recv_flags::dontwait)) {
-    }
+    while (frame.more()) recv_more(reports_, frame);
     disconnected_ = disconnected_ || event == ZMQ_EVENT_DISCONNECTED;
   }
   return disconnected_;

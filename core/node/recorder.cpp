@@ -47,7 +47,12 @@ int Logger::run() {
   graph::report_ready();
   const std::string& name = host_.name();
   graph::say(name, "recording " + std::string(options_.topics.empty() ? "every topic" : host_.params().text("topics")) + " to " + options_.output);
-  logger.run([] { return graph::stop_requested(); });
+  try {
+    logger.run([] { return graph::stop_requested(); });
+  } catch (...) {
+    logger.close();  // whatever stopped it, what was recorded is closed whole
+    throw;
+  }
   logger.close();
   graph::say(name, "closed " + logger.files().back() + "\n" + graph::format(logger.report()));
   if (!logger.write_failure().empty()) graph::say(name, graph::format_write_failure(logger));
