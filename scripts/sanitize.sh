@@ -23,7 +23,7 @@ if [[ ! -f "$build/build.ninja" ]]; then
   debug_info=-gline-tables-only
   [[ "$compiler" == *clang* ]] || debug_info=-g1
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER="$compiler" \
-    -DCMAKE_CXX_FLAGS_DEBUG="-O0 $debug_info" -DENACT_SANITIZE=address,undefined -DENACT_VIEWER=OFF >/dev/null
+    -DCMAKE_CXX_FLAGS_DEBUG="-O0 $debug_info" -DENACT_SANITIZE=address,undefined -DENACT_VIEWER=OFF -DENACT_UNITY="${ENACT_UNITY:-ON}" >/dev/null
 fi
 cmake --build "$build" --parallel "$(nproc)" --target "${targets[@]}"
 [[ "${1:-}" == --build-only ]] && exit 0

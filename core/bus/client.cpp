@@ -47,12 +47,6 @@ std::string explain(int event, int value, const std::string& endpoint, bool keye
   }
 }
 
-// a fresh inproc name for a socket monitor
-std::string monitor_endpoint() {
-  static std::atomic<unsigned> next = 0;
-  return "inproc://enact.bus.client.monitor." + std::to_string(next++);
-}
-
 }  // namespace
 
 ClientKeys client_keys(const std::string& key_file, const std::string& server_key_file) {

@@ -53,6 +53,11 @@ void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> 
   }
 }
 
+std::string monitor_endpoint() {
+  static std::atomic<unsigned> next = 0;
+  return "inproc://enact.bus.monitor." + std::to_string(next++);
+}
+
 Received recv_frame(zmq::socket_t& socket, zmq::message_t& frame, zmq::recv_flags flags) {
   try {
     return socket.recv(frame, flags) ? Received::frame : Received::none;

@@ -46,6 +46,9 @@ Received recv_frame(zmq::socket_t& socket, zmq::message_t& frame, zmq::recv_flag
 // through signals
 void recv_more(zmq::socket_t& socket, zmq::message_t& frame);
 
+// a fresh inproc endpoint for a socket monitor's reports (zmq_socket_monitor)
+std::string monitor_endpoint();
+
 // sends every frame of a message (blocking), the last without sndmore: for command and
 // control sockets, not the data path
 void send_frames(zmq::socket_t& socket, std::initializer_list<std::string_view> frames);

@@ -7,16 +7,6 @@
 #include "core/bus/context.h"
 
 namespace enact::bus {
-namespace {
-
-// a fresh inproc name for each watch's reports
-std::string monitor_endpoint() {
-  static std::atomic<unsigned> next = 0;
-  return "inproc://enact.bus.monitor." + std::to_string(next++);
-}
-
-}  // namespace
-
 DisconnectWatch::DisconnectWatch(zmq::socket_t& socket) : socket_(socket), reports_(make_socket(zmq::socket_type::pair)) {
   const std::string endpoint = monitor_endpoint();
   if (zmq_socket_monitor(socket_.handle(), endpoint.c_str(), ZMQ_EVENT_DISCONNECTED) != 0) throw zmq::error_t();

@@ -11,7 +11,7 @@
 namespace enact::devices {
 namespace {
 
-constexpr const char* kDevice = "force device safety";
+constexpr const char* kSafety = "force device safety";
 
 // the slew limit's interval: a longer silence allows no larger step than this
 constexpr std::int64_t kStepInterval_ns = 1'000'000;
@@ -26,23 +26,23 @@ SafeForceDevice::SafeForceDevice(std::unique_ptr<ForceDevice> inner, SafetyParam
 void SafeForceDevice::configure() {
   // the params, then the inner device
   if (!std::isfinite(params_.watchdog_s) || params_.watchdog_s <= 0.0) {
-    refuse(kDevice, "watchdog_s is " + config::number(params_.watchdog_s), "set watchdog_s to a few loop periods (> 0 s; default 0.010)");
+    refuse(kSafety, "watchdog_s is " + config::number(params_.watchdog_s), "set watchdog_s to a few loop periods (> 0 s; default 0.010)");
   }
   if (!std::isfinite(params_.ramp_s) || params_.ramp_s < 0.0) {
-    refuse(kDevice, "ramp_s is " + config::number(params_.ramp_s), "set ramp_s >= 0 s (default 0.005; 0: cut at once)");
+    refuse(kSafety, "ramp_s is " + config::number(params_.ramp_s), "set ramp_s >= 0 s (default 0.005; 0: cut at once)");
   }
   if (!std::isfinite(params_.reengage_s) || params_.reengage_s < 0.0) {
-    refuse(kDevice, "reengage_s is " + config::number(params_.reengage_s), "set reengage_s >= 0 s (default 0.100; 0: no ramp back)");
+    refuse(kSafety, "reengage_s is " + config::number(params_.reengage_s), "set reengage_s >= 0 s (default 0.100; 0: no ramp back)");
   }
   watchdog_ns_ = std::llround(params_.watchdog_s * 1e9);
   ramp_ns_ = std::llround(params_.ramp_s * 1e9);
   reengage_ns_ = std::llround(params_.reengage_s * 1e9);
   inner_->configure();
   if (!(profile().peak_force_n > 0.0)) {
-    refuse(kDevice, "the device profile '" + profile().name + "' has no peak force", "give the profile a peak_force_n > 0");
+    refuse(kSafety, "the device profile '" + profile().name + "' has no peak force", "give the profile a peak_force_n > 0");
   }
   if (!(profile().max_force_step_n_per_ms > 0.0)) {
-    refuse(kDevice, "the device profile '" + profile().name + "' has no force step limit",
+    refuse(kSafety, "the device profile '" + profile().name + "' has no force step limit",
            "give the profile a max_force_step_n_per_ms > 0");
   }
   step_n_per_ns_ = profile().max_force_step_n_per_ms / static_cast<double>(kStepInterval_ns);

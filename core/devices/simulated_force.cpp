@@ -22,7 +22,7 @@ namespace {
 
 using math::Vec3;
 
-constexpr const char* kDevice = "simulated force device";
+constexpr const char* kSimulatedForce = "simulated force device";
 
 // accuracy bounds on a substep: omega dt for the stiffest spring, c dt / m for all damping
 // (semi-implicit Euler is stable up to omega dt = 2)
@@ -38,7 +38,7 @@ std::string joined(const std::vector<std::string>& names) {
 // finite and >= 0 (> 0 unless zero_ok)
 void check_positive(const char* what, double value, bool zero_ok) {
   if (std::isfinite(value) && (value > 0.0 || (zero_ok && value == 0.0))) return;
-  refuse(kDevice, std::string(what) + " is " + config::number(value),
+  refuse(kSimulatedForce, std::string(what) + " is " + config::number(value),
          std::string("set ") + what + (zero_ok ? " to a finite number >= 0" : " to a finite number > 0"));
 }
 
@@ -73,17 +73,17 @@ void SimulatedForceDevice::configure() {
   const auto found = devices::find_device_profile(p.profile);
   if (!found) {
     const std::string names = joined(devices::device_profile_names());
-    refuse(kDevice, "unknown profile '" + p.profile + "' (profiles: " + names + ")", "set profile to one of: " + names);
+    refuse(kSimulatedForce, "unknown profile '" + p.profile + "' (profiles: " + names + ")", "set profile to one of: " + names);
   }
   profile_ = *found;
-  if (!(profile_.moving_mass_kg > 0.0)) refuse(kDevice, "profile '" + p.profile + "' has no moving mass", "give the profile a moving_mass_kg > 0");
+  if (!(profile_.moving_mass_kg > 0.0)) refuse(kSimulatedForce, "profile '" + p.profile + "' has no moving mass", "give the profile a moving_mass_kg > 0");
   // the params
   check_positive("hand_stiffness_n_per_m", p.hand_stiffness_n_per_m, true);
   check_positive("hand_damping_n_s_per_m", p.hand_damping_n_s_per_m, true);
   check_positive("stop_stiffness_n_per_m", p.stop_stiffness_n_per_m, false);
   check_positive("substep_s", p.substep_s, false);
   if (!math::finite(p.start_m) || !inside(p.start_m, profile_.workspace_min_m, profile_.workspace_max_m)) {
-    refuse(kDevice, "start_m " + text(p.start_m) + " is outside the " + p.profile + " workspace",
+    refuse(kSimulatedForce, "start_m " + text(p.start_m) + " is outside the " + p.profile + " workspace",
            "set start_m inside " + text(profile_.workspace_min_m) + " .. " + text(profile_.workspace_max_m));
   }
   // the substep: accurate for the stiffest spring and for all damping together
@@ -93,12 +93,12 @@ void SimulatedForceDevice::configure() {
   const double damping = stop_damping_n_s_per_m_ + p.hand_damping_n_s_per_m + profile_.damping_n_s_per_m;
   max_substep_s_ = std::min(kMaxOmegaDt / omega, kMaxDampingDt * m / damping);
   if (p.substep_s > max_substep_s_ || p.substep_s < 1e-9) {
-    refuse(kDevice, "substep_s " + config::number(p.substep_s) + " is too long for the stop and hand stiffness and damping",
+    refuse(kSimulatedForce, "substep_s " + config::number(p.substep_s) + " is too long for the stop and hand stiffness and damping",
            "set substep_s from 1e-9 to " + config::number(max_substep_s_) + " s, or soften the stop or the hand");
   }
   substep_ns_ = std::max<std::int64_t>(1, std::llround(p.substep_s * 1e9));
   // the hand: a path or a virtual subject (throws config::Error with file:line)
-  if (!p.hand_path.empty() && !p.subject.empty()) refuse(kDevice, "both hand_path and subject are given", "give hand_path (a scripted hand) or subject (a virtual subject), not both");
+  if (!p.hand_path.empty() && !p.subject.empty()) refuse(kSimulatedForce, "both hand_path and subject are given", "give hand_path (a scripted hand) or subject (a virtual subject), not both");
   if (p.subject.empty()) hand_ = std::make_unique<ScriptedHand>(p.hand_path.empty() ? task::Trajectory{} : task::load_trajectory(p.hand_path));
   else hand_ = std::make_unique<VirtualSubject>(load_subject(p.subject), p.subject_seed, p.noise_seed);
   x_m_ = p.start_m;
@@ -108,7 +108,7 @@ void SimulatedForceDevice::configure() {
 }
 
 void SimulatedForceDevice::activate() {
-  if (!configured_) refuse(kDevice, "activate before configure", "call configure() first");
+  if (!configured_) refuse(kSimulatedForce, "activate before configure", "call configure() first");
   x_m_ = params_.start_m;
   command_faults_ = 0;
   started_ = false;

@@ -10,7 +10,7 @@
 namespace enact::devices {
 namespace {
 
-constexpr const char* kDevice = "simulated tactile device";
+constexpr const char* kSimulatedTactile = "simulated tactile device";
 constexpr int kMaxPins = 32;
 
 }  // namespace
@@ -37,11 +37,11 @@ void SimulatedTactileDevice::configure() {
   const SimulatedTactileParams& p = params_;
   // the pin grid fits a 32-bit pin word
   if (p.rows < 1 || p.cols < 1 || p.rows > kMaxPins || p.cols > kMaxPins || p.rows * p.cols > kMaxPins) {
-    refuse(kDevice, std::to_string(p.rows) + " x " + std::to_string(p.cols) + " pins is not 1 to 32 pins",
+    refuse(kSimulatedTactile, std::to_string(p.rows) + " x " + std::to_string(p.cols) + " pins is not 1 to 32 pins",
            "set rows and cols >= 1 with rows * cols <= 32");
   }
   if (!std::isfinite(p.rise_time_s) || p.rise_time_s <= 0.0) {
-    refuse(kDevice, "rise_time_s is " + config::number(p.rise_time_s), "set rise_time_s to the cells' full-stroke time (> 0 s; Metec: 0.024)");
+    refuse(kSimulatedTactile, "rise_time_s is " + config::number(p.rise_time_s), "set rise_time_s to the cells' full-stroke time (> 0 s; Metec: 0.024)");
   }
   const int count = p.rows * p.cols;
   mask_ = count == kMaxPins ? ~0u : (1u << count) - 1u;
@@ -53,7 +53,7 @@ void SimulatedTactileDevice::configure() {
 }
 
 void SimulatedTactileDevice::activate() {
-  if (!configured_) refuse(kDevice, "activate before configure", "call configure() first");
+  if (!configured_) refuse(kSimulatedTactile, "activate before configure", "call configure() first");
   active_ = true;
 }
 

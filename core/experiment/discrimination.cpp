@@ -10,6 +10,7 @@
 #include "core/config/format.h"
 #include "core/config/yaml.h"
 #include "core/experiment/discrimination_graph.h"
+#include "core/experiment/trial_graph.h"
 #include "core/experiment/plan_file.h"
 #include "core/experiment/results.h"
 #include "core/math/random.h"
@@ -383,8 +384,6 @@ Presentation present(const DiscriminationSpec& spec, const DiscriminationBlock& 
   return p;
 }
 
-// consecutive failed trials after which the run stops
-constexpr int kMaxFailures = 3;
 
 }  // namespace
 

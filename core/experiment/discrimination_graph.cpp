@@ -25,8 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// in real time, a graph still up this long after its limit is stopped by the runner
-constexpr double kDrain_s = 1.0;
 // while the subject is asked, their answer is polled this often
 constexpr std::int64_t kPollEvery_ns = 20'000'000;
 // the simulator's name in the trial graphs (trial_rt.yaml's component, trial.yaml's node)

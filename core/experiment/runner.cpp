@@ -24,15 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// the clock master stops itself at the limit; the runner stops the rest of the graph this
-// long after, once the logger has received the last messages in flight
-constexpr double kDrain_s = 1.0;
+// (kDrain_s: trial_graph.h)
 constexpr std::int64_t kDrainNs = static_cast<std::int64_t>(kDrain_s * 1e9);
 // a trial that reached its limit but for this long is taken as stopped by it: a loaded
 // machine can stall the loop for tens of ms, and the clock master skips the ticks it missed
 constexpr double kLimitSlack_s = 0.5;
-// consecutive failed trials after which the run stops
-constexpr int kMaxFailures = 3;
 
 // the launch arguments of a trial's graph
 std::map<std::string, std::string> trial_arguments(const ExperimentSpec& spec, const Trial& trial, const std::string& recording) {

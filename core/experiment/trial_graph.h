@@ -20,6 +20,11 @@ namespace enact::experiment {
 // the runner's own node name on the bus (it publishes task/event: trial start, condition,
 // resets, a discrimination trial's intervals and answer)
 inline constexpr const char* kRunnerNode = "experiment";
+// in real time the clock master stops itself at a trial's limit (or after the answer); the
+// runner stops the rest of the graph this long after, once the logger has the last messages
+inline constexpr double kDrain_s = 1.0;
+// consecutive failed trials after which a run stops
+inline constexpr int kMaxFailures = 3;
 
 // seconds from `since_ns` (an earlier rt::now_ns(), the one clock) until now
 inline double seconds_since(std::int64_t since_ns) { return static_cast<double>(rt::now_ns() - since_ns) * 1e-9; }

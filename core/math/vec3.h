@@ -2,6 +2,7 @@
 // Small fixed-size vector and rotation types shared by the physics engine
 // and the devices (header only, no heap).
 #include <cmath>
+#include <limits>
 
 namespace enact::math {
 
@@ -23,6 +24,10 @@ struct Vec3 {
 
 constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// x, y or z (axis 0, 1, 2)
+constexpr double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 inline bool finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 // rotation matrix stored by columns: the rotated frame's axes in world coordinates

@@ -15,14 +15,13 @@ constexpr double kOppositeCos = -0.5;
 constexpr double kParallelCos = 0.999;
 // the near-box cache of a contact holds while the point stays this close to where it was made
 constexpr double kNearMargin_m = 0.002;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+using math::kInfinity;
 // a parallel face of another box this close to the pushing face's depth (in hold distance) is a
 // tie, checked each step, rather than a bound on the hold (coplanar tops of a union: 0)
 constexpr double kTieBand_m = 1e-5;
 // taken off every hold distance: far above the rounding of depths at workspace scale (m)
 constexpr double kHoldTolerance_m = 1e-10;
 
-double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 double sign_of(int face) { return face % 2 == 0 ? 1.0 : -1.0; }
 Vec3 face_normal(const Box& box, int face) { return box.rotation.column(face / 2) * sign_of(face); }
 

@@ -11,7 +11,7 @@
 namespace enact::physics {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+using math::kInfinity;
 // a leaf of the hierarchy holds at most this many triangles
 constexpr int kLeafSize = 4;
 // the deepest the hierarchy can be: a median split halves the triangles at each level
@@ -23,7 +23,6 @@ Vec3 unit(const Vec3& v) {
   const double n = norm(v);
   return {v.x / n, v.y / n, v.z / n};
 }
-double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 Vec3 lower(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 Vec3 upper(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
 

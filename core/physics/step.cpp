@@ -10,7 +10,7 @@ namespace {
 
 // below this distance (m) a link with a rest length has no defined direction
 constexpr double kMinDirection_m = 1e-12;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+using math::kInfinity;
 // added to a pair group's sphere: far above the rounding of a body point's position (m)
 constexpr double kCullMargin_m = 1e-6;
 // friction: a sliding point keeps sliding while its spring's pull grows by more than this

@@ -56,13 +56,6 @@ Spread quietest_round(int n, Measure measure) {
   return best;
 }
 
-std::string first_line(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  return line;
-}
-
 // runs `body` on a thread of its own and waits for it
 template <class Body>
 void on_thread(Body body) {
@@ -349,6 +342,13 @@ std::string describe(const MachineProbe& p) {
       << "; CPU latency request " << (p.cpu_latency_held ? "held while measuring" : "refused") << "\n";
   out << "  " << spin_floor_text(p) << "\n";
   return out.str();
+}
+
+std::string first_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
 }
 
 }  // namespace enact::rt

@@ -112,4 +112,7 @@ std::string spin_floor_text(const MachineProbe& probe);
 // a few lines for people: every figure with its unit
 std::string describe(const MachineProbe& probe);
 
+// the first line of a file (a /proc or /sys setting), "" when unreadable
+std::string first_line(const std::string& path);
+
 }  // namespace enact::rt

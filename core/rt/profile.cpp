@@ -18,7 +18,8 @@ namespace {
 
 constexpr const char* kLatencyDevice = "/dev/cpu_dma_latency";
 
-std::string refused(const std::string& what, int err, const std::string& fix) {
+// (the loop goes on without it)
+std::string refused_going_on(const std::string& what, int err, const std::string& fix) {
   return what + " refused (" + std::strerror(err) + "); fix: " + fix + "; running without it";
 }
 
@@ -167,7 +168,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
       notes_.push_back("loop (" + joined(profile_.loop, ", ") + ") on CPU " + cpu_list(loop_cpus_) + ", the launcher, the other nodes" +
                        (profile_.io_with_loop ? "" : " and the loop's ZeroMQ I/O threads") + " on CPU " + cpu_list(other_cpus_));
     } else {
-      notes_.push_back(refused("pinning to CPU " + cpu_list(other_cpus_), err, "allow this process every CPU of its cpuset (taskset -p, container cpuset)"));
+      notes_.push_back(refused_going_on("pinning to CPU " + cpu_list(other_cpus_), err, "allow this process every CPU of its cpuset (taskset -p, container cpuset)"));
       loop_cpus_.clear();
       other_cpus_.clear();
     }
@@ -180,7 +181,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     if (err == 0) notes_.push_back("CPU latency request 0 us held (" + std::string(kLatencyDevice) + ")");
     else {
       latency_fd_ = -1;
-      notes_.push_back(refused("CPU latency request (" + std::string(kLatencyDevice) + ")", err,
+      notes_.push_back(refused_going_on("CPU latency request (" + std::string(kLatencyDevice) + ")", err,
                                "run as root, or let your user write it (scripts/udev/99-enact-cpu-latency.rules)"));
     }
   }
@@ -193,7 +194,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
       const std::string io = profile_.io_with_loop ? "I/O threads " + std::to_string(profile_.fifo_priority) + ", " : "";
       notes_.push_back("SCHED_FIFO: " + io + joined(profile_.loop, " then ") + " from " + std::to_string(profile_.fifo_priority - 1) + " down");
     } else {
-      notes_.push_back(refused("SCHED_FIFO " + std::to_string(profile_.fifo_priority), err,
+      notes_.push_back(refused_going_on("SCHED_FIFO " + std::to_string(profile_.fifo_priority), err,
                                "run as root or grant CAP_SYS_NICE / rtprio in /etc/security/limits.conf"));
     }
   } else {
@@ -242,7 +243,7 @@ NodeProfileReport apply_node_profile(const NodeProfile& profile, const ProfileSy
       r.io_cpus = profile.io_cpus.empty() ? profile.cpus : profile.io_cpus;
       r.notes.push_back("pinned to CPU " + cpu_list(profile.cpus) + ", its ZeroMQ I/O threads to CPU " + cpu_list(r.io_cpus));
     } else {
-      r.notes.push_back(refused("pinning to CPU " + cpu_list(profile.cpus), err, "see the launcher's real-time profile"));
+      r.notes.push_back(refused_going_on("pinning to CPU " + cpu_list(profile.cpus), err, "see the launcher's real-time profile"));
     }
   }
   if (profile.fifo_priority > 0) {
@@ -253,7 +254,7 @@ NodeProfileReport apply_node_profile(const NodeProfile& profile, const ProfileSy
       r.notes.push_back("SCHED_FIFO " + std::to_string(profile.fifo_priority) + ", I/O threads " +
                         (profile.io_fifo_priority > 0 ? std::to_string(profile.io_fifo_priority) : std::string("normal")));
     } else {
-      r.notes.push_back(refused("SCHED_FIFO " + std::to_string(profile.fifo_priority), err, "see the launcher's real-time profile"));
+      r.notes.push_back(refused_going_on("SCHED_FIFO " + std::to_string(profile.fifo_priority), err, "see the launcher's real-time profile"));
     }
   }
   return r;

@@ -17,14 +17,6 @@
 namespace enact::rt {
 namespace {
 
-// the first line of a file, "" when unreadable
-std::string first_line(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  return line;
-}
-
 bool on_path(const std::string& program) { return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0; }
 
 Check memlock() {

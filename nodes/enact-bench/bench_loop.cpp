@@ -20,7 +20,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact bench loop [--json FILE] [--seconds S] [--jitter-ticks N] [--scene PATH]
+constexpr const char* kBenchLoopHelp = R"(usage: enact bench loop [--json FILE] [--seconds S] [--jitter-ticks N] [--scene PATH]
                         [--fifo PRIORITY] [--no-profile]
 
 The real-time loop against the machine's floor; the arms of each comparison alternate in
@@ -54,7 +54,7 @@ process, started by the bench itself.)
 int bench_loop(int argc, char** argv) {
   const Args a = parse(argc, argv, 3, {"json", "seconds", "jitter-ticks", "scene", "fifo", "peer", "peer-of", "peer-link", "peer-pipes"}, {"no-profile"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kBenchLoopHelp, stdout);
     return 0;
   }
   const std::string scene = find_file(a.get("scene", "launch/scenes/bridge.yaml"));

@@ -47,7 +47,7 @@ using mesh_rows::kMeshCells;
 using mesh_rows::mesh_name;
 using mesh_rows::on_field;
 
-constexpr const char* kHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
+constexpr const char* kBenchPhysicsHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
 
 Speed against error of the three integrators (cordis, symplectic_euler, implicit_euler)
 at 1, 2, 5, 10, 20 and 44 kHz (analytic cases and the bridge scene itself), the cost of
@@ -332,7 +332,7 @@ int bench(int argc, char** argv) {
   if (argc > 2 && std::string(argv[2]) == "record") return bench_record(argc, argv);
   const Args a = parse(argc, argv, 2, {"json", "scene"}, {"quick"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kBenchPhysicsHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1 || a.positional[0] != "physics") {

@@ -28,7 +28,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact bench record [--json FILE] [--messages N] [--dir DIR]
+constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FILE] [--messages N] [--dir DIR]
 
 1. Writer throughput, side by side in one run: N messages of 100 bytes written as MCAP with
    zstd, lz4 and no compression, and the same payload bytes written raw to a file (the
@@ -158,7 +158,7 @@ LoggerRun run_logger(const std::string& dir, double rate, double seconds, int in
 int bench_record(int argc, char** argv) {
   const Args a = parse(argc, argv, 3, {"json", "messages", "dir"}, {});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kBenchRecordHelp, stdout);
     return 0;
   }
   const auto n = static_cast<std::uint64_t>(a.number("messages", 2e6));

@@ -19,7 +19,7 @@ namespace {
 
 namespace reference = physics::reference;
 
-constexpr const char* kHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json] [--rate-sweep]
+constexpr const char* kCheckHelp = R"(usage: enact check SCENE [--rate HZ] [--model CM] [--device NAME] [--json] [--rate-sweep]
 
 Load and validate a scene file, then print its stability table: for each mass the
 integrator's discrete stability bound at the rate (K + 2Z < 4M for the explicit
@@ -199,7 +199,7 @@ void write_table(const physics::Model& m, const physics::StabilityReport& r, con
 int check(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"rate", "model", "device"}, {"json", "rate-sweep"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kCheckHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one scene file");

@@ -13,7 +13,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact devices [--udev-rules] [--profiles] [--dhd-library PATH] [--hd-library PATH]
+constexpr const char* kDevicesHelp = R"(usage: enact devices [--udev-rules] [--profiles] [--dhd-library PATH] [--hd-library PATH]
                      [--hd-device NAME] [--inverse3-port N]
 
 List the supported devices on this machine, and say what is missing for those absent:
@@ -57,7 +57,7 @@ std::string profiles() {
 int devices(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"dhd-library", "hd-library", "hd-device", "inverse3-port"}, {"udev-rules", "profiles"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kDevicesHelp, stdout);
     return 0;
   }
   if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional.front() + "'");

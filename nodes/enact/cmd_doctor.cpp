@@ -16,7 +16,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact doctor [--fresh]
+constexpr const char* kDoctorHelp = R"(usage: enact doctor [--fresh]
 
 Is this machine ready for real-time haptics (the loop of enact-rt and of the distributed
 graph, real devices, the viewer, the tests)? One line per check: ok, warn (works, with more
@@ -118,7 +118,7 @@ void machine_section(bool fresh) {
 int doctor(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {}, {"fresh"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kDoctorHelp, stdout);
     return 0;
   }
   if (!a.positional.empty()) throw UsageError("enact doctor takes no argument");

@@ -29,7 +29,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
+constexpr const char* kExperimentHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
                         [--seed S] [--replicates N [--jobs J]]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
@@ -368,7 +368,7 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
 int experiment_run(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out", "clock", "seed", "replicates", "jobs"}, {"plan"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kExperimentHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one experiment file");

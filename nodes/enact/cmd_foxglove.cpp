@@ -9,7 +9,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact foxglove [--port 8765] [--host 127.0.0.1] [--max-rate HZ] [--graph NAME | --attach ENDPOINT]
+constexpr const char* kFoxgloveHelp = R"(usage: enact foxglove [--port 8765] [--host 127.0.0.1] [--max-rate HZ] [--graph NAME | --attach ENDPOINT]
                       [--key FILE.key --server-key FILE.pub]
 
 Serve a running graph to Foxglove (https://foxglove.dev) over WebSocket (subprotocol
@@ -37,7 +37,7 @@ In a launch file: a node with exec: enact-foxglove (parameters: enact-foxglove -
 int foxglove_bridge(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, attach_options({"port", "host", "max-rate"}), {});
   Attached graph;
-  if (const auto code = start_attached(a, "foxglove", kHelp, "", {}, a.positional.empty(), graph)) return *code;
+  if (const auto code = start_attached(a, "foxglove", kFoxgloveHelp, "", {}, a.positional.empty(), graph)) return *code;
   foxglove::BridgeOptions o;
   o.keys = graph.keys;
   o.attach = graph.endpoint;

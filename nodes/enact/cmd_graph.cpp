@@ -7,7 +7,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact graph list
+constexpr const char* kGraphHelp = R"(usage: enact graph list
 
 The graphs of this user running on this machine: enact launch, each enact experiment trial,
 enact play. One line each: name, attach endpoint, pid, start time (UTC), launch file. Tools
@@ -20,7 +20,7 @@ removed here, with their temporary folders. Registry: /tmp/enact-<uid>/graphs.
 int graph_list(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {}, {});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kGraphHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1 || a.positional[0] != "list") throw UsageError("use: enact graph list");

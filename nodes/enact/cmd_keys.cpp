@@ -7,7 +7,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact keys new NAME [--dir DIR]
+constexpr const char* kKeysHelp = R"(usage: enact keys new NAME [--dir DIR]
        enact keys show FILE
 
 Keys for remote access (docs/remote-access.md): a graph launched with --access lets in
@@ -27,7 +27,7 @@ options:
 int keys(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"dir"}, {});
   if (a.flag("help") || a.positional.empty()) {
-    std::fputs(kHelp, a.flag("help") ? stdout : stderr);
+    std::fputs(kKeysHelp, a.flag("help") ? stdout : stderr);
     return a.flag("help") ? 0 : 2;
   }
   const std::string& verb = a.positional[0];

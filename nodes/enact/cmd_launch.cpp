@@ -19,7 +19,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
+constexpr const char* kLaunchHelp = R"(usage: enact launch FILE [--arg NAME=VALUE]... [--name NAME] [--duration S] [--ready-timeout S]
                          [--clock real|simulated] [--check] [--attach ENDPOINT] [--access ACCESS.yaml [--allow-remote]]
 
 Run a graph from a YAML launch file (format: docs/launch-files.md): start its nodes
@@ -114,7 +114,7 @@ int launch(int argc, char** argv) {
   std::vector<char*> rest = take_launch_args(argc, argv, launch_args);
   const Args a = parse(static_cast<int>(rest.size()), rest.data(), 2, {"duration", "ready-timeout", "attach", "name", "access", "clock"}, {"check", "allow-remote"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kLaunchHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one launch file");

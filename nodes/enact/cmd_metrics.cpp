@@ -10,7 +10,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact metrics FILE.mcap [--json]
+constexpr const char* kMetricsHelp = R"(usage: enact metrics FILE.mcap [--json]
 
 Recompute a trial's metrics (falls, time_total_s, time_out_s, ratio, completed) from its
 recording alone: the recorded device states (ffd/state) replayed through a simulator
@@ -51,7 +51,7 @@ void print(const char* what, const task::Metrics& m) {
 int metrics(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {}, {"json"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kMetricsHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");

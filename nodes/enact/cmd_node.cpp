@@ -19,7 +19,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact node list [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
+constexpr const char* kNodeHelp = R"(usage: enact node list [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
        enact node info NODE [--graph NAME | --attach ENDPOINT] [--key FILE.key --server-key FILE.pub]
 
 The nodes of a running graph (like `ros2 node`), through its attach point:
@@ -178,7 +178,7 @@ int node(int argc, char** argv) {
   const std::size_t n = a.positional.size();
   const bool listing = n == 1 && a.positional[0] == "list";
   Attached graph;
-  if (const auto code = start_attached(a, "node", kHelp, "list | info NODE", {"list", "info"}, listing || (n == 2 && a.positional[0] == "info"), graph)) return *code;
+  if (const auto code = start_attached(a, "node", kNodeHelp, "list | info NODE", {"list", "info"}, listing || (n == 2 && a.positional[0] == "info"), graph)) return *code;
   return listing ? list(graph.endpoint, graph.keys) : info(graph.endpoint, graph.keys, a.positional[1]);
 }
 

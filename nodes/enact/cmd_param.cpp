@@ -21,7 +21,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact param set NAME VALUE     change a parameter of a running graph
+constexpr const char* kParamHelp = R"(usage: enact param set NAME VALUE     change a parameter of a running graph
        enact param list [NODE]          every parameter: value, unit, range, live or not
        enact param get NAME             the value in force of one parameter
        enact param dump [NODE]          the values in force as YAML
@@ -231,7 +231,7 @@ int load(const Target& t, const std::vector<msgs::ParamValues>& boards, const st
 int param(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"graph", "attach", "wait", "key", "server-key", "node"}, {});
   if (a.flag("help") || a.positional.empty()) {
-    std::fputs(kHelp, a.flag("help") ? stdout : stderr);
+    std::fputs(kParamHelp, a.flag("help") ? stdout : stderr);
     std::fputs(kAttachOptionsHelp, a.flag("help") ? stdout : stderr);
     std::fputs("  --node NODE        load: the names of FILE are NODE's own (as dump NODE writes them)\n", a.flag("help") ? stdout : stderr);
     return a.flag("help") ? 0 : 2;

@@ -25,7 +25,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact play FILE [--rate R] [--loop] [--topics T...] [--start-offset S] [--delay S]
+constexpr const char* kPlayHelp = R"(usage: enact play FILE [--rate R] [--loop] [--topics T...] [--start-offset S] [--delay S]
                   [--remap FROM:=TO]... [--paused] [--name NODE] [--wait S]
 
 Republish a recording's messages with their recorded timing, so any node consumes them as
@@ -127,7 +127,7 @@ struct PlayProgress {
 int play(int argc, char** argv) {
   const PlayCommand o = parse_play(argc, argv);
   if (o.help) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kPlayHelp, stdout);
     return 0;
   }
   record::Reader r(o.file);

@@ -9,7 +9,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact resim FILE [--scene S] [--model M] [--json]
+constexpr const char* kResimHelp = R"(usage: enact resim FILE [--scene S] [--model M] [--json]
 
 Offline, with no bus: step a fresh simulator, configured as the recorded one (parameters
 from the recording's metadata, scene and model files from its attachments), on every
@@ -35,7 +35,7 @@ options:
 int resim(int argc, char** argv) {
   const Args a = parse(argc, argv, 2, {"scene", "model"}, {"json"});
   if (a.flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::fputs(kResimHelp, stdout);
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");

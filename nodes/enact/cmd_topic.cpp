@@ -26,7 +26,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kHelp = R"(usage: enact topic list [--graph NAME | --attach ENDPOINT]
+constexpr const char* kTopicHelp = R"(usage: enact topic list [--graph NAME | --attach ENDPOINT]
        enact topic echo TOPIC [--count N | --once] [--field PATH]... [--csv] [--graph NAME | --attach ENDPOINT]
        enact topic hz TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
        enact topic info TOPIC | bw TOPIC [--duration S] [--graph NAME | --attach ENDPOINT]
@@ -259,7 +259,7 @@ int topic(int argc, char** argv) {
   const double rate_hz = a.number("rate", 0.0);
   if (a.has("rate") && rate_hz <= 0.0) throw UsageError("--rate must be > 0 Hz");
   Attached graph;
-  if (const auto code = start_attached(a, "topic", kHelp, "list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC | pub TOPIC YAML",
+  if (const auto code = start_attached(a, "topic", kTopicHelp, "list | echo TOPIC | hz TOPIC | info TOPIC | bw TOPIC | pub TOPIC YAML",
                                        {"list", "echo", "hz", "info", "bw", "pub"}, listing || watching || publishing, graph)) {
     return *code;
   }

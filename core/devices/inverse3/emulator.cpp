@@ -18,7 +18,8 @@ using nlohmann::json;
 
 constexpr std::size_t kBacklog_bytes = 1 << 20;
 
-json vec3(const math::Vec3& v) { return {{"x", v.x}, {"y", v.y}, {"z", v.z}}; }
+// a vector as the service writes one
+json json_of(const math::Vec3& v) { return {{"x", v.x}, {"y", v.y}, {"z", v.z}}; }
 
 }  // namespace
 
@@ -45,7 +46,7 @@ struct Inverse3Emulator::Impl {
     ForceSample s;
     handle.read(now_ns, s);
     json device = {{"device_id", params.device_id},
-                   {"state", {{"cursor_position", vec3(s.position_m + params.origin_m)}, {"cursor_velocity", vec3(s.velocity_m_per_s)}, {"current_cursor_force", vec3(handle.applied_force_n())}}},
+                   {"state", {{"cursor_position", json_of(s.position_m + params.origin_m)}, {"cursor_velocity", json_of(s.velocity_m_per_s)}, {"current_cursor_force", json_of(handle.applied_force_n())}}},
                    {"status", {{"ready", true}, {"in_use", params.in_use}, {"started", true}, {"power_supply", true}, {"calibrated", true}}}};
     json grip = {{"device_id", "61548"}, {"state", {{"buttons", {{"a", (buttons & 1u) != 0}, {"b", (buttons & 2u) != 0}, {"c", (buttons & 4u) != 0}}}}}};
     if (inventory) device["config"] = {{"type", "inverse3"}, {"handedness", "right"}, {"basis", {{"permutation", "XYZ"}}}};

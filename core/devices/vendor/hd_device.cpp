@@ -12,10 +12,10 @@
 namespace enact::devices::vendor {
 namespace {
 
-constexpr const char* kDevice = "hd";
-constexpr std::int64_t kDeactivateWait_ns = 200'000'000;
+constexpr const char* kHd = "hd";
+constexpr std::int64_t kHdDeactivateWait_ns = 200'000'000;
 constexpr std::int64_t kFirstCallbackWait_ns = 2'000'000'000;  // the scheduler's first servo tick
-constexpr const char* kInstall =
+constexpr const char* kHdInstall =
     "install OpenHaptics for Linux and the Touch device driver, and set library to its libHD.so, "
     "or put its folder on LD_LIBRARY_PATH; `enact devices --hd-library PATH` checks it";
 
@@ -66,17 +66,17 @@ void HdForceDevice::configure() {
   close();
   configured_ = false;
   const HdParams& p = params_;
-  require(std::isfinite(p.stale_s) && p.stale_s > 0.0 && p.stale_s <= 0.009, kDevice, "stale_s", p.stale_s, "(0, 0.009] s: faults must show within 10 ms (default 0.005)");
+  require(std::isfinite(p.stale_s) && p.stale_s > 0.0 && p.stale_s <= 0.009, kHd, "stale_s", p.stale_s, "(0, 0.009] s: faults must show within 10 ms (default 0.005)");
   const auto profile = devices::find_device_profile(p.profile);
-  if (!profile) refuse(kDevice, "no device profile '" + p.profile + "'", "set profile to one of `enact devices --profiles` (touch for a Touch)");
+  if (!profile) refuse(kHd, "no device profile '" + p.profile + "'", "set profile to one of `enact devices --profiles` (touch for a Touch)");
   profile_ = *profile;
-  library_ = SharedLibrary(p.library, kDevice, kInstall);
+  library_ = SharedLibrary(p.library, kHd, kHdInstall);
   api_.bind(library_);
   // the device
   device_ = api_.init_device(p.device_name.empty() ? nullptr : p.device_name.c_str());
   if (const std::string why = api_.last_error(); !why.empty() || device_ == kHdInvalidHandle) {
     device_ = kHdInvalidHandle;
-    refuse(kDevice, "cannot open the device" + (p.device_name.empty() ? std::string() : " '" + p.device_name + "'") + ": " + why,
+    refuse(kHd, "cannot open the device" + (p.device_name.empty() ? std::string() : " '" + p.device_name + "'") + ": " + why,
            "plug the Touch in, check it in Touch Setup (its name there is device_name; empty: the default device), and that you may open its device file");
   }
   api_.enable(kHdForceOutput);
@@ -89,7 +89,7 @@ void HdForceDevice::configure() {
   api_.start_scheduler();
   if (const std::string why = api_.last_error(); !why.empty()) {
     close();
-    refuse(kDevice, "cannot start the servo scheduler: " + why, "close other programs using the device (Touch Diagnostic), then try again");
+    refuse(kHd, "cannot start the servo scheduler: " + why, "close other programs using the device (Touch Diagnostic), then try again");
   }
   // the first tick says whether the device is calibrated
   const std::int64_t give_up = rt::now_ns() + kFirstCallbackWait_ns;
@@ -97,8 +97,8 @@ void HdForceDevice::configure() {
   if (calibration_.load() != Calibration::ok) {
     const bool silent = calibration_.load() == Calibration::unknown;
     close();
-    if (silent) refuse(kDevice, "the servo scheduler did not run", "check the device in Touch Diagnostic, then try again");
-    refuse(kDevice, "the device is not calibrated", "put the stylus in its inkwell (Touch), or calibrate it in Touch Diagnostic, then start again");
+    if (silent) refuse(kHd, "the servo scheduler did not run", "check the device in Touch Diagnostic, then try again");
+    refuse(kHd, "the device is not calibrated", "put the stylus in its inkwell (Touch), or calibrate it in Touch Diagnostic, then start again");
   }
   configured_ = true;
 }
@@ -131,7 +131,7 @@ HDCallbackCode HdForceDevice::servo_tick() noexcept {
 }
 
 void HdForceDevice::activate() {
-  if (!configured_) refuse(kDevice, "activate before configure", "call configure() first");
+  if (!configured_) refuse(kHd, "activate before configure", "call configure() first");
   exchange_.set_active(true);
 }
 
@@ -142,7 +142,7 @@ void HdForceDevice::write(std::int64_t, const math::Vec3& force_n) noexcept { ex
 void HdForceDevice::deactivate() noexcept {
   if (!exchange_.active()) return;
   exchange_.set_active(false);
-  exchange_.await_zero(kDeactivateWait_ns);
+  exchange_.await_zero(kHdDeactivateWait_ns);
 }
 
 }  // namespace enact::devices::vendor
