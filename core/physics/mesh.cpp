@@ -231,7 +231,12 @@ MeshHit nearest_on(const Mesh& mesh, int triangle, const Vec3& x) {
   return hit;
 }
 
-MeshHit nearest(const Mesh& mesh, const Vec3& x) {
+namespace {
+
+// nearest(): one body for the step's search and the counted one (kCount false compiles the
+// counting away, so the step's search does no extra work)
+template <bool kCount>
+MeshHit search(const Mesh& mesh, const Vec3& x, SearchCounts* counts) {
   MeshHit best;
   best.distance_m = kInfinity;
   best.runner_up_m = kInfinity;
@@ -242,10 +247,12 @@ MeshHit nearest(const Mesh& mesh, const Vec3& x) {
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = mesh.nodes[stack[--top]];
+    if constexpr (kCount) ++counts->nodes;
     const double bound = best.runner_up_m;
     if (box_distance2(node.low_m, node.high_m, x) >= bound * bound) continue;
     if (node.count > 0) {
       for (int t = node.first; t < node.first + node.count; ++t) {
+        if constexpr (kCount) ++counts->triangles;
         const MeshHit hit = nearest_on(mesh, t, x);
         if (hit.distance_m < best.distance_m) {
           const double runner_up = best.distance_m;
@@ -265,6 +272,12 @@ MeshHit nearest(const Mesh& mesh, const Vec3& x) {
   }
   return best;
 }
+
+}  // namespace
+
+MeshHit nearest(const Mesh& mesh, const Vec3& x) { return search<false>(mesh, x, nullptr); }
+
+MeshHit nearest(const Mesh& mesh, const Vec3& x, SearchCounts& counts) { return search<true>(mesh, x, &counts); }
 
 double distance_to_bounds(const Mesh& mesh, const Vec3& x) { return std::sqrt(box_distance2(mesh.nodes[0].low_m, mesh.nodes[0].high_m, x)); }
 

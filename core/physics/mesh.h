@@ -73,6 +73,15 @@ struct MeshHit {
 
 // the triangle nearest to x (through the hierarchy; no allocation)
 MeshHit nearest(const Mesh& mesh, const Vec3& x);
+
+// what one search through the hierarchy did: the nodes whose box it tested and the triangles
+// it tested (for benches and tests; the step's search counts nothing)
+struct SearchCounts {
+  long nodes = 0;
+  long triangles = 0;
+};
+// the same search as nearest(mesh, x), the same result bit for bit, its work added to counts
+MeshHit nearest(const Mesh& mesh, const Vec3& x, SearchCounts& counts);
 // the nearest point of one triangle to x (runner_up_m is not set)
 MeshHit nearest_on(const Mesh& mesh, int triangle, const Vec3& x);
 // the distance from x to the mesh's bounding box (0 inside it)
