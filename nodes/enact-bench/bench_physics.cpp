@@ -91,9 +91,11 @@ repetitions of all benchmarks interleaved in a random order):
                             (96, 1152, 10400, 101120 triangles, up to 2.4 m a side):
                             the same triangles near the body, only the hierarchy
                             deepens (JSON mesh_fixed_cell_rows)
-              and, counted over one pass of the walk outside the timing: searches of the
-              hierarchy per contact pair and step (the rest keep their held triangle),
-              boxes and triangles tested per search, the hierarchy's depth
+              and, counted over one pass of the walk outside the timing, per contact pair
+              and step: searches of the hierarchy, steps that took the nearest of the last
+              search's ring (the triangles sharing a vertex with its nearest), the rest
+              held (the held triangle alone); per search the boxes and triangles tested,
+              for the nearest and for the nearest beyond its ring; the hierarchy's depth
               (docs/physics.md, "Meshes, height maps, spheres and capsules")
 
 errors (deterministic, no damping added):

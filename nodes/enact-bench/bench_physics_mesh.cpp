@@ -74,10 +74,12 @@ LookupCounts count_lookups(const physics::Model& field, const std::vector<Vec3>&
   physics::State s = physics::make_state(field);
   LookupCounts counts;
   counts.depth = depth_below(mesh, 0);
-  physics::SearchCounts work;
-  std::vector<Vec3> centre_before(field.contacts.size());
+  std::vector<Vec3> hold_before(field.contacts.size()), ring_before(field.contacts.size());
   for (const Vec3& at : walk) {
-    for (std::size_t k = 0; k < field.contacts.size(); ++k) centre_before[k] = s.contacts[k].hold_at_m;
+    for (std::size_t k = 0; k < field.contacts.size(); ++k) {
+      hold_before[k] = s.contacts[k].hold_at_m;
+      ring_before[k] = s.contacts[k].ring_at_m;
+    }
     s.proxy_position_m[0] = at;
     physics::step(field, s);
     for (std::size_t k = 0; k < field.contacts.size(); ++k) {
@@ -85,15 +87,18 @@ LookupCounts count_lookups(const physics::Model& field, const std::vector<Vec3>&
       const Vec3& x = s.x[field.contacts[k].point];
       ++counts.pair_steps;
       counts.in_contact += c.active;
-      // a search centres the next hold on the point, a held step leaves the centre where it
-      // was: exact but for a search where the point stands exactly where it last searched
-      if (!(c.hold_at_m == x) || centre_before[k] == x) continue;
-      ++counts.searches;
-      physics::nearest(mesh, x, work);
+      // a search centres the ring on the point, and a search or a ring step the next hold; a
+      // held step leaves both where they were (exact but for a point standing exactly where
+      // it last searched)
+      if (c.ring_at_m == x && !(ring_before[k] == x)) {
+        ++counts.searches;
+        physics::nearest(mesh, x, counts.nearest);
+        if (c.ring_of >= 0) physics::nearest_beyond(mesh, c.ring_of, x, counts.beyond);
+      } else if (c.hold_at_m == x && !(hold_before[k] == x)) {
+        ++counts.ring_steps;
+      }
     }
   }
-  counts.nodes = work.nodes;
-  counts.triangles = work.triangles;
   return counts;
 }
 

@@ -46,15 +46,15 @@ std::string mesh_name(const FieldSpec& spec);
 // timing: the step itself counts nothing)
 struct LookupCounts {
   long pair_steps = 0;
-  long searches = 0;       // steps that searched the hierarchy (the rest kept the held triangle)
-  long in_contact = 0;     // pair steps inside the mesh
-  long nodes = 0;          // over those searches: boxes tested
-  long triangles = 0;      // and triangles tested
-  int depth = 0;           // the hierarchy's depth (levels below the root)
-  double searches_per_step() const { return static_cast<double>(searches) / static_cast<double>(pair_steps); }
-  double held_share() const { return 1.0 - searches_per_step(); }
-  double nodes_per_search() const { return searches > 0 ? static_cast<double>(nodes) / static_cast<double>(searches) : 0.0; }
-  double triangles_per_search() const { return searches > 0 ? static_cast<double>(triangles) / static_cast<double>(searches) : 0.0; }
+  long searches = 0;    // steps that searched the hierarchy
+  long ring_steps = 0;  // steps that took the nearest of the last search's ring (the rest kept the held triangle)
+  long in_contact = 0;  // pair steps inside the mesh
+  physics::SearchCounts nearest;  // over those searches: boxes and triangles the nearest's search tested
+  physics::SearchCounts beyond;   // and the search for the nearest beyond its ring
+  int depth = 0;                  // the hierarchy's depth (levels below the root)
+  double per_pair_step(long n) const { return static_cast<double>(n) / static_cast<double>(pair_steps); }
+  double held_share() const { return 1.0 - per_pair_step(searches + ring_steps); }
+  double per_search(long n) const { return searches > 0 ? static_cast<double>(n) / static_cast<double>(searches) : 0.0; }
 };
 // the field model (on_field) stepped along the walk once
 LookupCounts count_lookups(const physics::Model& field, const std::vector<math::Vec3>& walk);

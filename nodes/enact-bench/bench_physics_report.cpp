@@ -49,9 +49,11 @@ void print_mesh_rows(const std::vector<MeshRow>& rows, mesh_rows::FieldSet set) 
       std::printf(" (x%.2f the %d-triangle row's; log(triangles) x%.2f)", w.ns_per_step / before->ns_per_step, before->triangles,
                   std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before->triangles)));
     }
-    std::printf("\n     %-10s searches %.4f a pair step (%.1f %% held), %.1f boxes and %.1f triangles a search, depth %d, %.0f %% in contact\n", "",
-                c.searches_per_step(), 100.0 * c.held_share(), c.nodes_per_search(), c.triangles_per_search(), c.depth,
-                100.0 * static_cast<double>(c.in_contact) / static_cast<double>(c.pair_steps));
+    std::printf("\n     %-10s a pair step: %.4f searches, %.4f from the ring, %.1f %% held (%.0f %% in contact); a search: %.1f boxes and %.1f "
+                "triangles, + %.1f and %.1f beyond the ring; depth %d\n",
+                "", c.per_pair_step(c.searches), c.per_pair_step(c.ring_steps), 100.0 * c.held_share(), 100.0 * c.per_pair_step(c.in_contact),
+                c.per_search(c.nearest.nodes), c.per_search(c.nearest.triangles), c.per_search(c.beyond.nodes), c.per_search(c.beyond.triangles),
+                c.depth);
     before = &w;
   }
 }
@@ -78,8 +80,10 @@ void mesh_rows_json(Json& j, const std::vector<MeshRow>& rows, mesh_rows::FieldS
       j.field("ratio_to_previous", w.ns_per_step / before->ns_per_step);
       j.field("log_ratio_to_previous", std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before->triangles)));
     }
-    j.field("searches_per_pair_step", c.searches_per_step()).field("held_share", c.held_share());
-    j.field("nodes_per_search", c.nodes_per_search()).field("triangles_per_search", c.triangles_per_search()).field("depth", c.depth);
+    j.field("searches_per_pair_step", c.per_pair_step(c.searches)).field("ring_steps_per_pair_step", c.per_pair_step(c.ring_steps));
+    j.field("held_share", c.held_share()).field("depth", c.depth);
+    j.field("nodes_per_search", c.per_search(c.nearest.nodes)).field("triangles_per_search", c.per_search(c.nearest.triangles));
+    j.field("beyond_nodes_per_search", c.per_search(c.beyond.nodes)).field("beyond_triangles_per_search", c.per_search(c.beyond.triangles));
     j.end_object();
     before = &w;
   }

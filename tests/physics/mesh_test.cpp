@@ -186,7 +186,7 @@ TEST(Mesh, TheHeldTriangleAndCullingMatchTheFullSearchOfEveryPairEveryStep) {
   full.hold = false;
   full.cull = false;
   models::Walk walk({-0.03, -0.02, 0.0045}, {0.05, 0.02, 0.009}, 23);
-  long contact_steps = 0, held_steps = 0;
+  long contact_steps = 0, held_steps = 0, ring_steps = 0;
   for (long n = 0; n < 200000; ++n) {
     fast.proxy_position_m[0] = full.proxy_position_m[0] = walk.next(m.dt_s);
     step(m, fast);
@@ -198,11 +198,15 @@ TEST(Mesh, TheHeldTriangleAndCullingMatchTheFullSearchOfEveryPairEveryStep) {
       contact_steps += a.active;
       const Vec3 moved = fast.x[m.contacts[k].point] - a.hold_at_m;
       held_steps += a.active && a.hold_r2 > 0.0 && dot(moved, moved) > 0.0;
+      // the hold planned this step by the nearest of the last search's ring, not by a search
+      const Vec3& x = fast.x[m.contacts[k].point];
+      ring_steps += a.active && a.hold_at_m == x && !(a.ring_at_m == x);
     }
   }
-  std::printf("%ld contact steps, %ld of them on a hold planned earlier\n", contact_steps, held_steps);
+  std::printf("%ld contact steps, %ld of them on a hold planned earlier, %ld from a ring\n", contact_steps, held_steps, ring_steps);
   EXPECT_GT(contact_steps, 100000);
   EXPECT_GT(held_steps, contact_steps / 3);
+  EXPECT_GT(ring_steps, contact_steps / 100);
 }
 
 TEST(Mesh, TheStepAllocatesNothing) {
