@@ -21,6 +21,8 @@ using math::kInfinity;
 constexpr double kTieBand_m = 1e-5;
 // taken off every hold distance: far above the rounding of depths at workspace scale (m)
 constexpr double kHoldTolerance_m = 1e-10;
+// the most triangles a ring may have for a mesh contact to test them all before searching
+constexpr int kMaxRing = 32;
 
 double sign_of(int face) { return face % 2 == 0 ? 1.0 : -1.0; }
 Vec3 face_normal(const Box& box, int face) { return box.rotation.column(face / 2) * sign_of(face); }
@@ -389,8 +391,43 @@ double push_from(const Mesh& mesh, const MeshHit& hit, const Vec3& x, ContactSta
   return push_out(hit.distance_m, normal, contact);
 }
 
-// a point against a mesh: the nearest triangle through the hierarchy, or the held one while
-// the point stays within its hold (then the search would find the same)
+// the nearest triangle of the last search's ring, when it is provably the nearest of all (the
+// search would find it): nearer than every other of the ring by the tolerance, and than every
+// triangle outside the ring can be (its distance then less the point's travel since)
+bool ring_nearest(const Mesh& mesh, const Vec3& x, const ContactState& contact, MeshHit& hit) {
+  const double others_m = contact.ring_bound_m - norm(x - contact.ring_at_m) - kHoldTolerance_m;
+  if (contact.ring_of < 0 || !(others_m > 0.0)) return false;
+  hit.distance_m = kInfinity;
+  double second_m = kInfinity;
+  for (int k = mesh.ring_first[contact.ring_of]; k < mesh.ring_first[contact.ring_of + 1]; ++k) {
+    const MeshHit h = nearest_on(mesh, mesh.ring[k], x);
+    if (h.distance_m < hit.distance_m) {
+      second_m = hit.distance_m;
+      hit = h;
+    } else {
+      second_m = std::min(second_m, h.distance_m);
+    }
+  }
+  hit.runner_up_m = std::min(second_m, others_m);
+  return hit.distance_m < hit.runner_up_m - kHoldTolerance_m;
+}
+
+// the nearest triangle through the hierarchy; with the hold, also how far the nearest triangle
+// outside its ring is, for ring_nearest (not for rings larger than kMaxRing: testing them all
+// would cost more than a search)
+MeshHit search_mesh(const Mesh& mesh, const Vec3& x, ContactState& contact, bool hold) {
+  const MeshHit hit = nearest(mesh, x);
+  contact.ring_of = -1;
+  contact.ring_at_m = x;
+  if (!hold || mesh.ring_first[hit.triangle + 1] - mesh.ring_first[hit.triangle] > kMaxRing) return hit;
+  contact.ring_of = hit.triangle;
+  contact.ring_bound_m = nearest_beyond(mesh, hit.triangle, x);
+  return hit;
+}
+
+// a point against a mesh: the held triangle while the point stays within its hold, else the
+// nearest of the last search's ring while it provably is the nearest, else the nearest through
+// the hierarchy (the first two are what the search would find)
 double mesh_contact(const Mesh& mesh, const Vec3& x, ContactState& contact, bool hold) {
   const Vec3 moved = x - contact.hold_at_m;
   if (hold && contact.triangle >= 0 && dot(moved, moved) < contact.hold_r2) {
@@ -399,7 +436,8 @@ double mesh_contact(const Mesh& mesh, const Vec3& x, ContactState& contact, bool
     if (!contact.active) contact.hold_r2 = 0.0;  // left through it: no outside hold is planned
     return depth;
   }
-  const MeshHit hit = nearest(mesh, x);
+  MeshHit hit;
+  if (!hold || !ring_nearest(mesh, x, contact, hit)) hit = search_mesh(mesh, x, contact, hold);
   const double depth = push_from(mesh, hit, x, contact);
   // outside, the surface is hit.distance_m away; inside, every other triangle is farther than
   // the runner-up and the point's distances change at most as fast as it moves

@@ -107,6 +107,31 @@ void build_node(Mesh& mesh, std::vector<int>& order, const std::vector<Vec3>& ce
   build_node(mesh, order, centroids, first + half, count - half, depth + 1);
 }
 
+// the rings, from the triangles around each vertex (in the hierarchy's order)
+void build_rings(Mesh& mesh) {
+  std::vector<std::vector<int>> around(mesh.vertices_m.size());
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
+    for (int k : mesh.triangles[t].v) around[k].push_back(t);
+  }
+  mesh.ring_first.assign(1, 0);
+  std::vector<int> ring;
+  for (const Triangle& tri : mesh.triangles) {
+    ring.clear();
+    for (int k : tri.v) ring.insert(ring.end(), around[k].begin(), around[k].end());
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    mesh.ring.insert(mesh.ring.end(), ring.begin(), ring.end());
+    mesh.ring_first.push_back(static_cast<int>(mesh.ring.size()));
+  }
+}
+
+bool share_a_vertex(const Triangle& a, const Triangle& b) {
+  for (int i : a.v) {
+    if (i == b.v[0] || i == b.v[1] || i == b.v[2]) return true;
+  }
+  return false;
+}
+
 void build_hierarchy(Mesh& mesh) {
   std::vector<Vec3> centroids;
   for (const Triangle& t : mesh.triangles) centroids.push_back((mesh.vertices_m[t.v[0]] + mesh.vertices_m[t.v[1]] + mesh.vertices_m[t.v[2]]) * (1.0 / 3.0));
@@ -147,6 +172,7 @@ Mesh build_mesh(std::vector<Vec3> vertices_m, const std::vector<std::array<int, 
     }
   }
   build_hierarchy(mesh);
+  build_rings(mesh);
   return mesh;
 }
 
@@ -230,21 +256,30 @@ MeshHit nearest_on(const Mesh& mesh, int triangle, const Vec3& x) {
   return hit;
 }
 
-MeshHit nearest(const Mesh& mesh, const Vec3& x) {
+namespace {
+
+// nearest() and nearest_beyond(): one body for the step's searches and the counted ones
+// (kCount false compiles the counting away, so the step's searches do no extra work). kBeyond:
+// only the triangles outside `ring_of`'s ring count, and only the nearest's distance is needed
+template <bool kCount, bool kBeyond>
+MeshHit search(const Mesh& mesh, const Vec3& x, int ring_of, SearchCounts* counts) {
   MeshHit best;
   best.distance_m = kInfinity;
   best.runner_up_m = kInfinity;
   // depth first, nearer child first; a node is skipped when it cannot hold a triangle nearer
-  // than the runner-up (so the runner-up is exact too)
+  // than the runner-up (so the runner-up is exact too; beyond a ring, than the nearest)
   int stack[kMaxDepth + 2];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = mesh.nodes[stack[--top]];
-    const double bound = best.runner_up_m;
+    if constexpr (kCount) ++counts->nodes;
+    const double bound = kBeyond ? best.distance_m : best.runner_up_m;
     if (box_distance2(node.low_m, node.high_m, x) >= bound * bound) continue;
     if (node.count > 0) {
       for (int t = node.first; t < node.first + node.count; ++t) {
+        if (kBeyond && share_a_vertex(mesh.triangles[t], mesh.triangles[ring_of])) continue;
+        if constexpr (kCount) ++counts->triangles;
         const MeshHit hit = nearest_on(mesh, t, x);
         if (hit.distance_m < best.distance_m) {
           const double runner_up = best.distance_m;
@@ -263,6 +298,18 @@ MeshHit nearest(const Mesh& mesh, const Vec3& x) {
     stack[top++] = left_first ? left : node.right;
   }
   return best;
+}
+
+}  // namespace
+
+MeshHit nearest(const Mesh& mesh, const Vec3& x) { return search<false, false>(mesh, x, -1, nullptr); }
+
+MeshHit nearest(const Mesh& mesh, const Vec3& x, SearchCounts& counts) { return search<true, false>(mesh, x, -1, &counts); }
+
+double nearest_beyond(const Mesh& mesh, int triangle, const Vec3& x) { return search<false, true>(mesh, x, triangle, nullptr).distance_m; }
+
+double nearest_beyond(const Mesh& mesh, int triangle, const Vec3& x, SearchCounts& counts) {
+  return search<true, true>(mesh, x, triangle, &counts).distance_m;
 }
 
 double distance_to_bounds(const Mesh& mesh, const Vec3& x) { return std::sqrt(box_distance2(mesh.nodes[0].low_m, mesh.nodes[0].high_m, x)); }

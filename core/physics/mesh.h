@@ -39,6 +39,11 @@ struct Mesh {
   std::vector<Vec3> vertex_normals;  // angle-weighted sums of the faces' normals
   std::vector<Triangle> triangles;   // in the hierarchy's leaf order
   std::vector<BvhNode> nodes;        // nodes[0]: the root, bounding the whole mesh
+  // each triangle's ring: the triangles sharing a vertex with it (itself included), those of
+  // triangle t at ring[ring_first[t], ring_first[t + 1]); where a point goes when it leaves
+  // its held triangle
+  std::vector<int> ring_first;
+  std::vector<int> ring;
 };
 
 // a mesh that cannot bound a solid (open, non-manifold, inward, degenerate): the triangle (in
@@ -73,6 +78,19 @@ struct MeshHit {
 
 // the triangle nearest to x (through the hierarchy; no allocation)
 MeshHit nearest(const Mesh& mesh, const Vec3& x);
+
+// what one search through the hierarchy did: the nodes whose box it tested and the triangles
+// it tested (for benches and tests; the step's search counts nothing)
+struct SearchCounts {
+  long nodes = 0;
+  long triangles = 0;
+};
+// the same search as nearest(mesh, x), the same result bit for bit, its work added to counts
+MeshHit nearest(const Mesh& mesh, const Vec3& x, SearchCounts& counts);
+// the distance from x to the nearest triangle outside `triangle`'s ring (sharing no vertex
+// with it; infinity: none), through the hierarchy; the counted one adds its work to counts
+double nearest_beyond(const Mesh& mesh, int triangle, const Vec3& x);
+double nearest_beyond(const Mesh& mesh, int triangle, const Vec3& x, SearchCounts& counts);
 // the nearest point of one triangle to x (runner_up_m is not set)
 MeshHit nearest_on(const Mesh& mesh, int triangle, const Vec3& x);
 // the distance from x to the mesh's bounding box (0 inside it)

@@ -86,6 +86,16 @@ Oscillator oscillator_50hz(Integrator integrator, double rate_hz, double zeta) {
   return oscillator(integrator, rate_hz, kMass_kg, k, 2.0 * zeta * std::sqrt(k * kMass_kg), kAmplitude_m);
 }
 
+Mesh bumpy_field(int cells, double cell_m, int margin) {
+  std::vector<double> heights;
+  for (int r = 0; r <= cells; ++r) {
+    for (int c = 0; c <= cells; ++c) {
+      heights.push_back(0.005 + 0.001 * std::sin((r - margin) * cell_m * 300.0) * std::sin((c - margin) * cell_m * 300.0));
+    }
+  }
+  return heightfield_mesh(heights, cells + 1, cells + 1, cell_m, {0, 0, 0}, 0.0);
+}
+
 Model chain(int masses, double rate_hz) {
   constexpr double spacing_m = 1e-3;
   Model m;

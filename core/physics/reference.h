@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/physics/mesh.h"
 #include "core/physics/model.h"
 #include "core/physics/state.h"
 
@@ -55,6 +56,14 @@ Model chain(int masses, double rate_hz);
 // a 0.01 kg mass (point 0) at rest 5 mm above a 2000 N/m plane under gravity, the contact's
 // damping damping_n_s_per_m; `passive`: an energy-consistent contact (ContactPair::passive)
 Model bounce(Integrator integrator, double rate_hz, bool passive, double damping_n_s_per_m = 0.0);
+
+// the mesh rows' height field (enact bench physics, the mesh tests): 1 mm bumps (one every
+// 21 mm) on a 5 mm plateau over z = 0, a square of `cells` cells of cell_m a side centred on the
+// origin. The bumps start `margin` cells in from the field's north-west corner: fields of one
+// cell size and cells - 2 margin equal share their middle, vertex for vertex (margin 0, cells
+// N of 60 mm / N: the 60 mm square refined; margin m, 15 mm cells: the 4-cell square grown by
+// m cells on each side)
+Mesh bumpy_field(int cells, double cell_m, int margin = 0);
 
 // a mass's energy in flight under gravity g along -z, m v^2/2 + m g (z(n) + z(n-1))/2 with v the
 // state's velocity (x(n) - x(n-1)) / dt: what the explicit schemes keep exactly in flight

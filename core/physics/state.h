@@ -21,6 +21,12 @@ struct ContactState {
   // meshes: the triangle nearest last step. Its hold (hold_at_m, hold_r2): outside, the point
   // cannot reach the surface; inside, no other triangle can become nearer
   int triangle = -1;
+  // and the ring of the triangle the last search (at ring_at_m) found (Mesh::ring; -1: none):
+  // every triangle outside it was ring_bound_m or farther from ring_at_m, so one of the ring's
+  // is nearest while it is nearer than that less the point's travel
+  int ring_of = -1;
+  Vec3 ring_at_m;
+  double ring_bound_m = 0.0;
   // the boxes of the object within a margin of `near_at_m` (bit i: box first_box + i): while
   // the point stays within that margin of near_at_m it can only be inside these
   std::uint64_t near_boxes = 0;

@@ -41,13 +41,14 @@ using bridge_rows::bridge_motion;
 using bridge_rows::grid_contacts;
 using bridge_rows::scripted_motion;
 using bridge_rows::scripted_path;
-using mesh_rows::bumpy_field;
+using mesh_rows::field_mesh;
 using mesh_rows::field_motion;
-using mesh_rows::kMeshCells;
+using mesh_rows::field_specs;
+using mesh_rows::FieldSpec;
 using mesh_rows::mesh_name;
 using mesh_rows::on_field;
 
-constexpr const char* kBenchPhysicsHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH]
+constexpr const char* kBenchPhysicsHelp = R"(usage: enact bench physics [--json FILE] [--quick] [--scene PATH] [--only mesh]
 
 Speed against error of the three integrators (cordis, symplectic_euler, implicit_euler)
 at 1, 2, 5, 10, 20 and 44 kHz (analytic cases and the bridge scene itself), the cost of
@@ -76,13 +77,26 @@ repetitions of all benchmarks interleaved in a random order):
   chain       N = 10, 100, 1000 masses in a line of springs, one end fixed (cordis):
               ns per step and per element (mass + link)
   mesh        one step of the bridge's body (CM1, 44 kHz) against a closed triangle
-              mesh instead of the bridge: a height field of 1 mm bumps on a 60 mm
-              square, 4 N^2 + 8 N triangles for N cells a side (96, 1020, 9996 and
-              99852), the body walking over it in a Lissajous figure, 0.2 to 0.8 mm into
-              the plateau (JSON mesh_rows); each row's cost against the previous one's
-              and the ratio of their log(triangles): the hierarchy's search grows with
-              log(triangles), plus one test per triangle within a point's depth, more
-              on a finer mesh (docs/physics.md, "Meshes, height maps, spheres and capsules")
+              mesh instead of the bridge: a height field of 1 mm bumps on a 5 mm
+              plateau, 4 N^2 + 8 N triangles for N cells a side, the body walking over
+              it in a Lissajous figure over 40 x 40 mm, 0.2 to 0.8 mm into the plateau.
+              Two sets of rows, each row's cost against the previous one's in its set
+              beside the ratio of their log(triangles):
+                refined:    the same 60 mm square in N = 4, 15, 49, 157 cells (96, 1020,
+                            9996, 99852 triangles): the triangles near the body shrink
+                            (15 to 0.38 mm), so a point leaves its held triangle more
+                            often and a search tests more near-equidistant triangles
+                            (JSON mesh_rows)
+                fixed_cell: 15 mm cells, the square grown to N = 4, 16, 50, 158 cells
+                            (96, 1152, 10400, 101120 triangles, up to 2.4 m a side):
+                            the same triangles near the body, only the hierarchy
+                            deepens (JSON mesh_fixed_cell_rows)
+              and, counted over one pass of the walk outside the timing, per contact pair
+              and step: searches of the hierarchy, steps that took the nearest of the last
+              search's ring (the triangles sharing a vertex with its nearest), the rest
+              held (the held triangle alone); per search the boxes and triangles tested,
+              for the nearest and for the nearest beyond its ring; the hierarchy's depth
+              (docs/physics.md, "Meshes, height maps, spheres and capsules")
 
 errors (deterministic, no damping added):
   oscillator  m = 0.01 kg, f0 = 50 Hz, released from A = 1 mm at rest, 1 s:
@@ -128,6 +142,7 @@ options:
   --quick       3 repetitions of at least 0.05 s, 10^5 bounce steps
   --scene PATH  bridge scene (default launch/scenes/bridge.yaml, from the current
                 directory, else from the source tree above the executable)
+  --only mesh   the mesh rows alone (timing and counts; about 30 s)
 )";
 
 constexpr std::array kChainMasses{10, 100, 1000};
@@ -204,7 +219,7 @@ std::string bounce_name(Integrator integrator, bool passive) {
 }
 
 void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& motion, const Model& path_model,
-                         const std::vector<Vec3>& path_motion, const std::vector<Model>& fields, const std::vector<Vec3>& field_walk) {
+                         const std::vector<Vec3>& path_motion) {
   for (Integrator integrator : kIntegrators) {
     for (double rate_hz : kRates_hz) {
       const Model m = oscillator_50hz(integrator, rate_hz, 0.0).model;
@@ -234,9 +249,12 @@ void register_benchmarks(const Model& bridge_model, const std::vector<Vec3>& mot
     const Model m = chain(masses, kBridgeRate_hz);
     benchmark::RegisterBenchmark(chain_name(masses).c_str(), [m](benchmark::State& t) { step_loop(t, m, {}, SIZE_MAX, false); });
   }
+}
+
+void register_mesh_benchmarks(const std::vector<FieldSpec>& specs, const std::vector<Model>& fields, const std::vector<Vec3>& walk) {
   for (std::size_t k = 0; k < fields.size(); ++k) {
-    benchmark::RegisterBenchmark(mesh_name(kMeshCells[k]).c_str(), [&fields, &field_walk, k](benchmark::State& t) {
-      step_loop(t, fields[k], field_walk, field_walk.size(), false);
+    benchmark::RegisterBenchmark(mesh_name(specs[k]).c_str(), [&fields, &walk, k](benchmark::State& t) {
+      step_loop(t, fields[k], walk, walk.size(), false);
     });
   }
 }
@@ -276,18 +294,11 @@ std::vector<Row> error_rows(const Settings& settings) {
   return rows;
 }
 
-Results run_physics(const Settings& settings, const std::string& scene) {
-  Results r;
-  r.machine = machine();
-  r.settings = settings;
+// the deterministic rows: errors, the bridge's rate sweep, the ODE peer, the deformable fingertip
+void sweep_rows(const Settings& settings, const Model& bridge_model, const std::vector<Vec3>& motion,
+                const task::Trajectory& path, const Model& path_model, Results& r) {
   r.rows = error_rows(settings);
-  // the bridge: motion at its rate, contacts counted outside the timing
-  const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
-  const Model bridge_model = bridge(scene, motion);
   r.bridge_contacts = grid_contacts(bridge_model, motion);
-  const task::Trajectory path = scripted_path(scene);
-  const std::vector<Vec3> path_motion = scripted_motion(path);
-  const Model path_model = bridge(scene, path_motion);
   std::fprintf(stderr, "enact bench: the bridge along its scripted path, 3 integrators x 6 rates against %.0f kHz\n", settings.sweep_reference_hz / 1e3);
   const haptics::ComputerModel cm1 = *haptics::preset("CM1", path_model.proxies[0].rows * path_model.proxies[0].cols);
   const reference::HandPath hand = [&path](double t) { return path.at(path.start_s() + t); };
@@ -299,15 +310,10 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   r.ode = ode_peer::compare(path_model, cm1, hand, path.end_s() - path.start_s(), kPeerRate_hz, settings.sweep_reference_hz, settings.peer_rounds);
 #endif
   r.deformable = deformable_rows("launch/scenes/bridge_deformable.yaml", settings.sweep_reference_hz);
-  std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n",
-               kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size() + kMeshCells.size(), settings.repetitions);
-  std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");
-  std::vector<Model> fields;
-  for (int cells : kMeshCells) fields.push_back(on_field(bridge_model, bumpy_field(cells)));
-  const std::vector<Vec3> field_walk = field_motion(kBridgeRate_hz);
-  MedianReporter reporter;
-  register_benchmarks(bridge_model, motion, path_model, path_motion, fields, field_walk);
-  run_benchmarks(settings, reporter);
+}
+
+// the timed rows' medians, but the mesh rows'
+void collect_medians(const MedianReporter& reporter, Results& r) {
   for (Row& w : r.rows) w.ns_per_step = reporter.median_ns(oscillator_name(w.integrator, w.rate_hz));
   for (Integrator integrator : kIntegrators) {
     r.passive_cost.push_back({integrator, reporter.median_ns(bounce_name(integrator, false)), reporter.median_ns(bounce_name(integrator, true))});
@@ -319,8 +325,35 @@ Results run_physics(const Settings& settings, const std::string& scene) {
   r.bridge_no_hold_ns = reporter.median_ns("bridge_no_hold");
   r.bridge_cull_test_ns = reporter.median_ns("bridge_cull_test");
   for (int masses : kChainMasses) r.chain.push_back({.masses = masses, .ns_per_step = reporter.median_ns(chain_name(masses))});
+}
+
+Results run_physics(const Settings& settings, const std::string& scene) {
+  Results r;
+  r.machine = machine();
+  r.settings = settings;
+  // the bridge: motion at its rate, contacts counted outside the timing
+  const std::vector<Vec3> motion = bridge_motion(bridge(scene, {}));
+  const Model bridge_model = bridge(scene, motion);
+  const task::Trajectory path = scripted_path(scene);
+  const std::vector<Vec3> path_motion = scripted_motion(path);
+  const Model path_model = bridge(scene, path_motion);
+  if (!settings.mesh_only) sweep_rows(settings, bridge_model, motion, path, path_model, r);
+  std::fprintf(stderr, "enact bench: building the mesh rows' height fields\n");
+  const std::vector<FieldSpec> specs = field_specs();
+  std::vector<Model> fields;
+  for (const FieldSpec& spec : specs) fields.push_back(on_field(bridge_model, field_mesh(spec)));
+  const std::vector<Vec3> field_walk = field_motion(kBridgeRate_hz);
+  const std::size_t others = settings.mesh_only ? 0 : kIntegrators.size() * (kRates_hz.size() + 2) + 6 + kChainMasses.size();
+  std::fprintf(stderr, "enact bench: timing, %zu benchmarks x %d repetitions (medians)\n", others + specs.size(), settings.repetitions);
+  MedianReporter reporter;
+  if (!settings.mesh_only) register_benchmarks(bridge_model, motion, path_model, path_motion);
+  register_mesh_benchmarks(specs, fields, field_walk);
+  run_benchmarks(settings, reporter);
+  if (!settings.mesh_only) collect_medians(reporter, r);
+  std::fprintf(stderr, "enact bench: counting the mesh rows' searches over one pass of the walk\n");
   for (std::size_t k = 0; k < fields.size(); ++k) {
-    r.mesh.push_back({static_cast<int>(fields[k].meshes[0].triangles.size()), reporter.median_ns(mesh_name(kMeshCells[k]))});
+    r.mesh.push_back({specs[k], static_cast<int>(fields[k].meshes[0].triangles.size()), reporter.median_ns(mesh_name(specs[k])),
+                      mesh_rows::count_lookups(fields[k], field_walk)});
   }
   return r;
 }
@@ -330,7 +363,7 @@ Results run_physics(const Settings& settings, const std::string& scene) {
 int bench(int argc, char** argv) {
   if (argc > 2 && std::string(argv[2]) == "loop") return bench_loop(argc, argv);
   if (argc > 2 && std::string(argv[2]) == "record") return bench_record(argc, argv);
-  const Args a = parse(argc, argv, 2, {"json", "scene"}, {"quick"});
+  const Args a = parse(argc, argv, 2, {"json", "scene", "only"}, {"quick"});
   if (a.flag("help")) {
     std::fputs(kBenchPhysicsHelp, stdout);
     return 0;
@@ -338,9 +371,11 @@ int bench(int argc, char** argv) {
   if (a.positional.size() != 1 || a.positional[0] != "physics") {
     throw UsageError(a.positional.empty() ? "give a benchmark: physics, loop or record" : "unknown benchmark '" + a.positional[0] + "' (physics, loop, record)");
   }
-  const Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000,
-                                                        .sweep_reference_hz = reference::kSweepQuickReference_hz, .peer_rounds = 3}
-                                            : Settings{};
+  if (a.has("only") && a.get("only") != "mesh") throw UsageError("--only takes mesh (the mesh rows alone), not '" + a.get("only") + "'");
+  Settings settings = a.flag("quick") ? Settings{.repetitions = 3, .min_time_s = 0.05, .bounce_steps = 100000,
+                                                  .sweep_reference_hz = reference::kSweepQuickReference_hz, .peer_rounds = 3}
+                                      : Settings{};
+  settings.mesh_only = a.has("only");
   const Results r = run_physics(settings, a.get("scene", "launch/scenes/bridge.yaml"));
   print_table(r);
   if (a.has("json")) write_json(r, a.get("json"));

@@ -9,6 +9,7 @@
 #include "core/physics/reference.h"
 #include "nodes/enact-bench/bench_physics_body.h"
 #include "nodes/enact-bench/bench_physics_bridge.h"
+#include "nodes/enact-bench/bench_physics_mesh.h"
 #include "nodes/enact-bench/bench_physics_ode.h"
 
 namespace enact::cli::physics_bench {
@@ -30,6 +31,7 @@ struct Settings {
   long bounce_steps = 1000000;
   double sweep_reference_hz = physics::reference::kSweepReference_hz;
   int peer_rounds = 7;
+  bool mesh_only = false;  // --only mesh: the mesh rows alone
 };
 
 struct Row {
@@ -44,8 +46,10 @@ struct Row {
 };
 
 struct MeshRow {
+  mesh_rows::FieldSpec field;
   int triangles = 0;
   double ns_per_step = 0.0;
+  mesh_rows::LookupCounts counts;
 };
 
 struct ChainRow {
@@ -73,7 +77,7 @@ struct Results {
   Settings settings;
   std::vector<Row> rows;
   std::vector<ChainRow> chain;
-  std::vector<MeshRow> mesh;
+  std::vector<MeshRow> mesh;  // the refined set, then the fixed-cell set
   std::vector<PassiveCost> passive_cost;
   double bridge_ns = 0.0;       // at a turn, all 16 grid masses on the top (the worst case)
   std::vector<reference::SweepRow> bridge_rows;

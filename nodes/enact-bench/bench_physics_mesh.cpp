@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/physics/reference.h"
+#include "core/physics/state.h"
 
 namespace enact::cli::mesh_rows {
 
@@ -14,15 +15,16 @@ namespace reference = physics::reference;
 
 using math::Vec3;
 
-// a 60 mm square height field of 1 mm bumps (one every 21 mm) on a 5 mm plateau, `cells` a side
-physics::Mesh bumpy_field(int cells) {
-  const double cell_m = 0.06 / cells;
-  std::vector<double> heights;
-  for (int r = 0; r <= cells; ++r) {
-    for (int c = 0; c <= cells; ++c) heights.push_back(0.005 + 0.001 * std::sin(r * cell_m * 300.0) * std::sin(c * cell_m * 300.0));
-  }
-  return physics::heightfield_mesh(heights, cells + 1, cells + 1, cell_m, {0, 0, 0}, 0.0);
+std::vector<FieldSpec> field_specs() {
+  std::vector<FieldSpec> specs;
+  for (int cells : kRefinedCells) specs.push_back({FieldSet::refined, cells, 0.06 / cells, 0});
+  for (int margin : kFixedCellMargins) specs.push_back({FieldSet::fixed_cell, 4 + 2 * margin, kFixedCell_m, margin});
+  return specs;
 }
+
+const char* to_string(FieldSet set) { return set == FieldSet::refined ? "refined" : "fixed_cell"; }
+
+physics::Mesh field_mesh(const FieldSpec& spec) { return reference::bumpy_field(spec.cells, spec.cell_m, spec.margin); }
 
 // the bridge model (body, contact parameters, CM1) with the field instead of its objects:
 // the body's pairs with its first object, now the field
@@ -52,6 +54,52 @@ std::vector<Vec3> field_motion(double rate_hz) {
   return motion;
 }
 
-std::string mesh_name(int cells) { return "mesh/" + std::to_string(4 * cells * cells + 8 * cells); }
+std::string mesh_name(const FieldSpec& spec) {
+  return std::string("mesh/") + to_string(spec.set) + "/" + std::to_string(4 * spec.cells * spec.cells + 8 * spec.cells);
+}
+
+namespace {
+
+// levels below node `index` (a leaf: 0); the left child follows its parent
+int depth_below(const physics::Mesh& mesh, int index) {
+  const physics::BvhNode& node = mesh.nodes[index];
+  if (node.count > 0) return 0;
+  return 1 + std::max(depth_below(mesh, index + 1), depth_below(mesh, node.right));
+}
+
+}  // namespace
+
+LookupCounts count_lookups(const physics::Model& field, const std::vector<Vec3>& walk) {
+  const physics::Mesh& mesh = field.meshes[0];
+  physics::State s = physics::make_state(field);
+  LookupCounts counts;
+  counts.depth = depth_below(mesh, 0);
+  std::vector<Vec3> hold_before(field.contacts.size()), ring_before(field.contacts.size());
+  for (const Vec3& at : walk) {
+    for (std::size_t k = 0; k < field.contacts.size(); ++k) {
+      hold_before[k] = s.contacts[k].hold_at_m;
+      ring_before[k] = s.contacts[k].ring_at_m;
+    }
+    s.proxy_position_m[0] = at;
+    physics::step(field, s);
+    for (std::size_t k = 0; k < field.contacts.size(); ++k) {
+      const physics::ContactState& c = s.contacts[k];
+      const Vec3& x = s.x[field.contacts[k].point];
+      ++counts.pair_steps;
+      counts.in_contact += c.active;
+      // a search centres the ring on the point, and a search or a ring step the next hold; a
+      // held step leaves both where they were (exact but for a point standing exactly where
+      // it last searched)
+      if (c.ring_at_m == x && !(ring_before[k] == x)) {
+        ++counts.searches;
+        physics::nearest(mesh, x, counts.nearest);
+        if (c.ring_of >= 0) physics::nearest_beyond(mesh, c.ring_of, x, counts.beyond);
+      } else if (c.hold_at_m == x && !(hold_before[k] == x)) {
+        ++counts.ring_steps;
+      }
+    }
+  }
+  return counts;
+}
 
 }  // namespace enact::cli::mesh_rows

@@ -37,6 +37,59 @@ double convergence_order(const std::vector<Row>& rows, Integrator integrator) {
   return -(n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// the mesh rows of one set, each against the previous one of its set
+void print_mesh_rows(const std::vector<MeshRow>& rows, mesh_rows::FieldSet set) {
+  const MeshRow* before = nullptr;
+  for (const MeshRow& w : rows) {
+    if (w.field.set != set) continue;
+    const mesh_rows::LookupCounts& c = w.counts;
+    std::printf("mesh %-10s %6d triangles, cells %5.2f mm: %7.1f ns per step", mesh_rows::to_string(set), w.triangles, w.field.cell_m * 1e3,
+                w.ns_per_step);
+    if (before != nullptr) {
+      std::printf(" (x%.2f the %d-triangle row's; log(triangles) x%.2f)", w.ns_per_step / before->ns_per_step, before->triangles,
+                  std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before->triangles)));
+    }
+    std::printf("\n     %-10s a pair step: %.4f searches, %.4f from the ring, %.1f %% held (%.0f %% in contact); a search: %.1f boxes and %.1f "
+                "triangles, + %.1f and %.1f beyond the ring; depth %d\n",
+                "", c.per_pair_step(c.searches), c.per_pair_step(c.ring_steps), 100.0 * c.held_share(), 100.0 * c.per_pair_step(c.in_contact),
+                c.per_search(c.nearest.nodes), c.per_search(c.nearest.triangles), c.per_search(c.beyond.nodes), c.per_search(c.beyond.triangles),
+                c.depth);
+    before = &w;
+  }
+}
+
+void write_file(const std::string& path, const Json& j) {
+  std::ofstream out(path);
+  out << j.str() << "\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+void print_machine(const Results& r) {
+  std::printf("machine      %s, %s, %d cores; times are wall-clock medians of %d repetitions (min %g s each)\n",
+              r.machine.arch.c_str(), r.machine.cpu.c_str(), r.machine.cores, r.settings.repetitions, r.settings.min_time_s);
+}
+
+void mesh_rows_json(Json& j, const std::vector<MeshRow>& rows, mesh_rows::FieldSet set) {
+  j.begin_array();
+  const MeshRow* before = nullptr;
+  for (const MeshRow& w : rows) {
+    if (w.field.set != set) continue;
+    const mesh_rows::LookupCounts& c = w.counts;
+    j.begin_object().field("triangles", w.triangles).field("cell_m", w.field.cell_m).field("ns_per_step", w.ns_per_step);
+    if (before != nullptr) {
+      j.field("ratio_to_previous", w.ns_per_step / before->ns_per_step);
+      j.field("log_ratio_to_previous", std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before->triangles)));
+    }
+    j.field("searches_per_pair_step", c.per_pair_step(c.searches)).field("ring_steps_per_pair_step", c.per_pair_step(c.ring_steps));
+    j.field("held_share", c.held_share()).field("depth", c.depth);
+    j.field("nodes_per_search", c.per_search(c.nearest.nodes)).field("triangles_per_search", c.per_search(c.nearest.triangles));
+    j.field("beyond_nodes_per_search", c.per_search(c.beyond.nodes)).field("beyond_triangles_per_search", c.per_search(c.beyond.triangles));
+    j.end_object();
+    before = &w;
+  }
+  j.end_array();
+}
+
 }  // namespace
 
 Machine machine() {
@@ -58,6 +111,12 @@ Machine machine() {
 }
 
 void print_table(const Results& r) {
+  if (r.settings.mesh_only) {
+    print_mesh_rows(r.mesh, mesh_rows::FieldSet::refined);
+    print_mesh_rows(r.mesh, mesh_rows::FieldSet::fixed_cell);
+    print_machine(r);
+    return;
+  }
   std::printf("%-16s %6s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s %10s\n", "integrator", "kHz", "ns/step", "RT factor", "error",
               "amp err", "phase rad", "freq/pred", "damped", "peak pen", "E drift", "E max", "P drift");
   for (const Row& w : r.rows) {
@@ -90,18 +149,9 @@ void print_table(const Results& r) {
   for (const ChainRow& w : r.chain) {
     std::printf("chain %-6d %.1f ns per step, %.2f ns per element (mass + link)\n", w.masses, w.ns_per_step, w.ns_per_element());
   }
-  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
-    const MeshRow& w = r.mesh[k];
-    std::printf("mesh %-7d %.1f ns per step", w.triangles, w.ns_per_step);
-    if (k > 0) {
-      const MeshRow& before = r.mesh[k - 1];
-      std::printf(" (x%.2f the %d-triangle row's; log(triangles) x%.2f)", w.ns_per_step / before.ns_per_step, before.triangles,
-                  std::log(static_cast<double>(w.triangles)) / std::log(static_cast<double>(before.triangles)));
-    }
-    std::printf("\n");
-  }
-  std::printf("machine      %s, %s, %d cores; times are wall-clock medians of %d repetitions (min %g s each)\n",
-              r.machine.arch.c_str(), r.machine.cpu.c_str(), r.machine.cores, r.settings.repetitions, r.settings.min_time_s);
+  print_mesh_rows(r.mesh, mesh_rows::FieldSet::refined);
+  print_mesh_rows(r.mesh, mesh_rows::FieldSet::fixed_cell);
+  print_machine(r);
 }
 
 void write_json(const Results& r, const std::string& path) {
@@ -110,6 +160,15 @@ void write_json(const Results& r, const std::string& path) {
   j.field("cores", r.machine.cores).end_object();
   j.field("repetitions", r.settings.repetitions).field("min_time_s", r.settings.min_time_s);
   j.field("bounce_steps", static_cast<long long>(r.settings.bounce_steps));
+  j.key("mesh_rows");
+  mesh_rows_json(j, r.mesh, mesh_rows::FieldSet::refined);
+  j.key("mesh_fixed_cell_rows");
+  mesh_rows_json(j, r.mesh, mesh_rows::FieldSet::fixed_cell);
+  if (r.settings.mesh_only) {
+    j.end_object();
+    write_file(path, j);
+    return;
+  }
   j.field("bridge_step_ns_median", r.bridge_path_ns).field("bridge_share_of_44khz_period", r.bridge_path_ns * 1e-9 * kBridgeRate_hz);
   j.field("bridge_step_unculled_ns_median", r.bridge_path_unculled_ns).field("bridge_cull_test_ns_median", r.bridge_cull_test_ns);
   j.field("bridge_turn_step_ns_median", r.bridge_ns).field("bridge_turn_share_of_44khz_period", r.bridge_share());
@@ -119,13 +178,6 @@ void write_json(const Results& r, const std::string& path) {
   j.key("chain").begin_array();
   for (const ChainRow& w : r.chain) {
     j.begin_object().field("masses", w.masses).field("ns_per_step", w.ns_per_step).field("ns_per_element", w.ns_per_element()).end_object();
-  }
-  j.end_array().key("mesh_rows").begin_array();
-  for (std::size_t k = 0; k < r.mesh.size(); ++k) {
-    const MeshRow& w = r.mesh[k];
-    j.begin_object().field("triangles", w.triangles).field("ns_per_step", w.ns_per_step);
-    if (k > 0) j.field("ratio_to_previous", w.ns_per_step / r.mesh[k - 1].ns_per_step);
-    j.end_object();
   }
   j.end_array().key("rows").begin_array();
   for (const Row& w : r.rows) {
@@ -147,9 +199,7 @@ void write_json(const Results& r, const std::string& path) {
     j.field("bounce_ns_per_step", c.plain_ns).field("passive_bounce_ns_per_step", c.passive_ns).field("ratio", c.ratio()).end_object();
   }
   j.end_array().end_object();
-  std::ofstream out(path);
-  out << j.str() << "\n";
-  if (!out) throw std::runtime_error("cannot write " + path);
+  write_file(path, j);
 }
 
 }  // namespace enact::cli::physics_bench

@@ -1,12 +1,16 @@
 // Triangle meshes (core/physics/mesh.h): the contact of a point with a closed mesh on hard
 // cases (grazing a face, exactly on an edge and a vertex, deep inside, a thin wall, moving
 // across edges), the held triangle against the full search, a box written as 12 triangles
-// against the box object, and a step that allocates nothing.
+// against the box object, a step that allocates nothing, and a search whose work grows with
+// log(triangles) when a field grows around triangles of one size.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
+#include "core/physics/reference.h"
 #include "tests/physics/models.h"
 #include "tests/support/alloc_guard.h"
 
@@ -169,14 +173,7 @@ TEST(Mesh, ABoxAsTwelveTrianglesGivesTheBoxObjectsForces) {
 }
 
 // the height field of the bench: bumps of 1 mm on a plateau 5 mm high, `cells` per side over 60 mm
-Mesh bumps(int cells) {
-  std::vector<double> heights;
-  const double cell_m = 0.06 / cells;
-  for (int r = 0; r <= cells; ++r) {
-    for (int c = 0; c <= cells; ++c) heights.push_back(0.005 + 0.001 * std::sin(r * cell_m * 300.0) * std::sin(c * cell_m * 300.0));
-  }
-  return heightfield_mesh(heights, cells + 1, cells + 1, cell_m, {0, 0, 0}, 0.0);
-}
+Mesh bumps(int cells) { return reference::bumpy_field(cells, 0.06 / cells); }
 
 TEST(Mesh, TheHeldTriangleAndCullingMatchTheFullSearchOfEveryPairEveryStep) {
   const Model m = with_body([] {
@@ -189,7 +186,7 @@ TEST(Mesh, TheHeldTriangleAndCullingMatchTheFullSearchOfEveryPairEveryStep) {
   full.hold = false;
   full.cull = false;
   models::Walk walk({-0.03, -0.02, 0.0045}, {0.05, 0.02, 0.009}, 23);
-  long contact_steps = 0, held_steps = 0;
+  long contact_steps = 0, held_steps = 0, ring_steps = 0;
   for (long n = 0; n < 200000; ++n) {
     fast.proxy_position_m[0] = full.proxy_position_m[0] = walk.next(m.dt_s);
     step(m, fast);
@@ -201,11 +198,15 @@ TEST(Mesh, TheHeldTriangleAndCullingMatchTheFullSearchOfEveryPairEveryStep) {
       contact_steps += a.active;
       const Vec3 moved = fast.x[m.contacts[k].point] - a.hold_at_m;
       held_steps += a.active && a.hold_r2 > 0.0 && dot(moved, moved) > 0.0;
+      // the hold planned this step by the nearest of the last search's ring, not by a search
+      const Vec3& x = fast.x[m.contacts[k].point];
+      ring_steps += a.active && a.hold_at_m == x && !(a.ring_at_m == x);
     }
   }
-  std::printf("%ld contact steps, %ld of them on a hold planned earlier\n", contact_steps, held_steps);
+  std::printf("%ld contact steps, %ld of them on a hold planned earlier, %ld from a ring\n", contact_steps, held_steps, ring_steps);
   EXPECT_GT(contact_steps, 100000);
   EXPECT_GT(held_steps, contact_steps / 3);
+  EXPECT_GT(ring_steps, contact_steps / 100);
 }
 
 TEST(Mesh, TheStepAllocatesNothing) {
@@ -229,6 +230,61 @@ TEST(Mesh, TheStepAllocatesNothing) {
   }
   EXPECT_EQ(allocations, 0u);
   EXPECT_GT(touching, 1000);
+}
+
+// what searches from points over the middle 50 mm of a field test, on average and at most, and
+// the nearest distances they find (in order)
+struct SearchWork {
+  double nodes = 0.0;
+  double triangles = 0.0;
+  long most_nodes = 0;
+  std::vector<double> distances_m;
+};
+
+SearchWork search_work(const Mesh& mesh) {
+  SearchWork w;
+  SearchCounts all;
+  // 31 x 31 columns 1.7 mm apart (off the cells' lattice), from 1 mm above the plateau to
+  // 2.5 mm into it: outside, on and under the bumps
+  for (int i = 0; i < 31; ++i) {
+    for (int j = 0; j < 31; ++j) {
+      for (double z_m : {0.0060, 0.0052, 0.0046, 0.0040, 0.0025}) {
+        SearchCounts one;
+        w.distances_m.push_back(nearest(mesh, {-0.0255 + 0.0017 * i, -0.0255 + 0.0017 * j, z_m}, one).distance_m);
+        w.most_nodes = std::max(w.most_nodes, one.nodes);
+        all.nodes += one.nodes;
+        all.triangles += one.triangles;
+      }
+    }
+  }
+  w.nodes = static_cast<double>(all.nodes) / static_cast<double>(w.distances_m.size());
+  w.triangles = static_cast<double>(all.triangles) / static_cast<double>(w.distances_m.size());
+  return w;
+}
+
+TEST(Mesh, ASearchTestsLogarithmicallyManyBoxesWhenTheTrianglesKeepTheirSize) {
+  // the bench's fixed-cell fields: 15 mm cells, the 60 mm square grown from 96 to 101 120
+  // triangles (2.4 m a side); near the points the same triangles, vertex for vertex
+  const SearchWork first = search_work(reference::bumpy_field(4, 0.015, 0));
+  const double per_log2 = first.nodes / std::log2(96.0);
+  // 1.5: where the hierarchy's split planes fall near the points varies with the size (a point
+  // near a split searches both sides); a search growing like sqrt(n) or n would exceed it
+  const auto bound = [per_log2](double n) { return 1.5 * per_log2 * std::log2(n); };
+  for (int margin : {6, 23, 77}) {
+    const Mesh mesh = reference::bumpy_field(4 + 2 * margin, 0.015, margin);
+    const double n = static_cast<double>(mesh.triangles.size());
+    const SearchWork w = search_work(mesh);
+    std::printf("%6.0f triangles: %.1f boxes a search on average (bound %.1f, at most %ld), %.1f triangles (%.1f at 96)\n", n, w.nodes,
+                bound(n), w.most_nodes, w.triangles, first.triangles);
+    EXPECT_LE(w.nodes, bound(n)) << n;
+    // the triangles near the points are the same: as many tested
+    EXPECT_LE(w.triangles, 1.5 * first.triangles) << n;
+    // and the same nearest points: the field only grew away from them
+    ASSERT_EQ(w.distances_m.size(), first.distances_m.size());
+    for (std::size_t k = 0; k < w.distances_m.size(); ++k) ASSERT_NEAR(w.distances_m[k], first.distances_m[k], 1e-12) << n << " query " << k;
+  }
+  // the bound at 10^5 triangles is below what a search growing like sqrt(n) would test
+  EXPECT_LT(bound(101120.0), first.nodes * std::sqrt(101120.0 / 96.0));
 }
 
 TEST(Mesh, PairCullingSkipsTheMeshOnlyAwayFromItsBounds) {
