@@ -335,12 +335,15 @@ void a_late_recording_replays_from_its_first_keyframe(const std::string& graph_f
     const RunResult before = run(kCli + " param set sim.stiffness_n_per_m 3000 --attach " + graph.endpoint());
     EXPECT_EQ(before.exit_code, 0) << before.out << before.err;
     std::this_thread::sleep_for(std::chrono::milliseconds(2000));
-    const RunResult recorder = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 5 >" + dir.file("rec.out") +
-                                   " 2>&1 & echo $!");
+    const RunResult recorder = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " >" + dir.file("rec.out") + " 2>&1 & echo $!");
     const pid_t pid = static_cast<pid_t>(std::stol(recorder.out));
     std::this_thread::sleep_for(std::chrono::milliseconds(2500));
     const RunResult during = run(kCli + " param set sim.model CM2 --attach " + graph.endpoint());
     EXPECT_EQ(during.exit_code, 0) << during.out << during.err;
+    // the change is applied (its ack came back): the recording ends a second after it, as by
+    // Ctrl-C (a fixed --duration ended before the change on a busy machine: CI27)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    kill(pid, SIGINT);
     const auto end = after(20.0);
     while (!process_gone(pid) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     ASSERT_TRUE(process_gone(pid)) << read_file(dir.file("rec.out"));
