@@ -1,6 +1,5 @@
 #include "core/bus/client.h"
 
-#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>

@@ -1,6 +1,5 @@
 #include "core/bus/disconnect.h"
 
-#include <atomic>
 #include <cstdint>
 #include <cstring>
 
