@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <string_view>
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
@@ -135,7 +136,12 @@ void read_trial_graph(const config::Map& m, const std::vector<std::string>& need
     if (!given.IsMap()) m.fail("launch_args", "launch_args must be a mapping", "write launch_args: {rate_hz: 5000}");
     for (const auto& kv : given) {
       if (!kv.second.IsScalar()) config::fail(path, kv.second, "launch argument '" + kv.first.Scalar() + "' must be a single value", "write NAME: VALUE");
-      args.emplace_back(kv.first.Scalar(), kv.second.Scalar());
+      // $(dirname): the experiment file's folder, as in launch files (files beside the experiment)
+      std::string value = kv.second.Scalar();
+      const std::string folder = fs::absolute(path).parent_path().lexically_normal().string();
+      constexpr std::string_view kDirname = "$(dirname)";
+      for (std::size_t at = value.find(kDirname); at != std::string::npos; at = value.find(kDirname, at + folder.size())) value.replace(at, kDirname.size(), folder);
+      args.emplace_back(kv.first.Scalar(), value);
     }
   }
   try {

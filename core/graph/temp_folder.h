@@ -36,6 +36,17 @@ class TempFolder {
     return p;
   }
 
+  // writes `data` at `relative` (a path inside the folder, its folders made); returns its
+  // path, or "" for a path that would leave the folder (absolute, or through "..")
+  std::string put_at(const std::string& relative, const std::string& data) const {
+    const std::filesystem::path inside = std::filesystem::path(relative).lexically_normal();
+    if (inside.empty() || inside.is_absolute() || *inside.begin() == "..") return "";
+    const std::filesystem::path p = std::filesystem::path(path_) / inside;
+    std::filesystem::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << data;
+    return p.string();
+  }
+
  private:
   std::string path_;
 };

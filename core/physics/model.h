@@ -84,7 +84,8 @@ struct Box {
 // file, a height map) or a capsule (a sphere: a capsule of zero length)
 enum class ObjectType : std::uint8_t { plane, boxes, mesh, capsule };
 
-// a polyline centerline, kept for objects built as a path (the bridge): tools place paths on it
+// a polyline centerline, kept for objects built as a path (the bridge) and for the task: tools
+// place paths on it
 struct PathGeometry {
   std::vector<Vec3> centerline_m;  // z = top surface
   double width_m = 0.0;
@@ -178,6 +179,7 @@ struct Model {
   DivergenceLimits limits;
   std::string device_profile;  // optional: device whose passivity bound is checked
   std::string task_surface;    // optional: object whose top surface the task is about
+  PathGeometry task_path;      // with a task: the line along its top (a path object's own centreline), the top's height and width
 
   std::vector<Point> points;
   std::vector<Link> links;

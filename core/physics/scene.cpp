@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/physics/mesh_file.h"
 
@@ -183,6 +184,19 @@ struct Loader {
 
   // a path: one box per segment, each extended by half the width at both ends so that
   // turns are filled; the top surface is flat and the walls vertical
+  // a centreline from points_m ([[x, y], ...], at least 2, none repeated) at height top (m)
+  std::vector<Vec3> centreline(const Map& m, double top, const char* what) const {
+    const YAML::Node pts = m.get("points_m");
+    if (!pts.IsSequence() || pts.size() < 2) m.fail("points_m", std::string(what) + " needs at least 2 points", "write points_m: [[x, y], [x, y], ...] (m)");
+    std::vector<Vec3> line;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const auto xy = config::numbers(file, pts[i], 2, "path point");
+      line.push_back({xy[0], xy[1], top});
+      if (i > 0 && line[i].x == line[i - 1].x && line[i].y == line[i - 1].y) config::fail(file, pts[i], "two consecutive path points are equal", "remove the repeated point");
+    }
+    return line;
+  }
+
   void path(const Map& m, Object& o) {
     const double width = m.positive("width_m");
     const double bottom = m.number("bottom_z_m", 0.0);
@@ -192,16 +206,10 @@ struct Loader {
     o.path.width_m = width;
     o.path.bottom_z_m = bottom;
     o.path.top_z_m = top;
-    const YAML::Node pts = m.get("points_m");
-    if (!pts.IsSequence() || pts.size() < 2) m.fail("points_m", "a path needs at least 2 points", "write points_m: [[x, y], [x, y], ...] (m)");
-    for (const auto& p : pts) {
-      const auto xy = config::numbers(file, p, 2, "path point");
-      o.path.centerline_m.push_back({xy[0], xy[1], top});
-    }
+    o.path.centerline_m = centreline(m, top, "a path");
     for (std::size_t i = 0; i + 1 < o.path.centerline_m.size(); ++i) {
       const Vec3 a = o.path.centerline_m[i], b = o.path.centerline_m[i + 1];
       const double length = std::hypot(b.x - a.x, b.y - a.y);
-      if (length <= 0.0) config::fail(file, pts[i + 1], "two consecutive path points are equal", "remove the repeated point");
       Box box;
       box.center_m = {(a.x + b.x) / 2, (a.y + b.y) / 2, (bottom + top) / 2};
       box.half_extents_m = {length / 2 + width / 2, width / 2, (top - bottom) / 2};
@@ -379,12 +387,36 @@ struct Loader {
     }
   }
 
+  // the task's surface and the line along it: a path object's own centreline, or for any
+  // other object (a height map, a mesh, a capsule...) points_m, top_z_m and width_m here
   void task(const Map& scene) {
     if (!scene.has("task")) return;
-    Map t(scene.get("task"), file, "task", {"surface"});
+    Map t(scene.get("task"), file, "task", {"surface", "points_m", "top_z_m", "width_m"});
     model.task_surface = t.text("surface");
     const int o = model.find_object(model.task_surface);
-    if (o < 0 || !model.objects[o].is_path) t.fail("surface", "task surface '" + model.task_surface + "' is not a path object", "name an object of type: path");
+    if (o < 0) t.fail("surface", "no object '" + model.task_surface + "' for the task" + config::did_you_mean(model.task_surface, object_names()), "name one of the scene's objects");
+    const Object& surface = model.objects[o];
+    if (surface.is_path) {
+      for (const char* key : {"points_m", "top_z_m", "width_m"}) {
+        if (t.has(key)) t.fail(key, std::string("the path object '") + surface.name + "' gives the task its own centreline, width and top", std::string("remove ") + key);
+      }
+      model.task_path = surface.path;
+      return;
+    }
+    if (surface.type == ObjectType::plane) t.fail("surface", "a plane cannot be the task's surface (nothing to fall off)", "name a path, mesh, height map, sphere or capsule");
+    for (const char* key : {"points_m", "top_z_m", "width_m"}) {
+      if (!t.has(key)) t.fail("surface", std::string("the task on '") + surface.name + "' (not a path object) needs " + key,
+                              "give the line to follow (points_m: [[x, y], ...]), the height of the top along it (top_z_m) and the width of the top (width_m), in m");
+    }
+    model.task_path.width_m = t.positive("width_m");
+    model.task_path.top_z_m = t.number("top_z_m");
+    model.task_path.centerline_m = centreline(t, model.task_path.top_z_m, "a task line");
+  }
+
+  std::vector<std::string> object_names() const {
+    std::vector<std::string> names;
+    for (const Object& o : model.objects) names.push_back(o.name);
+    return names;
   }
 };
 
@@ -392,6 +424,22 @@ struct Loader {
 
 std::string grid_point_name(const std::string& body, int row, int col) {
   return body + "/r" + std::to_string(row) + "c" + std::to_string(col);
+}
+
+std::vector<std::string> files_beside_scene(const std::string& path) {
+  std::vector<std::string> files;
+  try {
+    const YAML::Node objects = YAML::LoadFile(path)["objects"];
+    if (!objects.IsSequence()) return files;
+    for (const auto& o : objects) {
+      if (!o.IsMap() || !o["file"] || !o["file"].IsScalar()) continue;
+      const std::filesystem::path file = std::filesystem::path(o["file"].Scalar()).lexically_normal();
+      if (file.is_relative() && !file.empty() && *file.begin() != "..") files.push_back(file.string());
+    }
+  } catch (const std::exception&) {
+    files.clear();
+  }
+  return files;
 }
 
 Model load_scene(const std::string& path) {

@@ -181,7 +181,13 @@ Params recorded_sim_params(record::Reader& r, const ResimOptions& options, const
     if (!given.empty()) return p.set(name, given);
     const auto data = r.attachment(src.prefix + name);
     const auto path = recorded.find(src.prefix + name);
-    if (data) p.set(name, files.put(name, path == recorded.end() ? "" : path->second, *data));
+    if (!data) return;
+    p.set(name, files.put(name, path == recorded.end() ? "" : path->second, *data));
+    // the files it reads beside it (a scene's meshes and height maps), kept as "<name>/<path>"
+    const std::string beside = src.prefix + name + "/";
+    for (const auto& a : r.attachments()) {
+      if (a.name.starts_with(beside)) files.put_at(a.name.substr(beside.size()), a.data);
+    }
   };
   file_param("scene", options.scene);
   file_param("model", options.model);

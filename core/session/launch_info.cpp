@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/params/node_params.h"
+#include "core/physics/scene.h"
 #include "core/rt/clock.h"
 
 namespace enact::graph {
@@ -27,21 +28,28 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
   text << in.rdbuf();
   info.set_launch_text(text.str());
   info.set_clock(rt::to_string(graph.clock));
-  auto add = [&](const std::string& name, const std::string& value) {
-    auto& p = *info.add_params();
-    p.set_name(name);
-    p.set_value(value);
-    // a parameter naming a file: keep the file (small ones only)
+  // a file kept as `name` (small ones only); false when there is none to keep
+  auto keep = [&](const std::string& name, const std::string& path) {
     std::error_code ec;
-    if (value.empty() || !std::filesystem::is_regular_file(value, ec) || std::filesystem::file_size(value, ec) > (1u << 20)) return;
-    std::ifstream f(value, std::ios::binary);
+    if (path.empty() || !std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) > (1u << 20)) return false;
+    std::ifstream f(path, std::ios::binary);
     std::stringstream data;
     data << f.rdbuf();
     auto& file = *info.add_files();
     file.set_name(name);
-    file.set_path(std::filesystem::absolute(value).string());
-    file.set_media_type(media_type(value));
+    file.set_path(std::filesystem::absolute(path).string());
+    file.set_media_type(media_type(path));
     file.set_data(data.str());
+    return true;
+  };
+  auto add = [&](const std::string& name, const std::string& value) {
+    auto& p = *info.add_params();
+    p.set_name(name);
+    p.set_value(value);
+    // a parameter naming a file: keep the file, and the files a scene reads beside it as
+    // "<name>/<path relative to it>" (graph::put_with_files puts them back)
+    if (!keep(name, value) || !value.ends_with(".yaml")) return;
+    for (const std::string& beside : physics::files_beside_scene(value)) keep(name + "/" + beside, (std::filesystem::path(value).parent_path() / beside).string());
   };
   bool ffd = false, sim = false, zeromq = false, colocated = false;
   for (const auto& n : graph.nodes) {

@@ -30,15 +30,15 @@ struct Key {
 }  // namespace
 
 task::Trajectory scripted_path(const Simulator& sim, double press) {
-  if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <path object>} or give --input");
-  const physics::Object& surface = sim.model().objects[sim.model().find_object(sim.model().task_surface)];
+  if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <object>} (docs/scenes-and-models.md, \"The task\") or give --input");
+  const physics::PathGeometry& along = sim.model().task_path;
   const task::Polyline& path = sim.path();
   const double length = path.length_m();
-  const double top = surface.path.top_z_m;
+  const double top = along.top_z_m;
   const double speed = 0.010;                  // 10 mm/s along the path
   const physics::Proxy& body = sim.model().proxies[0];
   const double body_half = body.pitch_m * std::hypot(body.rows - 1, body.cols - 1) / 2.0;  // any orientation
-  const double off_edge = surface.path.width_m / 2 + body_half + 0.001;  // whole grid off the top
+  const double off_edge = along.width_m / 2 + body_half + 0.001;  // whole grid off the top
   const double above = 0.001;
   std::vector<Key> keys;
   double t = 0.0, s = 0.002;

@@ -64,7 +64,7 @@ void Simulator::configure(const SimParams& params) {
   if (!model_.task_surface.empty()) {
     const int surface = model_.find_object(model_.task_surface);
     std::vector<task::Point2> line;
-    for (const auto& p : model_.objects[surface].path.centerline_m) line.push_back({p.x, p.y});
+    for (const auto& p : model_.task_path.centerline_m) line.push_back({p.x, p.y});
     path_ = task::Polyline(line);
     for (std::size_t i = 0; i < model_.contacts.size(); ++i) {
       const physics::ContactPair& c = model_.contacts[i];

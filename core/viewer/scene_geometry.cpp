@@ -58,14 +58,15 @@ SceneGeometry geometry_of(const physics::Model& m) {
       f.task_surface = static_cast<int>(o) == surface;
       g.faces.push_back(f);
     }
-    if (static_cast<int>(o) == surface && obj.is_path) {
-      std::vector<task::Point2> line;
-      for (const math::Vec3& p : obj.path.centerline_m) line.push_back({p.x, p.y});
-      g.path = task::Polyline(line);
-      g.has_path = true;
-      g.path_width_m = obj.path.width_m;
-      g.top_z_m = obj.path.top_z_m;
-    }
+  }
+  // the task's line (a path object's centreline, or the line given on another object)
+  if (surface >= 0) {
+    std::vector<task::Point2> line;
+    for (const math::Vec3& p : m.task_path.centerline_m) line.push_back({p.x, p.y});
+    g.path = task::Polyline(line);
+    g.has_path = true;
+    g.path_width_m = m.task_path.width_m;
+    g.top_z_m = m.task_path.top_z_m;
   }
   // the body
   if (!m.proxies.empty()) {

@@ -253,6 +253,31 @@ TEST(ExperimentCli, AUsersOwnSceneRunsAsAnExperiment) {
   EXPECT_NE(resim.out.find("identical: every force and every pin frame"), std::string::npos) << resim.out;
 }
 
+// the second shipped experiment (contour following on the ridge: a height map, its task line
+// in the scene, its scene given by launch_args with $(dirname)), one subject and one
+// condition in simulated time: run, recorded, completed, its metrics its replay's
+TEST(ExperimentCli, TheShippedRidgeExperimentRunsEndToEnd) {
+  TempDir dir;
+  const RunResult r = enact("experiment " + source_path("launch/experiments/ridge.yaml") + " --subjects 1 --conditions CM1 --clock simulated --out " + dir.file("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto rows = csv_rows(dir.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][1], "CM1");
+  EXPECT_EQ(rows[1][7], "1") << "the baseline subject follows the crest to its end with CM1's pins";
+  const double total_s = std::stod(rows[1][4]);
+  EXPECT_GT(total_s, 3.0) << "49 mm of crest at about 10 mm/s";
+  EXPECT_LT(total_s, 90.0);
+  const std::string recording = dir.file("out/trials/s1_CM1_measured.mcap");
+  record::Reader reader(recording);
+  bool on_ridge = false;
+  for (const auto& [name, value] : reader.metadata("enact.params")) on_ridge = on_ridge || (name.ends_with(".scene") && value.ends_with("/scenes/ridge.yaml"));
+  EXPECT_TRUE(on_ridge) << "the trial graph was not given the ridge scene";
+  expect_metrics_agree(recording, rows[1]);
+  const RunResult resim = enact("resim " + recording);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("identical: every force and every pin frame"), std::string::npos) << resim.out;
+}
+
 TEST(ExperimentCli, DistributedGraphRunsTheTrials) {
   TempDir dir;
   const RunResult r = enact("experiment " + virtual_tiny(dir, "CM1", 5.0, "trial.yaml") + " --out " + dir.file("out"));

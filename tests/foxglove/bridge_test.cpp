@@ -50,7 +50,11 @@ nlohmann::json run_client(const std::string& script, int seconds) {
   int status = 0;
   waitpid(bridge, &status, 0);
   EXPECT_EQ(client.exit_code, 0) << client.err << bridge_log();
-  return nlohmann::json::parse(client.out, nullptr, false);
+  nlohmann::json summary = nlohmann::json::parse(client.out, nullptr, false);
+  // what the server and the graph said, printed with the summary where an assertion fails
+  // (CI29 once saw the channels advertised and no message in 6 s; unreproduced)
+  if (summary.is_object()) summary["logs"] = {{"bridge", bridge_log()}, {"graph", graph.log()}};
+  return summary;
 }
 
 TEST_F(FoxgloveBridge, FoxglovesClientSeesEveryTopicDecodesItAndGetsTheScene) {

@@ -265,6 +265,36 @@ TEST(SceneObjects, AHeightMapReadsA16BitPng) {
   EXPECT_NE(unscaled.find("fix: add max_height_m"), std::string::npos) << unscaled;
 }
 
+// a task on an object that is not a path names the line to follow, its top and its width;
+// a path object gives its own; each refusal names the line and the fix
+TEST(SceneObjects, ATaskOnAnyObjectNamesItsLineTopAndWidth) {
+  test::TempDir dir;
+  const std::string ball = "  - {name: ball, type: sphere, center_m: [0, 0, 0], radius_m: 0.01}\n";
+  const std::string bridge = "  - {name: bridge, type: path, points_m: [[0, 0], [0.02, 0]], width_m: 0.01, top_z_m: 0.01}\n";
+  const Model m = scene_with(dir, ball + "task: {surface: ball, points_m: [[-0.005, 0], [0.005, 0]], top_z_m: 0.01, width_m: 0.004}\n");
+  EXPECT_EQ(m.task_surface, "ball");
+  ASSERT_EQ(m.task_path.centerline_m.size(), 2u);
+  EXPECT_EQ(m.task_path.centerline_m[1].x, 0.005);
+  EXPECT_EQ(m.task_path.top_z_m, 0.01);
+  EXPECT_EQ(m.task_path.width_m, 0.004);
+  const Model p = scene_with(dir, bridge + "task: {surface: bridge}\n");
+  EXPECT_EQ(p.task_path.centerline_m.size(), 2u);
+  EXPECT_EQ(p.task_path.width_m, 0.01);
+
+  const std::string missing = test::error_of([&] { scene_with(dir, ball + "task: {surface: ball, top_z_m: 0.01, width_m: 0.004}\n"); });
+  EXPECT_NE(missing.find("scene.yaml:"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("needs points_m"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("fix:"), std::string::npos) << missing;
+  const std::string own = test::error_of([&] { scene_with(dir, bridge + "task: {surface: bridge, width_m: 0.004}\n"); });
+  EXPECT_NE(own.find("gives the task its own centreline"), std::string::npos) << own;
+  const std::string plane = test::error_of([&] { scene_with(dir, "  - {name: floor, type: plane, point_m: [0, 0, 0], normal: [0, 0, 1]}\ntask: {surface: floor}\n"); });
+  EXPECT_NE(plane.find("a plane cannot be the task's surface"), std::string::npos) << plane;
+  const std::string misspelt = test::error_of([&] { scene_with(dir, ball + "task: {surface: bal}\n"); });
+  EXPECT_NE(misspelt.find("did you mean ball"), std::string::npos) << misspelt;
+  const std::string repeated = test::error_of([&] { scene_with(dir, ball + "task: {surface: ball, points_m: [[0, 0], [0, 0]], top_z_m: 0.01, width_m: 0.004}\n"); });
+  EXPECT_NE(repeated.find("two consecutive path points are equal"), std::string::npos) << repeated;
+}
+
 TEST(SceneObjects, TheShippedShapesScenePushesOutOfEachOfItsObjects) {
   const Model m = load_scene(test::source_path("launch/scenes/shapes.yaml"));
   // a point inside each object (and above the floor), and one above all of them
