@@ -36,9 +36,10 @@ struct TopicCounters {
 struct PublisherOptions {
   std::string node;     // name of the publishing node: typed publishers write it in header.source
   int send_hwm = 1000;  // messages queued per subscriber; past it, that subscriber loses messages
-  // flow control, for benchmarks only: send() refuses a message (counted as dropped) while
-  // any subscriber's queue is full, so one stopped subscriber stops every other
-  // (ZMQ_XPUB_NODROP). Never for a graph's nodes: an observer could stall the loop.
+  // flow control, for benchmarks and replay (enact play) only: send() refuses a message
+  // (counted as dropped) while any subscriber's queue is full, so one stopped subscriber
+  // stops every other (ZMQ_XPUB_NODROP). Never for a loop's nodes: an observer could stall
+  // the loop.
   bool refuse_when_full = false;
   // simulated time (the graph clock): refuse_when_full, and send() waits while refused (at
   // most kFullWait_s, then drops), so the graph goes only as fast as its slowest subscriber

@@ -101,7 +101,7 @@ void Bridge::connect(const std::string& endpoint) {
   sub_->subscribe(graph::kParamAck);  // and each param/values/<node> as the graph lists it (take_graph)
   zmq_topics_.clear();
   scene_.reset();
-  scene_text_.clear();
+  scene_in_use_.reset();
   graph_seen_ns_ = rt::now_ns();
   std::lock_guard lock(mutex_);
   options_.attach = endpoint;
@@ -363,10 +363,10 @@ bool Bridge::run(const std::function<bool()>& stop) {
 void Bridge::take_graph(const msgs::GraphInfo& info, const std::string& payload, std::int64_t now_ns) {
   graph_seen_ns_ = now_ns;
   // the scene, when the graph names a new one
-  if (const auto text = scene_text(info); text && *text != scene_text_) {
-    scene_text_ = *text;
+  if (auto named = scene_of(info); named && named != scene_in_use_) {
+    scene_in_use_ = std::move(named);
     try {
-      scene_.emplace(converter_for(*text));
+      scene_.emplace(converter_for(*scene_in_use_));
     } catch (const config::Error& e) {
       std::fprintf(stderr, "enact foxglove: the graph's scene does not load, no foxglove/scene: %s\n", e.what());
     }

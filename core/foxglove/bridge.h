@@ -150,7 +150,7 @@ class Bridge {
   bool waiting_ = false;                       // for a graph of graph_name to start again
   static constexpr std::int64_t kGraphSilence_ns = 3'000'000'000;  // 3 GraphInfo periods
   std::optional<SceneConverter> scene_;        // observer thread
-  std::string scene_text_;                     // observer thread
+  std::optional<graph::NamedScene> scene_in_use_;  // observer thread
   mutable std::mutex mutex_;                   // guards channels_, clients_, stats_
   std::vector<Channel> channels_;
   std::uint32_t last_channel_id_ = 0;

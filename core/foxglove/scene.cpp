@@ -148,16 +148,13 @@ void SceneConverter::convert(const msgs::SceneState& state, ::foxglove::SceneUpd
   }
 }
 
-std::optional<std::string> scene_text(const msgs::GraphInfo& info) {
-  for (const auto& f : info.files()) {
-    if (f.name().ends_with(".scene")) return f.data();
-  }
-  return std::nullopt;
+std::optional<graph::NamedScene> scene_of(const msgs::GraphInfo& info) {
+  return graph::find_scene(info.files(), [](const auto& f) -> std::string_view { return f.name(); }, [](const auto& f) -> std::string_view { return f.data(); });
 }
 
-SceneConverter converter_for(const std::string& scene_text) {
+SceneConverter converter_for(const graph::NamedScene& scene) {
   const graph::TempFolder folder;
-  return SceneConverter(physics::load_scene(folder.put("scene", "scene.yaml", scene_text)));
+  return SceneConverter(physics::load_scene(folder.put("scene", "scene.yaml", scene.data, scene.beside)));
 }
 
 }  // namespace enact::foxglove

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "core/graph/kept_files.h"
 #include "core/physics/model.h"
 #include "msgs/foxglove/scene_update.pb.h"
 #include "msgs/graph.pb.h"
@@ -35,12 +36,12 @@ class SceneConverter {
   ::foxglove::SceneEntity fixed_;  // bridge and floor, the same in every update
 };
 
-// the scene file's text named by a GraphInfo (a parameter "<sim>.scene" among its files:
-// live graphs and recordings' attachments alike), if any
-std::optional<std::string> scene_text(const msgs::GraphInfo& info);
+// the scene named by a GraphInfo (a parameter "<sim>.scene" among its files), with the files
+// it reads beside it, if any
+std::optional<graph::NamedScene> scene_of(const msgs::GraphInfo& info);
 
-// a converter for a scene file's text (loaded through a temporary file, as the loaders read
-// paths); throws config::Error for a scene that does not load
-SceneConverter converter_for(const std::string& scene_text);
+// a converter for a scene kept by a graph or a recording (loaded through a temporary folder,
+// as the loaders read paths); throws config::Error for a scene that does not load
+SceneConverter converter_for(const graph::NamedScene& scene);
 
 }  // namespace enact::foxglove

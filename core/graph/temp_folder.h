@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/graph/kept_files.h"
+
 namespace enact::graph {
 
 class TempFolder {
@@ -34,6 +36,13 @@ class TempFolder {
     const std::string p = path_ + "/" + name + std::filesystem::path(like).extension().string();
     std::ofstream(p, std::ios::binary) << data;
     return p;
+  }
+
+  // put(name, like, data), and each file kept beside it at its path relative to it (put_at;
+  // one whose path would leave the folder is left out: its loader says what is missing)
+  std::string put(const std::string& name, const std::string& like, const std::string& data, const FilesBeside& beside) const {
+    for (const auto& [relative, file] : beside) put_at(relative, file);
+    return put(name, like, data);
   }
 
   // writes `data` at `relative` (a path inside the folder, its folders made); returns its

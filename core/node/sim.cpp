@@ -54,7 +54,6 @@ struct Sim::Io : SimTopics {
         params(s.simulator_, s.host_.name(), out, event_pub, &s.host_.board()),
         task_state(out) {
     force_pub.also_over(&link);
-    in.connect(ffd_endpoint);
   }
   bus::BytePublisher& out;
   bus::ByteSubscriber in;
@@ -239,6 +238,10 @@ int Sim::run() {
   // link, so its loop starts after this wait
   const int subscribers = observers_ > 0 ? observers_ + (local_hop_ ? 0 : 1) : 0;
   graph::wait_for_subscribers(io_->out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
+  // only now the states: a player (`enact play` of a recording) waits for this subscription,
+  // so no state waits in a queue meanwhile to be answered later in a burst, faster than the
+  // observers take the answers (red CI: a late logger lost 2,000 forces of a replay)
+  io_->in.connect(io_->ffd_endpoint);
   // in simulated time the driver waits for the pins of each frame: the tactile driver (started
   // before it) listens before the first, where there is one
   if (simulated_) graph::await_subscribers(io_->out, graph::kTactileFrame, 1, rt::now_ns() + 2'000'000'000);

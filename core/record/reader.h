@@ -53,6 +53,10 @@ struct Attachment {
   std::int64_t create_time_ns = 0;
 };
 
+// an attachment's name and data, for what reads kept files of any kind (graph::files_beside)
+inline std::string_view name_of(const Attachment& a) { return a.name; }
+inline std::string_view data_of(const Attachment& a) { return a.data; }
+
 struct Metadata {
   std::string name;
   StringMap values;

@@ -31,7 +31,12 @@ bus::BytePublisher& Player::publisher(const record::Channel& c) {
   const std::string node = !o_.as_node.empty() ? o_.as_node : p != c.metadata.end() && !p->second.empty() ? p->second : "play";
   auto& slot = pubs_[node];
   if (!slot) {
-    slot = std::make_unique<bus::BytePublisher>(session_ ? session_->node_endpoint(node) : node_endpoint(node), bus::PublisherOptions{.node = node, .send_hwm = 1000});
+    // flow control: a recording is not a device, and it loses nothing to a subscriber that
+    // is not reading yet (the simulator waiting for its observers): send() refuses while a
+    // subscriber's queue is full and play_once tries again. Observers attached through the
+    // session's attach point never hold it: the attach point drops for a slow observer
+    slot = std::make_unique<bus::BytePublisher>(session_ ? session_->node_endpoint(node) : node_endpoint(node),
+                                                bus::PublisherOptions{.node = node, .send_hwm = 1000, .refuse_when_full = true});
     if (session_) session_->attach().add_publisher(node, slot->endpoint());
   }
   const auto s = r_.schemas().find(c.schema_id);

@@ -182,12 +182,9 @@ Params recorded_sim_params(record::Reader& r, const ResimOptions& options, const
     const auto data = r.attachment(src.prefix + name);
     const auto path = recorded.find(src.prefix + name);
     if (!data) return;
-    p.set(name, files.put(name, path == recorded.end() ? "" : path->second, *data));
-    // the files it reads beside it (a scene's meshes and height maps), kept as "<name>/<path>"
-    const std::string beside = src.prefix + name + "/";
-    for (const auto& a : r.attachments()) {
-      if (a.name.starts_with(beside)) files.put_at(a.name.substr(beside.size()), a.data);
-    }
+    // with the files it reads beside it (a scene's meshes and height maps)
+    const graph::FilesBeside beside = graph::files_beside(r.attachments(), src.prefix + name, record::name_of, record::data_of);
+    p.set(name, files.put(name, path == recorded.end() ? "" : path->second, *data, beside));
   };
   file_param("scene", options.scene);
   file_param("model", options.model);

@@ -47,7 +47,7 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
     p.set_name(name);
     p.set_value(value);
     // a parameter naming a file: keep the file, and the files a scene reads beside it as
-    // "<name>/<path relative to it>" (graph::put_with_files puts them back)
+    // "<name>/<path relative to it>" (TempFolder::put puts them back: core/graph/kept_files.h)
     if (!keep(name, value) || !value.ends_with(".yaml")) return;
     for (const std::string& beside : physics::files_beside_scene(value)) keep(name + "/" + beside, (std::filesystem::path(value).parent_path() / beside).string());
   };

@@ -49,9 +49,9 @@ class SceneInUse {
 
   // a scene named by the graph or the recording: loaded when new (and no --scene)
   void offer(const std::optional<NamedScene>& named) {
-    if (fixed_ || !named || named->data == data_) return;
-    data_ = named->data;
-    load(files_.put("scene", "scene.yaml", named->data), sim_.empty() ? named->sim : sim_);
+    if (fixed_ || !named || named == in_use_) return;
+    in_use_ = named;
+    load(files_.put("scene", "scene.yaml", named->data, named->beside), sim_.empty() ? named->sim : sim_);
   }
 
   const SceneGeometry& geometry() const { return geometry_; }
@@ -65,7 +65,7 @@ class SceneInUse {
 
   bool fixed_;
   std::string sim_;
-  std::string data_;
+  std::optional<NamedScene> in_use_;
   graph::TempFolder files_;
   SceneGeometry geometry_;
   std::unique_ptr<Controls> controls_;

@@ -40,10 +40,7 @@ Playback::Playback(const std::string& path) : path_(path) {
   start_ns_ = items_.front().time_ns;
   duration_ns_ = items_.back().time_ns - start_ns_;
   // the scene file the logger attached under its parameter's name
-  for (const record::Attachment& a : r.attachments()) {
-    const std::string sim = sim_of_scene_key(a.name);
-    if (!sim.empty()) scene_ = NamedScene{sim, a.data};
-  }
+  scene_ = find_scene(r.attachments(), record::name_of, record::data_of);
 }
 
 void Playback::set_speed(double speed) { speed_ = std::clamp(speed, 0.1, 10.0); }

@@ -95,13 +95,6 @@ SceneGeometry geometry_of(const physics::Model& m) {
   return g;
 }
 
-std::string sim_of_scene_key(const std::string& key) {
-  constexpr std::string_view kScene = ".scene";
-  if (key.size() <= kScene.size() || !key.ends_with(kScene)) return "";
-  const std::string prefix = key.substr(0, key.size() - kScene.size());
-  return prefix.substr(prefix.rfind('.') + 1);
-}
-
 SceneGeometry load_geometry(const std::string& scene_file) { return geometry_of(physics::load_scene(scene_file)); }
 
 }  // namespace enact::viewer

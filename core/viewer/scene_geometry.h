@@ -6,10 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "core/graph/kept_files.h"
 #include "core/physics/model.h"
 #include "core/task/polyline.h"
 
 namespace enact::viewer {
+
+using graph::find_scene;
+using graph::NamedScene;
+using graph::sim_of_scene_key;
 
 // a box's top face seen from above: its 4 corners (x, y), in order around it
 struct TopFace {
@@ -32,16 +37,6 @@ struct SceneGeometry {
   int rows = 0, cols = 0;             // the body's grid (pin i = row * cols + col)
   std::vector<math::Vec3> grid_offsets_m;  // grid mass i relative to the body centre
 };
-
-// the scene a graph's simulator runs, as the graph names it (GraphInfo files, a recording's
-// attachments): under the parameter "<node>.scene" or "<container>.<component>.scene"
-struct NamedScene {
-  std::string sim;   // the simulator's node or component name (its parameters' prefix)
-  std::string data;  // the scene file's text
-};
-
-// "rt.sim.scene" -> "sim", "sim.scene" -> "sim"; "" for a key that names no scene
-std::string sim_of_scene_key(const std::string& key);
 
 // from a loaded model (a model without a body gives an empty grid)
 SceneGeometry geometry_of(const physics::Model& model);

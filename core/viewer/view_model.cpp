@@ -94,10 +94,9 @@ void ViewModel::on_status(const msgs::NodeStatus& m, std::int64_t now_ns) { node
 void ViewModel::on_graph(const msgs::GraphInfo& m, std::int64_t now_ns) {
   graph_ = m.graph();
   last_graph_ns_ = now_ns;
-  for (const auto& f : m.files()) {
-    const std::string sim = sim_of_scene_key(f.name());
-    if (!sim.empty() && (!graph_scene_ || graph_scene_->data != f.data())) graph_scene_ = NamedScene{sim, f.data()};
-  }
+  auto named = find_scene(m.files(), [](const auto& f) -> std::string_view { return f.name(); },
+                          [](const auto& f) -> std::string_view { return f.data(); });
+  if (named && graph_scene_ != named) graph_scene_ = std::move(named);
 }
 
 void ViewModel::on_answer(const graph::ParamAnswer& a) {

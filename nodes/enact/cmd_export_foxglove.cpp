@@ -20,11 +20,8 @@ int export_foxglove(const Args& a) {
   for (const auto& [id, c] : r.channels()) {
     if (c.topic == foxglove::kSceneTopic) throw config::Error(r.path() + ": already has " + foxglove::kSceneTopic + "\n  fix: open it in Foxglove as it is");
   }
-  // the scene file the logger kept with the recording
-  std::optional<std::string> scene;
-  for (const auto& at : r.attachments()) {
-    if (at.name.ends_with(".scene")) scene = at.data;
-  }
+  // the scene file the logger kept with the recording, and the files it reads beside it
+  const std::optional<graph::NamedScene> scene = graph::find_scene(r.attachments(), record::name_of, record::data_of);
   if (!scene) {
     throw config::Error(r.path() + ": no scene file attached, so no 3D scene can be drawn\n  fix: record a graph started by `enact launch` (its logger attaches the scene)");
   }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/config/yaml.h"
 #include "core/foxglove/bridge.h"
 #include "core/foxglove/scene.h"
 #include "core/physics/scene.h"
@@ -69,6 +70,31 @@ TEST(FoxgloveScene, BoxesGridContactsAndForceArrow) {
   state.clear_resultant_force();
   converter.convert(state, update);
   EXPECT_EQ(update.entities(1).arrows_size(), 0);
+}
+
+// a scene that reads a file beside it (the ridge's height map), as a graph keeps it: it loads
+// with the file put back beside it, and without it the error names the file
+TEST(FoxgloveScene, ASceneLoadsWithTheFilesKeptBesideIt) {
+  msgs::GraphInfo info;
+  auto* scene = info.add_files();
+  scene->set_name("rt.sim.scene");
+  scene->set_data(test::read_file(test::source_path("launch/scenes/ridge.yaml")));
+  const auto alone = scene_of(info);
+  ASSERT_TRUE(alone);
+  try {
+    converter_for(*alone);
+    ADD_FAILURE() << "the ridge loaded without its height map";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ridge_heights.png"), std::string::npos) << e.what();
+  }
+  auto* heights = info.add_files();
+  heights->set_name("rt.sim.scene/ridge_heights.png");
+  heights->set_data(test::read_file(test::source_path("launch/scenes/ridge_heights.png")));
+  const auto named = scene_of(info);
+  ASSERT_TRUE(named);
+  EXPECT_EQ(named->sim, "sim");
+  ASSERT_EQ(named->beside.size(), 1u);
+  EXPECT_NO_THROW(converter_for(*named));
 }
 
 TEST(FoxgloveScene, Base64MatchesRfc4648Vectors) {

@@ -168,6 +168,20 @@ TEST(ViewModel, TakesTheSceneTheGraphNames) {
   ASSERT_TRUE(m.graph_scene());
   EXPECT_EQ(m.graph_scene()->sim, "sim");
   EXPECT_EQ(m.graph_scene()->data, "scene: bridge");
+  EXPECT_TRUE(m.graph_scene()->beside.empty());
+  // the files it reads beside it come with it, at their paths relative to it; a parameter
+  // whose name merely starts the same is not one of them
+  auto* heights = g.add_files();
+  heights->set_name("rt.sim.scene/maps/heights.png");
+  heights->set_data("PNG");
+  auto* other = g.add_files();
+  other->set_name("rt.sim.scenery/x.png");
+  other->set_data("no");
+  m.on_graph(g, 3);
+  ASSERT_TRUE(m.graph_scene());
+  ASSERT_EQ(m.graph_scene()->beside.size(), 1u);
+  EXPECT_EQ(m.graph_scene()->beside[0].first, "maps/heights.png");
+  EXPECT_EQ(m.graph_scene()->beside[0].second, "PNG");
 }
 
 }  // namespace

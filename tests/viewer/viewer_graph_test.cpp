@@ -277,6 +277,24 @@ TEST_F(ViewerTest, ARecordingShowsTheSceneRecordedAtTheTimeAsked) {
   expect_bridge_and_grid(png, *shown);
 }
 
+// a recording of a scene that reads a file beside it (the ridge's height map): the viewer
+// and the Foxglove export put the file back beside the scene and show it, as resim does
+TEST_F(ViewerTest, ARecordingOfAHeightMapSceneShowsItsScene) {
+  Launcher launcher(dir_, source_path("launch/bridge_rt.yaml"), 30.0, {"scene=" + source_path("launch/scenes/ridge.yaml")});
+  ASSERT_TRUE(launcher.wait_log("enact launch: graph ready", kReadyTimeout_s)) << launcher.log();
+  const std::string mcap = dir_.file("ridge.mcap");
+  const RunResult rec = run(std::string(ENACT_CLI) + " record -o " + mcap + " --attach " + launcher.endpoint() + " --duration 2");
+  ASSERT_EQ(rec.exit_code, 0) << rec.out << rec.err;
+  launcher.stop();
+  ASSERT_EQ(viewer({mcap, "--at", "1", "--snapshot", dir_.file("ridge.png"), "--after", "0.5"})->wait(30.0), 0) << viewer_err();
+  EXPECT_TRUE(parse_snapshot_line(viewer_out())) << viewer_out() << viewer_err();
+  const RunResult fox = run(std::string(ENACT_CLI) + " export " + mcap + " --foxglove " + dir_.file("ridge_foxglove.mcap"));
+  ASSERT_EQ(fox.exit_code, 0) << fox.out << fox.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(fox.out, m, std::regex("(\\d+) scene updates"))) << fox.out;
+  EXPECT_GT(std::stoi(m[1]), 0) << fox.out;
+}
+
 TEST(ParamGraph, ParameterChangesRoundTripAndAnUnstableStiffnessIsRefused) {
   TempDir dir;
   Launcher launcher(dir, source_path("launch/bridge_rt.yaml"), 30.0);
