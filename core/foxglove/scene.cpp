@@ -148,10 +148,6 @@ void SceneConverter::convert(const msgs::SceneState& state, ::foxglove::SceneUpd
   }
 }
 
-std::optional<graph::NamedScene> scene_of(const msgs::GraphInfo& info) {
-  return graph::find_scene(info.files(), [](const auto& f) -> std::string_view { return f.name(); }, [](const auto& f) -> std::string_view { return f.data(); });
-}
-
 SceneConverter converter_for(const graph::NamedScene& scene) {
   const graph::TempFolder folder;
   return SceneConverter(physics::load_scene(folder.put("scene", "scene.yaml", scene.data, scene.beside)));

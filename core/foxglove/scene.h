@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "core/graph/kept_files.h"
+#include "core/graph/graph_files.h"
 #include "core/physics/model.h"
 #include "msgs/foxglove/scene_update.pb.h"
 #include "msgs/graph.pb.h"
@@ -38,7 +38,7 @@ class SceneConverter {
 
 // the scene named by a GraphInfo (a parameter "<sim>.scene" among its files), with the files
 // it reads beside it, if any
-std::optional<graph::NamedScene> scene_of(const msgs::GraphInfo& info);
+using graph::scene_of;
 
 // a converter for a scene kept by a graph or a recording (loaded through a temporary folder,
 // as the loaders read paths); throws config::Error for a scene that does not load

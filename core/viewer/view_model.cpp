@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "core/graph/graph_files.h"
 #include "core/graph/messages.h"
 
 namespace enact::viewer {
@@ -94,9 +95,7 @@ void ViewModel::on_status(const msgs::NodeStatus& m, std::int64_t now_ns) { node
 void ViewModel::on_graph(const msgs::GraphInfo& m, std::int64_t now_ns) {
   graph_ = m.graph();
   last_graph_ns_ = now_ns;
-  auto named = find_scene(m.files(), [](const auto& f) -> std::string_view { return f.name(); },
-                          [](const auto& f) -> std::string_view { return f.data(); });
-  if (named && graph_scene_ != named) graph_scene_ = std::move(named);
+  if (auto named = graph::scene_of(m); named && graph_scene_ != named) graph_scene_ = std::move(named);
 }
 
 void ViewModel::on_answer(const graph::ParamAnswer& a) {
