@@ -49,6 +49,7 @@ std::string plugin_help() {
 // (tactile_device empty: none)
 struct ComponentNames {
   std::string model, force_device, tactile_device;
+  std::vector<std::pair<std::string, std::string>> observers;  // name, plugin
 };
 ComponentNames component_names(const graph::NodeArgs& args) {
   std::vector<std::pair<std::string, std::string>> list = args.components;
@@ -58,8 +59,12 @@ ComponentNames component_names(const graph::NodeArgs& args) {
   if (const auto problem = graph::component_list_problem(list)) throw config::Error(args.name + ": " + problem->text);
   ComponentNames names;
   for (const auto& [name, plugin] : list) {
-    const graph::ComponentRole role = graph::find_component_kind(plugin)->role;
-    (role == graph::ComponentRole::model ? names.model : role == graph::ComponentRole::force_device ? names.force_device : names.tactile_device) = name;
+    switch (graph::find_component_kind(plugin)->role) {
+      case graph::ComponentRole::model: names.model = name; break;
+      case graph::ComponentRole::force_device: names.force_device = name; break;
+      case graph::ComponentRole::tactile_device: names.tactile_device = name; break;
+      case graph::ComponentRole::observer: names.observers.emplace_back(name, plugin); break;
+    }
   }
   return names;
 }
@@ -105,7 +110,10 @@ const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help 
 The co-located real-time container: components sim, ffd and tactile (one of each, any names,
 the tactile display optional; no --component: sim:sim, ffd:ffd and tactile:tactile) in one
 process and one real-time thread, ticking at rate_hz: read the device, step the model, write
-the force, write the pins (down-sampled), in the same tick. Without a tactile component the
+the force, write the pins (down-sampled), in the same tick. Observer components (plugin
+logger, plugin foxglove: any number) run beside the loop, each on a thread of its own,
+attached to the graph as their nodes are; the loop waits for each logger before its first
+tick, and when it ends each logger takes what is on its way before its file is closed. Without a tactile component the
 model's frames are published and written nowhere, and tactile/shown is not published. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
@@ -172,7 +180,7 @@ struct Container::Io : SimTopics {
   rt::LoopSummary summary;
 };
 
-Container::Container(Host& host) : host_(host) {
+Container::Container(Host& host) : host_(host), observers_(host.name()) {
   const graph::NodeArgs& args = host.args();
   graph::Params& p = host.params();
   const ComponentNames names = component_names(args);
@@ -182,6 +190,10 @@ Container::Container(Host& host) : host_(host) {
   sim_p_ = p.scoped(sim_name_);
   ffd_p_ = p.scoped(ffd_name_);
   if (!tac_name_.empty()) tac_p_ = p.scoped(tac_name_);
+  for (const auto& [name, plugin] : names.observers) {
+    observer_names_.push_back(name);
+    observer_p_.emplace_back(p.scoped(name));
+  }
   p.refuse_unknown();
   sched_.rate_hz = p.number("rate_hz");
   sched_.validate();
@@ -214,6 +226,11 @@ Container::Container(Host& host) : host_(host) {
   simulator_.configure(sp);
   force_ = graph::make_force_device(ffd_p_);
   if (!tac_name_.empty()) tactile_ = graph::make_tactile_device(tac_p_);
+  for (std::size_t i = 0; i < observer_names_.size(); ++i) {
+    observer_p_[i].declare(*graph::component_table(names.observers[i].second));
+    observers_.add(observer_names_[i], names.observers[i].second, observer_p_[i]);
+    observer_p_[i].refuse_unknown();
+  }
   sim_p_.refuse_unknown();
   ffd_p_.refuse_unknown();
   tac_p_.refuse_unknown();
@@ -224,7 +241,7 @@ Container::Container(Host& host) : host_(host) {
   }
   scene_rate_hz_ = p.number("scene_rate_hz");
   shown_rate_hz_ = p.number("shown_rate_hz");
-  observers_ = p.integer("observers");
+  wait_for_ = p.integer("observers");
 }
 
 Container::~Container() = default;
@@ -451,14 +468,17 @@ int Container::run() {
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
   if (tactile_) board.add(tac_p_, tac_name_, tac_name_ + ".");
+  for (std::size_t i = 0; i < observer_names_.size(); ++i) board.add(observer_p_[i], observer_names_[i], observer_names_[i] + ".");
   // the parameter port copies the simulator's model, the keyframe is sized: before the
   // real-time thread starts
   io_ = std::make_unique<Io>(*this);
   simulator_.save(io_->keyframe);
   host_.announce();
   io_->loop.connect_params(io_->changes, io_->applied);
-  // a recording from the first tick needs its logger subscribed first
-  graph::wait_for_subscribers(io_->out, graph::kDeviceState, observers_, host_.name(), "observer (logger)");
+  // a recording from the first tick needs its loggers subscribed first (its own among them)
+  observers_.start(true);
+  graph::wait_for_subscribers(io_->out, graph::kDeviceState, wait_for_ + observers_.recorders(graph::kDeviceState), host_.name(), "observer (logger)");
+  observers_.start(false);
   std::thread rt_thread([this] { rt_main(); });
   graph::say(host_.name(), "the loop " + wait_why_);
   graph::report_ready();
@@ -470,7 +490,8 @@ int Container::run() {
   drain();
   if (limit_ns_.load() >= 0) publish_limit();
   print_summary();
-  return 0;
+  // the observers take what is on its way, then close their files
+  return observers_.stop_all() ? 0 : 1;
 }
 
 }  // namespace enact::node

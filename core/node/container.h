@@ -5,6 +5,8 @@
 // non-real-time thread, which also plans live parameter changes and hands them to the loop.
 #include <atomic>
 #include <cstdint>
+#include <deque>
+#include <vector>
 #include <memory>
 #include <string>
 
@@ -12,6 +14,7 @@
 #include "core/node/colocated.h"
 #include "core/params/params.h"
 #include "core/node/host.h"
+#include "core/node/recorder.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
 #include "core/sim/simulator.h"
@@ -44,13 +47,16 @@ class Container {
   Host& host_;
   std::string sim_name_, ffd_name_, tac_name_;
   graph::Params sim_p_, ffd_p_, tac_p_;
+  std::deque<graph::Params> observer_p_;  // each observer component's (it holds a reference)
+  std::vector<std::string> observer_names_;
   rt::SchedulerParams sched_;
   rt::RtParams rtp_;
   std::string wait_why_;
   double spin_floor_ = -1.0;  // spinning whole: what a thread spinning with no work misses here (the probe's)
   rt::GraphClock clock_ = rt::GraphClock::real;
   double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
-  int observers_;
+  int wait_for_;  // observers of ffd/state (outside the container) the loop waits for
+  ObserverGroup observers_;  // observer components, beside the loop
   sim::Simulator simulator_;
   std::unique_ptr<devices::ForceDevice> force_;
   std::unique_ptr<devices::TactileDevice> tactile_;

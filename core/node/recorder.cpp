@@ -1,8 +1,14 @@
 #include "core/node/recorder.h"
 
+#include <algorithm>
+#include <exception>
+#include <utility>
+
 #include "core/config/lists.h"
 #include "core/config/yaml.h"
+#include "core/foxglove/bridge.h"
 #include "core/graph/node.h"
+#include "core/record/logger.h"
 
 namespace enact::node {
 
@@ -11,7 +17,8 @@ const NodeKind kLogger{.executable = "enact-logger", .default_name = "logger", .
 Records the graph's traffic to an MCAP file (enact record is the same from the shell).
 
 To record a graph from its first tick, list the logger before the drivers in the launch
-file and give the clock master `observers: 1` (docs/recording-and-replay.md).
+file and give the clock master `observers: 1` (docs/recording-and-replay.md), or make it a
+component of the co-located container (plugin logger: the container waits for it).
 
 parameters (--param NAME=VALUE):
 )"};
@@ -24,59 +31,155 @@ Protobuf schema, and foxglove/scene (foxglove.SceneUpdate) for the 3D panel.
 parameters (--param NAME=VALUE):
 )"};
 
-Logger::Logger(Host& host) : host_(host) {
-  graph::Params& p = host.params();
-  options_.output = p.text("output");
-  options_.topics = config::split_commas(p.text("topics"));
-  options_.regex = p.text("regex");
-  options_.exclude = p.text("exclude");
-  options_.writer.compression = record::parse_compression(p.text("compression"));
-  options_.writer.chunk_duration_ns = static_cast<std::int64_t>(p.number("chunk_duration_s") * 1e9);
-  options_.split_size_mb = p.number("split_size_mb");
-  options_.split_duration_s = p.number("split_duration_s");
-  options_.attach = p.text("attach");
-  options_.keys = bus::client_keys("", "");
-  options_.wait_s = p.number("wait_s");
-}
+namespace {
 
-int Logger::run() {
-  host_.open(0);
-  host_.announce();
-  graph::Logger logger(options_);
-  logger.attach();
-  graph::report_ready();
-  const std::string& name = host_.name();
-  graph::say(name, "recording " + std::string(options_.topics.empty() ? "every topic" : host_.params().text("topics")) + " to " + options_.output);
-  try {
-    logger.run([] { return graph::stop_requested(); });
-  } catch (...) {
-    logger.close();  // whatever stopped it, what was recorded is closed whole
-    throw;
+class LoggerObserver : public Observer {
+ public:
+  explicit LoggerObserver(graph::Params& p) {
+    o_.output = p.text("output");
+    o_.topics = config::split_commas(p.text("topics"));
+    topics_ = o_.topics.empty() ? "every topic" : p.text("topics");
+    o_.regex = p.text("regex");
+    o_.exclude = p.text("exclude");
+    o_.writer.compression = record::parse_compression(p.text("compression"));
+    o_.writer.chunk_duration_ns = static_cast<std::int64_t>(p.number("chunk_duration_s") * 1e9);
+    o_.split_size_mb = p.number("split_size_mb");
+    o_.split_duration_s = p.number("split_duration_s");
+    o_.attach = p.text("attach");
+    o_.keys = bus::client_keys("", "");
+    o_.wait_s = p.number("wait_s");
   }
-  logger.close();
-  graph::say(name, "closed " + logger.files().back() + "\n" + graph::format(logger.report()));
-  if (!logger.write_failure().empty()) graph::say(name, graph::format_write_failure(logger));
-  return logger.write_failure().empty() ? 0 : 1;
+  std::string activate() override {
+    logger_ = std::make_unique<graph::Logger>(o_);
+    logger_->attach();
+    return "recording " + topics_ + " to " + o_.output;
+  }
+  bool records(const std::string& topic) const override {
+    if (!o_.regex.empty() || !o_.exclude.empty()) return false;  // not told: not waited for
+    return o_.topics.empty() || std::find(o_.topics.begin(), o_.topics.end(), topic) != o_.topics.end();
+  }
+  bool run(const std::function<bool()>& stop) override {
+    try {
+      logger_->run(stop);
+    } catch (...) {
+      logger_->close();  // whatever stopped it, what was recorded is closed whole
+      throw;
+    }
+    return true;
+  }
+  Ending deactivate() override {
+    if (!logger_) return {};
+    logger_->close();
+    Ending e{"closed " + logger_->files().back() + "\n" + graph::format(logger_->report()), logger_->write_failure().empty()};
+    if (!e.ok) e.said += "\n" + graph::format_write_failure(*logger_);
+    return e;
+  }
+
+ private:
+  graph::LoggerOptions o_;
+  std::string topics_;
+  std::unique_ptr<graph::Logger> logger_;
+};
+
+class FoxgloveObserver : public Observer {
+ public:
+  explicit FoxgloveObserver(graph::Params& p) : attach_(p.text("attach")) {
+    o_.port = p.integer("port");
+    o_.host = p.text("host");
+    o_.max_rate_hz = p.number("max_rate_hz");
+    o_.keys = bus::client_keys("", "");
+  }
+  std::string activate() override {
+    o_.attach = graph::attach_endpoint(attach_);
+    bridge_ = std::make_unique<foxglove::Bridge>(o_);
+    return foxglove::describe(*bridge_, o_);
+  }
+  bool run(const std::function<bool()>& stop) override { return bridge_->run(stop); }
+  Ending deactivate() override { return {bridge_ ? foxglove::format(bridge_->stats()) : "", true}; }
+
+ private:
+  std::string attach_;
+  foxglove::BridgeOptions o_;
+  std::unique_ptr<foxglove::Bridge> bridge_;
+};
+
+}  // namespace
+
+std::unique_ptr<Observer> make_observer(const std::string& plugin, graph::Params& p) {
+  if (plugin == "logger") return std::make_unique<LoggerObserver>(p);
+  if (plugin == "foxglove") return std::make_unique<FoxgloveObserver>(p);
+  return nullptr;
 }
 
-Foxglove::Foxglove(Host& host) : host_(host) {
-  graph::Params& p = host.params();
-  options_.port = p.integer("port");
-  options_.host = p.text("host");
-  options_.max_rate_hz = p.number("max_rate_hz");
-  options_.keys = bus::client_keys("", "");
+ObserverGroup::~ObserverGroup() {
+  stop_.store(true);
+  for (Member& m : members_) {
+    if (m.thread.joinable()) m.thread.join();
+    try {
+      if (m.observer) (void)m.observer->deactivate();
+    } catch (const std::exception&) {
+      // already stopping for another error: that one is said
+    }
+  }
 }
 
-int Foxglove::run() {
-  options_.attach = graph::attach_endpoint(host_.params().has("attach") ? host_.params().text("attach") : "");
+void ObserverGroup::add(const std::string& name, const std::string& plugin, graph::Params& p) {
+  Member m;
+  m.name = name;
+  m.recorder = plugin == "logger";
+  m.observer = make_observer(plugin, p);
+  if (!m.observer) throw config::Error("component '" + name + "': plugin '" + plugin + "' is not an observer\n  fix: use logger or foxglove");
+  members_.push_back(std::move(m));
+}
+
+int ObserverGroup::recorders(const std::string& topic) const {
+  int n = 0;
+  for (const Member& m : members_) n += m.observer && m.observer->records(topic);
+  return n;
+}
+
+void ObserverGroup::start(bool recorders) {
+  for (Member& m : members_) {
+    if (m.recorder != recorders) continue;
+    graph::say(node_, m.name + ": " + m.observer->activate());
+    m.thread = std::thread([this, &m] {
+      try {
+        m.ran = m.observer->run([this] { return stop_.load(); });
+      } catch (const std::exception& e) {
+        m.ran = false;
+        m.error = e.what();
+      }
+    });
+  }
+}
+
+bool ObserverGroup::stop_all() {
+  stop_.store(true);
+  bool ok = true;
+  for (Member& m : members_) {
+    if (!m.thread.joinable()) continue;
+    m.thread.join();
+    const Observer::Ending end = m.observer->deactivate();
+    m.observer.reset();
+    if (!end.said.empty()) graph::say(node_, m.name + ": " + end.said);
+    if (!m.error.empty()) graph::say(node_, m.name + ": error: " + m.error);
+    ok = ok && m.ran && end.ok;
+  }
+  return ok;
+}
+
+ObserverNode::ObserverNode(Host& host, const char* plugin) : host_(host), observer_(make_observer(plugin, host.params())) {}
+
+int ObserverNode::run() {
   host_.open(0);
   host_.announce();
-  foxglove::Bridge bridge(options_);
+  const std::string doing = observer_->activate();
   graph::report_ready();
-  graph::say(host_.name(), foxglove::describe(bridge, options_));
-  const bool stopped = bridge.run([] { return graph::stop_requested(); });
-  graph::say(host_.name(), foxglove::format(bridge.stats()));
-  return stopped ? 0 : 1;
+  graph::say(host_.name(), doing);
+  const bool ran = observer_->run([] { return graph::stop_requested(); });
+  const Observer::Ending end = observer_->deactivate();
+  if (!end.said.empty()) graph::say(host_.name(), end.said);
+  return ran && end.ok ? 0 : 1;
 }
 
 }  // namespace enact::node

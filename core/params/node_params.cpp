@@ -255,11 +255,22 @@ const ParamBindings<TactileConfig>& tactile_bindings() {
 
 const ParamTable& tactile_table() { return tactile_bindings().table(); }
 
+const ParamTable& logger_component_table() {
+  static const ParamTable t = logger_table();
+  return t;
+}
+const ParamTable& foxglove_component_table() {
+  static const ParamTable t = foxglove_table();
+  return t;
+}
+
 const std::vector<ComponentKind>& component_kinds() {
   static const std::vector<ComponentKind> kinds{
       {"sim", ComponentRole::model, "simulator", &sim_table, true},
       {"ffd", ComponentRole::force_device, "force-feedback device", &force_table, true},
       {"tactile", ComponentRole::tactile_device, "tactile display", &tactile_table, false},
+      {"logger", ComponentRole::observer, "logger (an MCAP recording of the graph)", &logger_component_table, false},
+      {"foxglove", ComponentRole::observer, "Foxglove bridge (WebSocket)", &foxglove_component_table, false},
   };
   return kinds;
 }
@@ -280,14 +291,14 @@ std::optional<ComponentProblem> component_list_problem(const std::vector<std::pa
   std::string plugins;
   for (const ComponentKind& k : component_kinds()) plugins += std::string(plugins.empty() ? "" : ", ") + k.plugin + " (" + k.what + ")";
   const std::string one_each = "enact-rt's one tick reads one force device, steps one model and, if it has one, writes one tactile display: of " + plugins +
-                               " one each, the tactile display optional";
+                               " one each of the first three, the tactile display optional, observers (logger, foxglove) as many as wanted";
   std::vector<std::size_t> first(component_kinds().size(), static_cast<std::size_t>(-1));
   for (std::size_t i = 0; i < components.size(); ++i) {
     const auto& [name, plugin] = components[i];
     const ComponentKind* kind = find_component_kind(plugin);
     if (!kind) return ComponentProblem{i, "component '" + name + "': unknown plugin '" + plugin + "'\n  fix: use one of " + plugins};
     std::size_t& seen = first[static_cast<std::size_t>(kind - component_kinds().data())];
-    if (seen != static_cast<std::size_t>(-1)) {
+    if (seen != static_cast<std::size_t>(-1) && kind->role != ComponentRole::observer) {
       return ComponentProblem{i, "components '" + components[seen].first + "' and '" + name + "' are both a " + kind->what + " (plugin " + plugin + ")\n  fix: keep one; " + one_each};
     }
     seen = i;

@@ -39,9 +39,10 @@ const ParamTable& tactile_table();  // the tactile device (plugin tactile; enact
 // a component's table by plugin name (nullptr: no such plugin)
 const ParamTable* component_table(const std::string& plugin);
 
-// what a component of a real-time container does in the co-located tick: step the model, read
-// the force device and write its force, write the pins
-enum class ComponentRole : std::uint8_t { model, force_device, tactile_device };
+// what a component of a real-time container does: in the co-located tick, step the model, read
+// the force device and write its force, write the pins; beside the loop, on a thread of its
+// own, observe the graph (a logger, a Foxglove bridge: node/recorder.h)
+enum class ComponentRole : std::uint8_t { model, force_device, tactile_device, observer };
 struct ComponentKind {
   const char* plugin;  // its name in a launch file (component: plugin:) and on --component
   ComponentRole role;
@@ -54,7 +55,7 @@ const std::vector<ComponentKind>& component_kinds();
 const ComponentKind* find_component_kind(const std::string& plugin);
 
 // a container's component list (name, plugin), checked: each plugin known, at most one
-// component of each role and one of each required role (enact-rt's one tick reads one force
+// component of each loop role (observers: any number) and one of each required role (enact-rt's one tick reads one force
 // device, steps one model and, if it has one, writes one tactile display). The first problem, "what\n  fix: ..." (the plugins there are named), and the
 // entry it is about (npos: the list as a whole); nullopt when the list can run
 struct ComponentProblem {

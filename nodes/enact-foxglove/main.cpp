@@ -1,4 +1,4 @@
 // enact-foxglove: the Foxglove bridge as a node of a launch file (core/node/recorder.h)
 #include "core/node/recorder.h"
 
-int main(int argc, char** argv) { return enact::node::host_main<enact::node::Foxglove>(enact::node::kFoxglove, argc, argv); }
+int main(int argc, char** argv) { return enact::node::host_main<enact::node::FoxgloveNode>(enact::node::kFoxglove, argc, argv); }

@@ -6,9 +6,12 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "core/record/reader.h"
+#include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
+#include "msgs/node_status.pb.h"
 #include "tests/integration/integration_util.h"
 
 namespace enact::test {
@@ -90,6 +93,65 @@ TEST(ContainerComponents, NamedDefaultOrWithoutATactileDisplayTheLoopIsTheSame) 
   EXPECT_GE(10 * c.count("tactile/frame"), 9 * a.count("tactile/frame")) << "as many as with a display, but for the last in flight";
   EXPECT_EQ(c.count("tactile/shown"), 0u) << "no display, no pins shown";
   EXPECT_GT(a.count("tactile/shown"), 0u) << "a display shows its pins";
+}
+
+// the ffd/state seqs recorded, and the container's own count of what it published (its last
+// node/status: the whole run's)
+struct StatesRecorded {
+  std::vector<std::uint64_t> seqs;
+  std::uint64_t published = 0;
+  std::size_t forces = 0;
+};
+StatesRecorded states_recorded(const std::string& recording) {
+  StatesRecorded out;
+  msgs::DeviceState state;
+  msgs::NodeStatus status;
+  record::Reader(recording).for_each([&](const record::Message& m) {
+    if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) out.seqs.push_back(state.header().seq());
+    if (m.topic == "ffd/force") ++out.forces;
+    if (m.topic == "node/status" && status.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      for (const auto& t : status.topics()) {
+        if (t.topic() == "ffd/state") out.published = t.sent();
+      }
+    }
+    return true;
+  });
+  return out;
+}
+
+// a logger can be a component of the container itself (no process of its own, no observers
+// parameter): in real time, stopped by the launcher as Ctrl-C stops it, it has every device
+// state the loop published from the first tick and every force, and a second logger of one
+// topic beside it has the same forces; its file is closed whole
+TEST(ContainerComponents, ALoggerComponentRecordsEveryTickFromTheFirst) {
+  TempDir dir;
+  const std::string scene = source_path("launch/scenes/bridge.yaml"), path = source_path("launch/paths/bridge_walk.csv");
+  const std::string file = dir.file("g.yaml"), all = dir.file("all.mcap"), forces = dir.file("forces.mcap");
+  write_file(file, "launch:\n"
+                   "  - container:\n"
+                   "      name: rt\n"
+                   "      required: true\n"
+                   "      component:\n"
+                   "        - {name: sim, plugin: sim, param: [{name: scene, value: " + scene + "}, {name: model, value: CM2}]}\n"
+                   "        - {name: ffd, plugin: ffd, param: [{name: hand_path, value: " + path + "}, {name: start_scene, value: " + scene + "}]}\n"
+                   "        - {name: tactile, plugin: tactile}\n"
+                   "        - {name: rec, plugin: logger, param: [{name: output, value: " + all + "}]}\n"
+                   "        - {name: forces, plugin: logger, param: [{name: output, value: " + forces + "}, {name: topics, value: ffd/force}]}\n");
+  const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --duration 2");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string said = r.out + r.err;
+  EXPECT_NE(said.find("rt: rec: recording every topic to " + all), std::string::npos) << said;
+  EXPECT_NE(said.find("rt: rec: closed " + all), std::string::npos) << said;
+  EXPECT_NE(said.find("rt: forces: closed " + forces), std::string::npos) << said;
+  const StatesRecorded s = states_recorded(all);
+  ASSERT_GT(s.seqs.size(), 1000u) << "about 2 s at 5 kHz";
+  EXPECT_EQ(s.seqs.front(), 1u) << "from the first tick";
+  for (std::size_t i = 1; i < s.seqs.size(); ++i) ASSERT_EQ(s.seqs[i], s.seqs[i - 1] + 1) << "no state lost after " << s.seqs[i - 1];
+  EXPECT_EQ(s.seqs.size(), s.published) << "every state the loop published, by its own last count";
+  EXPECT_EQ(s.forces, s.seqs.size()) << "every force";
+  const Recorded a = recorded(all), b = recorded(forces);
+  EXPECT_EQ(b.count("ffd/state"), 0u) << "the second keeps only ffd/force";
+  EXPECT_EQ(same_forces(a, b), a.forces.size()) << "the same forces in both";
 }
 
 // a virtual subject feels the pins: without a tactile display the container refuses it,

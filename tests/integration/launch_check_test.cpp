@@ -55,7 +55,8 @@ TEST(LaunchCheck, UnknownNamesAndBadValuesNameTheirLine) {
                    "            - {name: scene, value: " + source_path("launch/scenes/bridge.yaml") + "}\n"
                    "            - {name: modle, value: CM2}\n"
                    "        - {name: ffd, plugin: ffd}\n"
-                   "        - {name: tactile, plugin: tactile, param: [{name: device, value: metek}]}\n");
+                   "        - {name: tactile, plugin: tactile, param: [{name: device, value: metek}]}\n"
+                   "        - {name: rec, plugin: logger, param: [{name: compression, value: zip}]}\n");
   const RunResult r = enact("launch " + file + " --check --arg rate=fast");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("--arg rate=fast (" + file + ":6): node 'rt': parameter 'rate_hz' must be a finite number"), std::string::npos) << r.err;
@@ -64,7 +65,9 @@ TEST(LaunchCheck, UnknownNamesAndBadValuesNameTheirLine) {
   EXPECT_NE(r.err.find(file + ":13: node 'sim': parameter 'modle' is not a parameter of sim (did you mean model?)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(file + ":15: node 'tactile': parameter 'device' must be one of simulated, metec, got 'metek' (did you mean metec?)"),
             std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("nothing started (4 parameter problems)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ":16: node 'rec': parameter 'compression' must be one of zstd, lz4, none, got 'zip'"), std::string::npos)
+      << "an observer component's parameters are checked as its node's\n" << r.err;
+  EXPECT_NE(r.err.find("nothing started (5 parameter problems)"), std::string::npos) << r.err;
 }
 
 // a container's component list that cannot run is refused at the line of the entry (of the
