@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -175,14 +176,15 @@ struct Loader {
     n.container = true;
     std::set<std::string> component_names;
     for (const auto& c : m.list("component")) {
-      const Map cm(c, scope.file, "component", {"name", "plugin", "param", "param_file"});
-      ComponentSpec spec{scalar(scope, cm.get("name"), "name"), scalar(scope, cm.get("plugin"), "plugin"), params(scope, cm), cm.line()};
+      const Map cm(c, scope.file, "component", {"name", "plugin", "library", "param", "param_file"});
+      ComponentSpec spec{scalar(scope, cm.get("name"), "name"), scalar(scope, cm.get("plugin"), "plugin"),
+                         cm.has("library") ? scalar(scope, cm.get("library"), "library") : "", params(scope, cm), cm.line()};
       if (!component_names.insert(spec.name).second) cm.fail("name", "two components are named '" + spec.name + "'", "give every component its own name");
       n.components.push_back(spec);
     }
     // none named: the default three, their parameters given as the container's (sim.scene, ...)
     if (!m.has("component")) {
-      for (const char* plugin : kDefaultComponents) n.components.push_back({plugin, plugin, {}, m.line()});
+      for (const char* plugin : kDefaultComponents) n.components.push_back({plugin, plugin, "", {}, m.line()});
     }
     if (n.components.empty()) m.fail("component", "container '" + n.name + "' has an empty component list", "list its components (component: [{name: sim, plugin: sim}, ...]), or leave component: out for sim, ffd and tactile");
     out.nodes.push_back(n);
@@ -303,6 +305,11 @@ std::vector<std::string> NodeSpec::argv() const {
   v.insert(v.end(), args.begin(), args.end());
   v.push_back("--name");
   v.push_back(name);
+  std::vector<std::string> libraries;
+  for (const ComponentSpec& c : components) {
+    if (!c.library.empty() && std::find(libraries.begin(), libraries.end(), c.library) == libraries.end()) libraries.push_back(c.library);
+  }
+  for (const std::string& l : libraries) v.push_back("--library=" + l);
   for (const ComponentSpec& c : components) v.push_back("--component=" + c.name + ":" + c.plugin);
   for (const Param& p : params) v.push_back("--param=" + p.name + "=" + p.value);
   for (const ComponentSpec& c : components) {

@@ -23,6 +23,7 @@ struct Param {
 struct ComponentSpec {
   std::string name;    // instance name, prefixes its params: <name>.<param>
   std::string plugin;  // component class: sim, ffd, tactile (graph::component_kinds())
+  std::string library;  // the plugin library that holds it, for a stage of the user's ("": built in)
   std::vector<Param> params;
   int line = 0;
 };

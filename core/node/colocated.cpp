@@ -13,6 +13,7 @@ void ColocatedLoop::activate() {
   force_.activate();
   if (tactile_) tactile_->activate();
   sim_.activate(0);
+  for (node::LoopComponent* stage : stages_) stage->activate();
   devices::HandSource* hand = force_.simulated_hand();
   hand_ = hand && hand->feels_pins() && tactile_ ? hand : nullptr;
   start_ns_ = -1;  // the first tick is the simulator's time 0 (as in enact-sim: its first sample)
@@ -38,6 +39,10 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   obs_.cut_since_ns = obs_.cut ? whole_ns_ : 0;
   const std::int64_t t_ns = now_ns - start_ns_;
   obs_.step = sim_.step(t_ns, reengage_.position(sim_, t_ns, obs_.sample.position_m));
+  if (!stages_.empty()) {
+    node::Tick t{now_ns, t_ns, &obs_.sample, &obs_.step};
+    for (node::LoopComponent* stage : stages_) stage->step(t);
+  }
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow
@@ -56,6 +61,7 @@ void ColocatedLoop::deactivate() noexcept {
   force_.deactivate();
   if (tactile_) tactile_->deactivate();
   sim_.deactivate();
+  for (node::LoopComponent* stage : stages_) stage->deactivate();
 }
 
 }  // namespace enact::graph

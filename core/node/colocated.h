@@ -1,14 +1,17 @@
 #pragma once
 // The co-located real-time tick: the simulator and both device drivers in one thread, wired
-// by calls: read the device, step the model, write the force, write the pins (down-sampled),
-// all in the same tick: the zero-delay loop. A simulated hand that feels pins (a virtual
+// by calls: read the device, step the model, the stages (node/loop_component.h: a user's, in
+// their order), write the force, write the pins (down-sampled), all in the same tick: the
+// zero-delay loop. A simulated hand that feels pins (a virtual
 // subject) is given what the tactile device shows at the end of each tick. The tactile
 // device is optional: without one the model's frames are observed, written nowhere. What happened is
 // returned as a trivially copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
 // blocks and never throws.
 #include <cstdint>
+#include <vector>
 
 #include "core/devices/device.h"
+#include "core/node/loop_component.h"
 #include "core/rt/clock.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
@@ -47,7 +50,9 @@ class ColocatedLoop {
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock,
                 double reengage_s = sim::kReengageDefault_s);
 
-  // activate the devices and the simulator; zero force, pins down. The first tick is the
+  // a stage of the tick, after those added before (it outlives the loop); before activate()
+  void add_stage(node::LoopComponent& stage) { stages_.push_back(&stage); }
+  // activate the devices, the simulator and the stages; zero force, pins down. The first tick is the
   // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
   // device states replays exactly (enact resim)
   void activate();
@@ -60,7 +65,7 @@ class ColocatedLoop {
   // of the force path (the sample's watchdog or device error bit) the body is re-synchronised
   // with the device first, as enact-sim does, so the force comes back from zero
   const Observation& tick(std::int64_t now_ns);
-  // zero the force and lower the pins first, then stop the simulator
+  // zero the force and lower the pins first, then stop the simulator and the stages
   void deactivate() noexcept;
   // the body's re-synchronisations (the first tick's included)
   const sim::Reengagement& reengagement() const { return reengage_; }
@@ -74,6 +79,7 @@ class ColocatedLoop {
   Clock clock_;
   ParamQueue* changes_ = nullptr;
   AppliedQueue* applied_ = nullptr;
+  std::vector<node::LoopComponent*> stages_;
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
   float shown_[32] = {};
   Observation obs_;

@@ -49,7 +49,7 @@ std::string plugin_help() {
 // (tactile_device empty: none)
 struct ComponentNames {
   std::string model, force_device, tactile_device;
-  std::vector<std::pair<std::string, std::string>> observers;  // name, plugin
+  std::vector<std::pair<std::string, std::string>> others;  // observers and stages: name, plugin
 };
 ComponentNames component_names(const graph::NodeArgs& args) {
   std::vector<std::pair<std::string, std::string>> list = args.components;
@@ -63,7 +63,8 @@ ComponentNames component_names(const graph::NodeArgs& args) {
       case graph::ComponentRole::model: names.model = name; break;
       case graph::ComponentRole::force_device: names.force_device = name; break;
       case graph::ComponentRole::tactile_device: names.tactile_device = name; break;
-      case graph::ComponentRole::observer: names.observers.emplace_back(name, plugin); break;
+      case graph::ComponentRole::observer:
+      case graph::ComponentRole::stage: names.others.emplace_back(name, plugin); break;
     }
   }
   return names;
@@ -105,7 +106,7 @@ struct Scene {
 
 }  // namespace
 
-const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--component=NAME:PLUGIN...] --param NAME=VALUE...
+const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--library=PATH...] [--component=NAME:PLUGIN...] --param NAME=VALUE...
 
 The co-located real-time container: components sim, ffd and tactile (one of each, any names,
 the tactile display optional; no --component: sim:sim, ffd:ffd and tactile:tactile) in one
@@ -113,7 +114,9 @@ process and one real-time thread, ticking at rate_hz: read the device, step the 
 the force, write the pins (down-sampled), in the same tick. Observer components (plugin
 logger, plugin foxglove: any number) run beside the loop, each on a thread of its own,
 attached to the graph as their nodes are; the loop waits for each logger before its first
-tick, and when it ends each logger takes what is on its way before its file is closed. Without a tactile component the
+tick, and when it ends each logger takes what is on its way before its file is closed. Stages a
+user writes (plugin libraries given by --library=PATH: docs/components.md) run in the tick, in
+the order listed, between the model's step and the force's write. Without a tactile component the
 model's frames are published and written nowhere, and tactile/shown is not published. A non-real-time thread,
 fed through lock-free queues, publishes every topic for observers: ffd/state, ffd/force,
 tactile/frame and task/event at their rates, task/state at 10 Hz and on change, sim/scene
@@ -190,10 +193,7 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   sim_p_ = p.scoped(sim_name_);
   ffd_p_ = p.scoped(ffd_name_);
   if (!tac_name_.empty()) tac_p_ = p.scoped(tac_name_);
-  for (const auto& [name, plugin] : names.observers) {
-    observer_names_.push_back(name);
-    observer_p_.emplace_back(p.scoped(name));
-  }
+  for (const auto& [name, plugin] : names.others) members_.push_back({name, plugin, p.scoped(name)});
   p.refuse_unknown();
   sched_.rate_hz = p.number("rate_hz");
   sched_.validate();
@@ -226,10 +226,18 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   simulator_.configure(sp);
   force_ = graph::make_force_device(ffd_p_);
   if (!tac_name_.empty()) tactile_ = graph::make_tactile_device(tac_p_);
-  for (std::size_t i = 0; i < observer_names_.size(); ++i) {
-    observer_p_[i].declare(*graph::component_table(names.observers[i].second));
-    observers_.add(observer_names_[i], names.observers[i].second, observer_p_[i]);
-    observer_p_[i].refuse_unknown();
+  for (Member& m : members_) {
+    m.params.declare(*graph::component_table(m.plugin));
+    if (graph::find_component_kind(m.plugin)->role == graph::ComponentRole::observer) {
+      observers_.add(m.name, m.plugin, m.params);
+    } else {
+      try {
+        stages_.push_back(make_stage(m.plugin, m.params));
+      } catch (const std::exception& e) {
+        throw config::Error(args.name + ": component '" + m.name + "' (plugin " + m.plugin + "): " + e.what());
+      }
+    }
+    m.params.refuse_unknown();
   }
   sim_p_.refuse_unknown();
   ffd_p_.refuse_unknown();
@@ -468,10 +476,11 @@ int Container::run() {
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
   if (tactile_) board.add(tac_p_, tac_name_, tac_name_ + ".");
-  for (std::size_t i = 0; i < observer_names_.size(); ++i) board.add(observer_p_[i], observer_names_[i], observer_names_[i] + ".");
+  for (const Member& m : members_) board.add(m.params, m.name, m.name + ".");
   // the parameter port copies the simulator's model, the keyframe is sized: before the
   // real-time thread starts
   io_ = std::make_unique<Io>(*this);
+  for (const auto& stage : stages_) io_->loop.add_stage(*stage);
   simulator_.save(io_->keyframe);
   host_.announce();
   io_->loop.connect_params(io_->changes, io_->applied);

@@ -1,7 +1,8 @@
 #pragma once
 // The co-located real-time container (enact-rt). The simulator and both device drivers run
 // in one process and one real-time thread (read device, step, write force, write pins, in
-// the same tick: graph::ColocatedLoop); observers are fed from lock-free queues by a
+// the same tick: graph::ColocatedLoop, with the stages a user's plugin libraries give
+// between the model and the force); observers are fed from lock-free queues by a
 // non-real-time thread, which also plans live parameter changes and hands them to the loop.
 #include <atomic>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "core/node/colocated.h"
 #include "core/params/params.h"
 #include "core/node/host.h"
+#include "core/node/loop_component.h"
 #include "core/node/recorder.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
@@ -47,8 +49,13 @@ class Container {
   Host& host_;
   std::string sim_name_, ffd_name_, tac_name_;
   graph::Params sim_p_, ffd_p_, tac_p_;
-  std::deque<graph::Params> observer_p_;  // each observer component's (it holds a reference)
-  std::vector<std::string> observer_names_;
+  // the components beside sim, ffd and tactile: observers and stages, each with its parameters
+  // (an observer holds a reference to them)
+  struct Member {
+    std::string name, plugin;
+    graph::Params params;
+  };
+  std::deque<Member> members_;
   rt::SchedulerParams sched_;
   rt::RtParams rtp_;
   std::string wait_why_;
@@ -57,6 +64,7 @@ class Container {
   double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
   int wait_for_;  // observers of ffd/state (outside the container) the loop waits for
   ObserverGroup observers_;  // observer components, beside the loop
+  std::vector<std::unique_ptr<LoopComponent>> stages_;  // stages of the tick, in order
   sim::Simulator simulator_;
   std::unique_ptr<devices::ForceDevice> force_;
   std::unique_ptr<devices::TactileDevice> tactile_;

@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/config/yaml.h"
 #include "core/graph/node.h"
+#include "core/node/loop_component.h"
 #include "core/params/node_params.h"
 #include "core/params/param_table.h"
 
@@ -33,6 +35,11 @@ void Host::announce() {
 int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body) {
   try {
     graph::NodeArgs args = graph::parse_node_args(argc, argv, kind.default_name);
+    // a container's plugin libraries first: their stages' parameters are in its --help
+    if (!args.libraries.empty() && !kind.plugins) {
+      throw config::Error(std::string(kind.default_name) + ": --library is for a container's stages\n  fix: give it to enact-rt (launch file: the component's library:)");
+    }
+    for (const std::string& library : args.libraries) load_plugin_library(library);
     if (args.help) {
       const std::string more = kind.more_help ? kind.more_help() : "";
       std::fputs((kind.help + graph::help_lines(*graph::node_table(kind.executable)) + more).c_str(), stdout);

@@ -1,6 +1,7 @@
 #pragma once
 // The node host: what every node process of a graph does around its component. It reads
-// the command line (--name, --param, --component, --help, --check), gives --help from the
+// the command line (--name, --param, --component, --library, --help, --check), loads a
+// container's plugin libraries (node/loop_component.h), gives --help from the
 // node's parameter table, applies the launcher's real-time profile to a loop process before
 // any socket, declares the table and refuses unknown parameters; then the component reads
 // its parameters (the launcher's --check stops there, binding nothing); then the host

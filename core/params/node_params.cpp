@@ -138,15 +138,25 @@ void check_against(const launch::NodeSpec& n, const std::string& owner, const st
 
 // a container's component list: the problem with it at the line of the entry it is about
 // (of the container for the list as a whole)
+// (a stage from a plugin library is the container's own --check to check: it loads the library)
 void check_components(const launch::NodeSpec& n, std::vector<std::string>& problems) {
+  auto line_of = [&](const launch::ComponentSpec& c) {
+    return c.line > 0 ? n.source.substr(0, n.source.rfind(':')) + ":" + std::to_string(c.line) : n.source;
+  };
   std::vector<std::pair<std::string, std::string>> list;
-  for (const launch::ComponentSpec& c : n.components) list.emplace_back(c.name, c.plugin);
+  std::vector<const launch::ComponentSpec*> listed;
+  for (const launch::ComponentSpec& c : n.components) {
+    if (!c.library.empty() && !std::filesystem::is_regular_file(c.library)) {
+      problems.push_back(line_of(c) + ": node '" + n.name + "': component '" + c.name + "': there is no plugin library '" + c.library +
+                         "'\n  fix: build it (docs/components.md), or correct the path (relative to where enact runs; $(dirname) is the launch file's folder)");
+    }
+    if (!c.library.empty() && !find_component_kind(c.plugin)) continue;
+    list.emplace_back(c.name, c.plugin);
+    listed.push_back(&c);
+  }
   const auto problem = component_list_problem(list);
   if (!problem) return;
-  std::string at = n.source;
-  if (problem->entry < n.components.size() && n.components[problem->entry].line > 0) {
-    at = n.source.substr(0, n.source.rfind(':')) + ":" + std::to_string(n.components[problem->entry].line);
-  }
+  const std::string at = problem->entry < listed.size() ? line_of(*listed[problem->entry]) : n.source;
   problems.push_back(at + ": node '" + n.name + "': " + problem->text);
 }
 
@@ -264,8 +274,9 @@ const ParamTable& foxglove_component_table() {
   return t;
 }
 
-const std::vector<ComponentKind>& component_kinds() {
-  static const std::vector<ComponentKind> kinds{
+namespace {
+std::vector<ComponentKind>& kinds() {
+  static std::vector<ComponentKind> kinds{
       {"sim", ComponentRole::model, "simulator", &sim_table, true},
       {"ffd", ComponentRole::force_device, "force-feedback device", &force_table, true},
       {"tactile", ComponentRole::tactile_device, "tactile display", &tactile_table, false},
@@ -273,6 +284,15 @@ const std::vector<ComponentKind>& component_kinds() {
       {"foxglove", ComponentRole::observer, "Foxglove bridge (WebSocket)", &foxglove_component_table, false},
   };
   return kinds;
+}
+}  // namespace
+
+const std::vector<ComponentKind>& component_kinds() { return kinds(); }
+
+bool add_component_kind(const ComponentKind& kind) {
+  if (find_component_kind(kind.plugin)) return false;
+  kinds().push_back(kind);
+  return true;
 }
 
 const ComponentKind* find_component_kind(const std::string& plugin) {
@@ -291,14 +311,17 @@ std::optional<ComponentProblem> component_list_problem(const std::vector<std::pa
   std::string plugins;
   for (const ComponentKind& k : component_kinds()) plugins += std::string(plugins.empty() ? "" : ", ") + k.plugin + " (" + k.what + ")";
   const std::string one_each = "enact-rt's one tick reads one force device, steps one model and, if it has one, writes one tactile display: of " + plugins +
-                               " one each of the first three, the tactile display optional, observers (logger, foxglove) as many as wanted";
+                               " one each of the first three, the tactile display optional, observers (logger, foxglove) and stages from plugin libraries as many as wanted";
   std::vector<std::size_t> first(component_kinds().size(), static_cast<std::size_t>(-1));
   for (std::size_t i = 0; i < components.size(); ++i) {
     const auto& [name, plugin] = components[i];
     const ComponentKind* kind = find_component_kind(plugin);
-    if (!kind) return ComponentProblem{i, "component '" + name + "': unknown plugin '" + plugin + "'\n  fix: use one of " + plugins};
+    if (!kind) {
+      return ComponentProblem{i, "component '" + name + "': unknown plugin '" + plugin + "'\n  fix: use one of " + plugins +
+                                     "; a stage of your own: give its plugin library (library: PATH in the launch file, --library=PATH to enact-rt)"};
+    }
     std::size_t& seen = first[static_cast<std::size_t>(kind - component_kinds().data())];
-    if (seen != static_cast<std::size_t>(-1) && kind->role != ComponentRole::observer) {
+    if (seen != static_cast<std::size_t>(-1) && kind->role != ComponentRole::observer && kind->role != ComponentRole::stage) {
       return ComponentProblem{i, "components '" + components[seen].first + "' and '" + name + "' are both a " + kind->what + " (plugin " + plugin + ")\n  fix: keep one; " + one_each};
     }
     seen = i;

@@ -40,9 +40,11 @@ const ParamTable& tactile_table();  // the tactile device (plugin tactile; enact
 const ParamTable* component_table(const std::string& plugin);
 
 // what a component of a real-time container does: in the co-located tick, step the model, read
-// the force device and write its force, write the pins; beside the loop, on a thread of its
-// own, observe the graph (a logger, a Foxglove bridge: node/recorder.h)
-enum class ComponentRole : std::uint8_t { model, force_device, tactile_device, observer };
+// the force device and write its force, write the pins, or change the force and pins between
+// the model's step and their write (a stage a user writes, from a plugin library:
+// node/loop_component.h); beside the loop, on a thread of its own, observe the graph (a
+// logger, a Foxglove bridge: node/recorder.h)
+enum class ComponentRole : std::uint8_t { model, force_device, tactile_device, observer, stage };
 struct ComponentKind {
   const char* plugin;  // its name in a launch file (component: plugin:) and on --component
   ComponentRole role;
@@ -50,12 +52,15 @@ struct ComponentKind {
   const ParamTable& (*table)();
   bool required;       // a container cannot run without one (the tactile display is optional)
 };
-// every kind of component a container (enact-rt) hosts, in the order of its --help
+// every kind of component a container (enact-rt) hosts, in the order of its --help: the
+// built-in ones, then the stages of the plugin libraries loaded
 const std::vector<ComponentKind>& component_kinds();
+// a stage from a plugin library (node::load_plugin_library); false when the name is taken
+bool add_component_kind(const ComponentKind& kind);
 const ComponentKind* find_component_kind(const std::string& plugin);
 
 // a container's component list (name, plugin), checked: each plugin known, at most one
-// component of each loop role (observers: any number) and one of each required role (enact-rt's one tick reads one force
+// component of each loop role (observers and stages: any number) and one of each required role (enact-rt's one tick reads one force
 // device, steps one model and, if it has one, writes one tactile display). The first problem, "what\n  fix: ..." (the plugins there are named), and the
 // entry it is about (npos: the list as a whole); nullopt when the list can run
 struct ComponentProblem {

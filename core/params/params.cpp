@@ -132,6 +132,8 @@ NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name)
       const std::size_t colon = c.find(':');
       if (colon == std::string::npos) throw config::Error(default_name + ": --component needs NAME:PLUGIN, got '" + c + "'\n  fix: e.g. --component=sim:sim");
       out.components.emplace_back(c.substr(0, colon), c.substr(colon + 1));
+    } else if (a == "--library" || a.rfind("--library=", 0) == 0) {
+      out.libraries.push_back(value("--library"));
     } else {
       throw config::Error(default_name + ": unknown argument '" + a + "'\n  fix: see --help (parameters are --param name=value)");
     }

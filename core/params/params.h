@@ -58,11 +58,13 @@ class Params {
 };
 
 // the command line of a node: --name N, --param=K=V (or --param K=V), --component=N:PLUGIN,
-// --help, --check; anything else is refused
+// --library=PATH (a plugin library of stages, node/loop_component.h), --help, --check;
+// anything else is refused
 struct NodeArgs {
   std::string name;
   Params params;
   std::vector<std::pair<std::string, std::string>> components;  // name, plugin
+  std::vector<std::string> libraries;  // plugin libraries, in order
   bool help = false;
   // check every parameter as the node would before it starts, then exit (0: all good),
   // binding nothing: `enact launch` does this for every node before it starts any

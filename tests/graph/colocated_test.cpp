@@ -34,7 +34,8 @@ struct Rig {
   devices::SimulatedTactileDevice tactile;
   std::unique_ptr<ColocatedLoop> loop;
 
-  explicit Rig(const std::string& model, bool with_tactile = true) {
+  // stages: the loop's, in order (they outlive the rig)
+  explicit Rig(const std::string& model, bool with_tactile = true, const std::vector<node::LoopComponent*>& stages = {}) {
     sim::SimParams p;
     p.scene = test::source_path("launch/scenes/bridge.yaml");
     p.model = model;
@@ -49,6 +50,7 @@ struct Rig {
     force->configure();
     tactile.configure();
     loop = std::make_unique<ColocatedLoop>(simulator, *force, with_tactile ? &tactile : nullptr, &fake_clock);
+    for (node::LoopComponent* stage : stages) loop->add_stage(*stage);
     loop->activate();
   }
 
@@ -120,6 +122,105 @@ TEST(Colocated, WithoutATactileDeviceEveryTickIsTheSame) {
   }
   EXPECT_GT(raised, 10) << "frames with pins up: the last check is not vacuous (of " << frames << " frames)";
   EXPECT_EQ(allocations, 0u);
+}
+
+// a stage that scales the force, adds to it and inverts the frame, and says what it saw and
+// what the stages before it left
+struct TestStage final : node::LoopComponent {
+  double scale = 1.0;
+  math::Vec3 add;
+  bool invert_frame = false;
+  int activated = 0, deactivated = 0, steps = 0;
+  node::Tick last;
+  devices::ForceSample sample;
+  math::Vec3 force_in_n;
+  std::uint32_t frame_in = 0;
+  void activate() override { ++activated; }
+  void step(node::Tick& t) noexcept override {
+    ++steps;
+    last = t;
+    sample = *t.sample;
+    force_in_n = t.step->force_n;
+    frame_in = t.step->frame;
+    t.step->force_n = t.step->force_n * scale + add;
+    if (invert_frame) t.step->frame = ~t.step->frame & 0xffffu;
+  }
+  void deactivate() noexcept override { ++deactivated; }
+};
+
+// the stages step in their order after the model and before the force's write: the first
+// sees the model's force, the device is given what the last one left (x0.5 then +0.01 N,
+// not (f + 0.01 N) x0.5), the cells the frame it left; each sees this tick's sample and times;
+// observers see the force written; a tick with stages allocates nothing
+TEST(ColocatedStages, StepInOrderBetweenTheModelAndTheWritesWithoutAllocating) {
+  TestStage spy, twice, plus, invert;
+  twice.scale = 0.5;  // a small change: the hand still walks onto the bridge
+  plus.add = {0.0, 0.0, 0.01};
+  invert.invert_frame = true;
+  Rig rig("CM1", true, {&spy, &twice, &plus, &invert});
+  EXPECT_EQ(spy.activated + twice.activated + plus.activated + invert.activated, 4) << "activated with the loop, before any tick";
+  EXPECT_EQ(twice.steps, 0);
+  int touching = 0, frames = 0;
+  std::size_t allocations = 0;
+  for (std::int64_t n = 0; n < 5'000; ++n) {
+    std::optional<test::AllocGuard> guard;
+    if (n >= 100) guard.emplace();  // past first-use set-up
+    const Observation& o = rig.tick(n);
+    if (guard) allocations += guard->allocations();
+    guard.reset();
+    const math::Vec3 model_n = spy.force_in_n;
+    ASSERT_EQ(twice.force_in_n, model_n) << "tick " << n;
+    ASSERT_EQ(plus.force_in_n, model_n * 0.5) << "tick " << n;
+    const math::Vec3 expected = model_n * 0.5 + math::Vec3{0.0, 0.0, 0.01};
+    ASSERT_EQ(rig.device->applied_force_n(), expected) << "tick " << n;
+    ASSERT_EQ(o.step.force_n, expected) << "observers see the force written, tick " << n;
+    EXPECT_EQ(plus.last.time_ns, n * kPeriod_ns);
+    EXPECT_EQ(plus.last.model_time_ns, n * kPeriod_ns);
+    EXPECT_EQ(plus.sample.position_m, o.sample.position_m);
+    EXPECT_EQ(plus.sample.time_ns, o.sample.time_ns);
+    touching += math::norm(model_n) > 0.1;
+    if (o.step.frame_due) {
+      frames += spy.frame_in != 0;
+      EXPECT_EQ(rig.tactile.targets(), ~spy.frame_in & 0xffffu) << "the cells get the frame the stages left, tick " << n;
+    }
+  }
+  EXPECT_GT(touching, 500) << "ticks where the model pushes: the order check is not vacuous";
+  EXPECT_GT(frames, 5) << "frames with pins up: the frame check is not vacuous";
+  EXPECT_EQ(twice.steps, 5'000);
+  EXPECT_EQ(allocations, 0u);
+  rig.loop->deactivate();
+  EXPECT_EQ(spy.deactivated + twice.deactivated + plus.deactivated + invert.deactivated, 4);
+  EXPECT_EQ(rig.device->applied_force_n(), math::Vec3{}) << "the force is zeroed however the stages left it";
+}
+
+// a stage cannot jolt the hand: the safety layer after the stages holds the force to the
+// profile's peak and each step to its slew limit, and a NaN a stage makes reaches the device
+// as no force
+TEST(ColocatedStages, TheSafetyLayerStillLimitsWhatAStageWrites) {
+  TestStage huge, nan;
+  huge.add = {0.0, 0.0, 1e6};
+  Rig big("CM1", true, {&huge});
+  const double peak_n = big.force->profile().peak_force_n;
+  const double step_n = big.force->profile().max_force_step_n_per_ms * static_cast<double>(kPeriod_ns) * 1e-6;  // N/ms x ms
+  ASSERT_GT(peak_n, 0.0);
+  ASSERT_GT(step_n, 0.0);
+  math::Vec3 before;
+  for (std::int64_t n = 0; n < 1'000; ++n) {
+    big.tick(n);
+    const math::Vec3 now = big.device->applied_force_n();
+    ASSERT_LE(math::norm(now), peak_n + 1e-9) << "tick " << n;
+    // the first write follows a silence: one millisecond's worth (core/devices/safety.h)
+    const double allowed_n = n == 0 ? big.force->profile().max_force_step_n_per_ms : step_n;
+    ASSERT_LE(math::norm(now - before), allowed_n + 1e-9) << "tick " << n;
+    before = now;
+  }
+  EXPECT_GT(math::norm(big.device->applied_force_n()), 0.5 * peak_n) << "the stage's push reaches the device, limited";
+  nan.scale = std::nan("");
+  Rig bad("CM1", true, {&nan});
+  for (std::int64_t n = 0; n < 100; ++n) {
+    bad.tick(n);
+    ASSERT_TRUE(std::isfinite(math::norm(bad.device->applied_force_n()))) << "tick " << n;
+  }
 }
 
 TEST(Colocated, TickAllocatesNothing) {

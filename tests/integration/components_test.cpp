@@ -4,10 +4,14 @@
 // without a tactile display runs the same loop, its pins written nowhere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "core/math/vec3.h"
 #include "core/record/reader.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
@@ -172,6 +176,104 @@ TEST(ContainerComponents, AVirtualSubjectWithoutATactileDisplayIsRefused) {
       << r.out << r.err;
   EXPECT_NE(r.err.find("fix: add {name: tactile, plugin: tactile} to the component list"), std::string::npos) << r.err;
   EXPECT_EQ(r.out.find("the hand felt"), std::string::npos) << "nothing ran\n" << r.out;
+}
+
+
+// a container with the example guide spring (examples/plugins/guide_spring.cpp, loaded from
+// its library) and a logger component; `extra`: more of the guide's parameter list
+std::string guided(const std::string& recording, const std::string& guide_params, const std::string& plugin = "guide_spring",
+                   const std::string& library = ENACT_GUIDE_SPRING) {
+  const std::string scene = source_path("launch/scenes/bridge.yaml");
+  return "launch:\n"
+         "  - container:\n"
+         "      name: rt\n"
+         "      required: true\n"
+         "      component:\n"
+         "        - {name: sim, plugin: sim, param: [{name: scene, value: " + scene + "}]}\n"
+         "        - {name: ffd, plugin: ffd, param: [{name: start_scene, value: " + scene + "}]}\n"
+         "        - {name: tactile, plugin: tactile}\n"
+         "        - name: guide\n"
+         "          plugin: " + plugin + "\n"
+         "          library: " + library + "\n"
+         "          param: [" + guide_params + "]\n"
+         "        - {name: rec, plugin: logger, param: [{name: output, value: " + recording + "}]}\n";
+}
+
+// the user's stage runs in the tick: nobody holds the device but a hand that keeps it at the
+// scene's start, above the bridge, where the model pushes nothing; the guide pulls it toward
+// an anchor 8 mm away. Every recorded force is the guide's law of the state it answers
+// (spring and damper, capped at max_force_n), and the device moved toward the anchor
+TEST(ContainerStages, AStageFromAPluginLibraryGivesTheForceOfEveryTick) {
+  TempDir dir;
+  const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap");
+  const math::Vec3 start{-0.0074246, -0.0222739, 0.013}, anchor{start.x + 0.008, start.y, start.z};
+  const double k = 150.0, b = 2.0, cap = 1.0;
+  char anchor_text[128];
+  std::snprintf(anchor_text, sizeof anchor_text, "%.17g,%.17g,%.17g", anchor.x, anchor.y, anchor.z);
+  write_file(file, guided(rec, "{name: anchor_m, value: \"" + std::string(anchor_text) +
+                                   "\"}, {name: stiffness_n_per_m, value: \"150\"}, {name: damping_n_s_per_m, value: \"2\"}, {name: max_force_n, value: \"1\"}"));
+  const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  std::map<std::uint64_t, msgs::DeviceState> states;
+  std::map<std::uint64_t, math::Vec3> forces;
+  msgs::DeviceState state;
+  msgs::ForceCommand force;
+  record::Reader(rec).for_each([&](const record::Message& m) {
+    if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) states[state.header().seq()] = state;
+    if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
+      forces[force.answered_seq()] = {force.force().x(), force.force().y(), force.force().z()};
+    }
+    return true;
+  });
+  ASSERT_GT(forces.size(), 4000u) << "1 s at 5 kHz";
+  std::size_t compared = 0, capped = 0;
+  double moved_m = 0.0;
+  for (const auto& [seq, f] : forces) {
+    const auto it = states.find(seq);
+    if (it == states.end()) continue;
+    const math::Vec3 x{it->second.position().x(), it->second.position().y(), it->second.position().z()};
+    const math::Vec3 v{it->second.velocity().x(), it->second.velocity().y(), it->second.velocity().z()};
+    math::Vec3 law = (x - anchor) * -k - v * b;
+    if (math::norm(law) > cap) {
+      law = law * (cap / math::norm(law));
+      ++capped;
+    }
+    ASSERT_NEAR(math::norm(f - law), 0.0, 1e-9) << "the force answering state " << seq << " is the guide's";
+    moved_m = std::max(moved_m, x.x - start.x);
+    ++compared;
+  }
+  EXPECT_GT(compared, 4000u);
+  EXPECT_GT(capped, 0u) << "at 8 mm the spring asks 1.2 N: capped at the start";
+  EXPECT_LT(capped, compared) << "and not once the device came closer";
+  EXPECT_GT(moved_m, 0.001) << "the guide moved the device toward its anchor";
+}
+
+// a plugin library's stage is refused before anything moves, with the file and the fix: a
+// library that is not there (the launch file's line), a file that is not a shared library, a
+// plugin the library does not hold (the plugins it has named), a parameter out of range
+TEST(ContainerStages, ABadPluginLibraryOrStageIsRefusedWithTheFix) {
+  TempDir dir;
+  const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap"), junk = dir.file("junk.so");
+  write_file(junk, "not a shared library\n");
+  struct Case {
+    std::string graph, said, fix;
+  };
+  const std::vector<Case> cases{
+      {guided(rec, "", "guide_spring", dir.file("none.so")), file + ":9: node 'rt': component 'guide': there is no plugin library '" + dir.file("none.so") + "'",
+       "fix: build it (docs/components.md)"},
+      {guided(rec, "", "guide_spring", junk), junk + ": cannot load the plugin library", "fix: build it against this enact"},
+      {guided(rec, "", "guide_sprung"), "component 'guide': unknown plugin 'guide_sprung'", "guide_spring (guiding spring toward anchor_m"},
+      {guided(rec, "{name: stiffness_n_per_m, value: \"-1\"}"), "stiffness_n_per_m", "fix:"},
+  };
+  for (const Case& c : cases) {
+    write_file(file, c.graph);
+    const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
+    const std::string said = r.out + r.err;
+    EXPECT_NE(r.exit_code, 0) << said;
+    EXPECT_NE(said.find(c.said), std::string::npos) << "expected: " << c.said << "\n" << said;
+    EXPECT_NE(said.find(c.fix), std::string::npos) << "expected: " << c.fix << "\n" << said;
+    EXPECT_EQ(said.find("the hand felt"), std::string::npos) << "nothing ran\n" << said;
+  }
 }
 
 }  // namespace
