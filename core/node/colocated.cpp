@@ -39,10 +39,8 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   obs_.cut_since_ns = obs_.cut ? whole_ns_ : 0;
   const std::int64_t t_ns = now_ns - start_ns_;
   obs_.step = sim_.step(t_ns, reengage_.position(sim_, t_ns, obs_.sample.position_m));
-  if (!stages_.empty()) {
-    node::Tick t{now_ns, t_ns, &obs_.sample, &obs_.step};
-    for (node::LoopComponent* stage : stages_) stage->step(t);
-  }
+  node::Tick stage_tick{now_ns, t_ns, &obs_.sample, &obs_.step};
+  for (node::LoopComponent* stage : stages_) stage->step(stage_tick);
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow

@@ -46,7 +46,7 @@ class LoopComponent {
   // each tick, on the real-time thread: allocate nothing, lock nothing, never block, never
   // read a file, never throw
   virtual void step(Tick& tick) noexcept = 0;
-  // after the last tick (the force is still to be zeroed by the device)
+  // after the last tick, once the device's force is zeroed and the pins lowered
   virtual void deactivate() noexcept {}
 };
 

@@ -137,8 +137,8 @@ void check_against(const launch::NodeSpec& n, const std::string& owner, const st
 }
 
 // a container's component list: the problem with it at the line of the entry it is about
-// (of the container for the list as a whole)
-// (a stage from a plugin library is the container's own --check to check: it loads the library)
+// (of the container for the list as a whole); a stage from a plugin library is left to the
+// container's own --check, which loads the library
 void check_components(const launch::NodeSpec& n, std::vector<std::string>& problems) {
   auto line_of = [&](const launch::ComponentSpec& c) {
     return c.line > 0 ? n.source.substr(0, n.source.rfind(':')) + ":" + std::to_string(c.line) : n.source;
