@@ -4,6 +4,7 @@
 // deactivate (zero output, disable). read, write and shown take the time they act at (int64
 // ns of a monotonic clock), allocate nothing and never throw: faults are reported in the
 // sample and counted, never thrown through the loop.
+#include <array>
 #include <cstdint>
 
 #include "core/devices/device_profile.h"
@@ -59,6 +60,27 @@ class ForceDevice {
   virtual HandSource* simulated_hand() noexcept { return nullptr; }
 };
 
+// The motion of up to 32 pins: each moves linearly towards its target (up = 1, down = 0) at
+// 1 / rise_ns per ns, from the level it had when its target last changed, so a full stroke
+// takes rise_ns and a target changed mid-stroke reverses from the level reached. Trivially
+// copyable (it crosses threads by copy); allocates nothing.
+struct PinMotion {
+  // a pin's stroke: from a level at a time, towards its target
+  struct Stroke {
+    double from_level = 0.0;
+    std::int64_t from_ns = 0;
+  };
+  std::array<Stroke, 32> strokes{};
+  std::uint32_t targets = 0;  // bit i = pin i up
+  double rise_ns = 24e6;      // > 0, the time of a full stroke
+
+  // pin i's level at now_ns, 0 .. 1 (not before the pin's last target change)
+  double level(int pin, std::int64_t now_ns) const noexcept;
+  // new targets from now_ns on for pins 0 .. count: a pin whose target changes starts a new
+  // stroke from the level it has reached
+  void set_targets(std::int64_t now_ns, std::uint32_t pins, int count) noexcept;
+};
+
 // a tactile pin array: rows x cols pins, pin i = row * cols + col, at most 32 pins
 class TactileDevice {
  public:
@@ -72,6 +94,13 @@ class TactileDevice {
   // what the pins physically show at now_ns, 0 = down .. 1 = up, into levels[0 .. count)
   // (pins beyond count are not written; levels beyond rows * cols are left untouched)
   virtual void shown(std::int64_t now_ns, float* levels, int count) noexcept = 0;
+  // the pins' motion from the last write on, where the device knows it (simulated cells, the
+  // Metec driver's estimate): shown(t) is out.level(i, t) for any t until the next write, on
+  // the clock shown() takes. false: the device knows only shown()
+  virtual bool motion(PinMotion& out) const noexcept {
+    (void)out;
+    return false;
+  }
   virtual int rows() const = 0;
   virtual int cols() const = 0;
   // lower every pin, then disable output

@@ -15,21 +15,6 @@ constexpr int kMaxPins = 32;
 
 }  // namespace
 
-double PinMotion::level(int pin, std::int64_t now_ns) const noexcept {
-  const Stroke& s = strokes[static_cast<std::size_t>(pin)];
-  const double moved = static_cast<double>(std::max<std::int64_t>(0, now_ns - s.from_ns)) / rise_ns;
-  return (targets >> pin) & 1u ? std::min(1.0, s.from_level + moved) : std::max(0.0, s.from_level - moved);
-}
-
-void PinMotion::set_targets(std::int64_t now_ns, std::uint32_t pins, int count) noexcept {
-  const std::uint32_t changed = pins ^ targets;
-  for (int i = 0; i < count; ++i) {
-    if (((changed >> i) & 1u) == 0) continue;
-    strokes[static_cast<std::size_t>(i)] = {level(i, now_ns), now_ns};
-  }
-  targets = pins;
-}
-
 SimulatedTactileDevice::SimulatedTactileDevice(SimulatedTactileParams params) : params_(params) {}
 
 void SimulatedTactileDevice::configure() {
@@ -67,6 +52,11 @@ void SimulatedTactileDevice::shown(std::int64_t now_ns, float* levels, int count
   see(now_ns);
   const int n = std::min(count, params_.rows * params_.cols);
   for (int i = 0; i < n; ++i) levels[i] = static_cast<float>(level(i, now_ns));
+}
+
+bool SimulatedTactileDevice::motion(PinMotion& out) const noexcept {
+  out = motion_;
+  return true;
 }
 
 void SimulatedTactileDevice::deactivate() noexcept {

@@ -6,33 +6,11 @@
 // Being a simulation, the pins keep moving while the device is inactive: deactivate() sets
 // every target down at the latest time the device has seen (its last write or shown), and
 // shown() then shows the pins falling from there.
-#include <array>
 #include <cstdint>
 
 #include "core/devices/device.h"
 
 namespace enact::devices {
-
-// The motion of up to 32 pins: each moves linearly towards its target (up = 1, down = 0) at
-// 1 / rise_ns per ns, from the level it had when its target last changed, so a full stroke
-// takes rise_ns and a target changed mid-stroke reverses from the level reached. Trivially
-// copyable (it crosses threads by copy); allocates nothing.
-struct PinMotion {
-  // a pin's stroke: from a level at a time, towards its target
-  struct Stroke {
-    double from_level = 0.0;
-    std::int64_t from_ns = 0;
-  };
-  std::array<Stroke, 32> strokes{};
-  std::uint32_t targets = 0;  // bit i = pin i up
-  double rise_ns = 24e6;      // > 0, the time of a full stroke
-
-  // pin i's level at now_ns, 0 .. 1 (not before the pin's last target change)
-  double level(int pin, std::int64_t now_ns) const noexcept;
-  // new targets from now_ns on for pins 0 .. count: a pin whose target changes starts a new
-  // stroke from the level it has reached
-  void set_targets(std::int64_t now_ns, std::uint32_t pins, int count) noexcept;
-};
 
 struct SimulatedTactileParams {
   int rows = 4;               // >= 1, rows * cols <= 32
@@ -52,6 +30,7 @@ class SimulatedTactileDevice final : public TactileDevice {
   void write(std::int64_t now_ns, std::uint32_t pins) noexcept override;
   // the levels at now_ns, pins 0 .. min(count, rows * cols)
   void shown(std::int64_t now_ns, float* levels, int count) noexcept override;
+  bool motion(PinMotion& out) const noexcept override;
   int rows() const override { return params_.rows; }
   int cols() const override { return params_.cols; }
   // every target down from the latest time seen, disable writes

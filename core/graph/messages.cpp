@@ -57,13 +57,39 @@ void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins) {
   for (int i = 0; i < rows * cols; ++i) m.set_level(i, (pins >> i) & 1u ? 1.0f : 0.0f);
 }
 
-void fill(msgs::TactileShown& m, int rows, int cols, const float* shown, std::uint64_t frame_seq) {
+void fill(msgs::TactileShown& m, int rows, int cols, const float* shown, std::uint64_t frame_seq, const devices::PinMotion* motion) {
+  const int pins = rows * cols;
   m.mutable_header()->set_stamp_ns(0);
   m.set_rows(static_cast<std::uint32_t>(rows));
   m.set_cols(static_cast<std::uint32_t>(cols));
-  levels(*m.mutable_level(), rows * cols);
-  for (int i = 0; i < rows * cols; ++i) m.set_level(i, shown[i]);
+  levels(*m.mutable_level(), pins);
+  for (int i = 0; i < pins; ++i) m.set_level(i, shown[i]);
   m.set_frame_seq(frame_seq);
+  if (!motion) {
+    m.clear_motion();
+    return;
+  }
+  msgs::TactileShown::PinMotion& out = *m.mutable_motion();
+  out.set_targets(motion->targets);
+  out.set_stroke_ns(motion->rise_ns);
+  out.mutable_from_level()->Resize(pins, 0.0);
+  out.mutable_from_ns()->Resize(pins, 0);
+  for (int i = 0; i < pins; ++i) {
+    out.set_from_level(i, motion->strokes[static_cast<std::size_t>(i)].from_level);
+    out.set_from_ns(i, motion->strokes[static_cast<std::size_t>(i)].from_ns);
+  }
+}
+
+bool get(const msgs::TactileShown& m, devices::PinMotion& out) {
+  if (!m.has_motion()) return false;
+  const msgs::TactileShown::PinMotion& in = m.motion();
+  const int pins = std::min(in.from_level_size(), in.from_ns_size());
+  if (pins > 32 || !(in.stroke_ns() > 0.0)) return false;
+  out = {};
+  out.targets = in.targets();
+  out.rise_ns = in.stroke_ns();
+  for (int i = 0; i < pins; ++i) out.strokes[static_cast<std::size_t>(i)] = {in.from_level(i), in.from_ns(i)};
+  return true;
 }
 
 void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& force_n, SceneSnapshot& out) {

@@ -31,7 +31,10 @@ void fill(msgs::DeviceState& m, const devices::ForceSample& s);
 void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const math::Vec3& force_n, bool model_fault);
 // pins as levels 0 / 1 (the repeated field is resized once, then overwritten)
 void fill(msgs::TactileFrame& m, int rows, int cols, std::uint32_t pins);
-void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::uint64_t frame_seq);
+// what the pins show, and how they move where the device knows it (motion: nullptr for none)
+void fill(msgs::TactileShown& m, int rows, int cols, const float* levels, std::uint64_t frame_seq, const devices::PinMotion* motion);
+// the pins' motion a TactileShown carries, into out: false when it carries none (or a bad one)
+bool get(const msgs::TactileShown& m, devices::PinMotion& out);
 // the simulator's body, per-mass contact forces and contacts, pins, resultant, task state
 // what the scene shows at one step, copied out of the simulator without allocating (the
 // real-time thread takes it, the publisher thread sends it)

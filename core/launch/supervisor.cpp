@@ -176,6 +176,15 @@ struct Graph {
 
   bool stop_requested() const { return options.stop && options.stop->load(); }
 
+  // every process has exited and none is to be restarted: nothing is left of the graph
+  bool all_gone() const {
+    return std::all_of(children.begin(), children.end(), [](const Child& c) { return c.pid <= 0 && c.respawn_at_ns == 0; });
+  }
+  // a process whose last exit was not exit 0 (an error, a crash, a hang stopped)
+  bool any_failed() const {
+    return std::any_of(children.begin(), children.end(), [](const Child& c) { return !WIFEXITED(c.status) || WEXITSTATUS(c.status) != 0; });
+  }
+
   void stop_all(double timeout_s) {
     for (auto it = children.rbegin(); it != children.rend(); ++it) stop(*it, timeout_s);
     for (Child& c : children) {
@@ -347,6 +356,11 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       // the graph successfully; a crash or an error fails it
       if (!g.handle_exit(*c)) return finish(!c->hung && WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
       c->hung = false;
+    }
+    // none was required, and each has ended: so has the graph (failed if one failed)
+    if (!exited.empty() && g.all_gone()) {
+      log << "enact launch: every process has exited, the graph ended\n";
+      return finish(g.any_failed() ? 1 : 0);
     }
   }
 }

@@ -98,6 +98,8 @@ struct Felt {
 struct Shown {
   std::int64_t time_ns;
   float level[32];
+  devices::PinMotion motion;
+  bool moves;  // the device knows the pins' motion
 };
 struct Scene {
   std::int64_t tick_ns;  // the tick it was taken at (names its computer model)
@@ -324,6 +326,7 @@ void Container::rt_main() {
     if (tactile_ && n % shown_every == 0) {
       levels.time_ns = tick_ns;
       tactile_->shown(tick_ns, levels.level, io.rows * io.cols);
+      levels.moves = tactile_->motion(levels.motion);
       deliver(io.shown_queue, levels);
     }
     if (n % status_every == status_every - 1) {
@@ -424,7 +427,7 @@ std::size_t Container::drain() {
   }
   take_applied();
   while (io.shown_queue.try_pop(io.levels)) {
-    graph::fill(io.shown_msg, io.rows, io.cols, io.levels.level, io.frame_seq);
+    graph::fill(io.shown_msg, io.rows, io.cols, io.levels.level, io.frame_seq, io.levels.moves ? &io.levels.motion : nullptr);
     io.shown_msg.mutable_header()->set_stamp_ns(io.levels.time_ns);
     io.shown_pub.publish(io.shown_msg);
   }

@@ -79,6 +79,10 @@ struct Ffd::Io {
   devices::HandSource* hand;
   const bool feels_pins;
   float levels[32] = {};
+  devices::PinMotion motion;  // the pins' motion from the last tactile/shown, if it said
+  bool moves = false;
+  std::int64_t shown_offset_ns = 0;  // the tactile driver's clock less this loop's
+  std::int64_t last_tick_ns = -1;
   std::uint64_t pins_felt = 0;
   std::uint64_t frame_due = 0;  // simulated time: the tactile frame whose pins come before the next tick
   std::uint64_t pins_missed = 0;  // simulated time: frames whose pins did not come in kShownWait_ns
@@ -194,16 +198,30 @@ bool Ffd::await_shown(std::uint64_t due) {
   return due > 0;
 }
 
-// the latest pins the tactile driver shows; in simulated time those of each frame the last
-// answer said was sent, waited for (lock-step: the same pins at the same tick every run)
-void Ffd::feel_pins() {
+// a virtual subject's fingertip, before each read: the pins as they were at the tick before
+// (the co-located loop's order: pins written at a tick are felt from the next read on), from
+// the motion the tactile driver last sent (the pins rising tick by tick, as on the co-located
+// graph), else its last levels, held. In simulated time the pins of each frame the last
+// answer said was sent are waited for (lock-step: the same pins at the same tick every run)
+void Ffd::feel_pins(std::int64_t last_tick) {
   Io& io = *io_;
   if (!io.feels_pins) return;
-  if (simulated_ ? !await_shown(std::exchange(io.frame_due, 0)) : !io.shown.receive(io.shown_msg, 0)) return;
-  const int n = std::min(io.shown_msg.level_size(), 32);
-  for (int i = 0; i < n; ++i) io.levels[i] = io.shown_msg.level(i);
-  io.hand->feel_pins(io.levels, static_cast<int>(io.shown_msg.rows()), static_cast<int>(io.shown_msg.cols()));
-  ++io.pins_felt;
+  if (simulated_ ? await_shown(std::exchange(io.frame_due, 0)) : io.shown.receive(io.shown_msg, 0)) {
+    ++io.pins_felt;
+    io.moves = graph::get(io.shown_msg, io.motion);
+    // the driver's clock: in simulated time the frames' stamps, this loop's ticks; in real
+    // time its stamps, mapped onto this clock at receipt (within the hop's latency)
+    io.shown_offset_ns = simulated_ ? 0 : io.shown_msg.header().stamp_ns() - rt::now_ns();
+    const int n = std::min(io.shown_msg.level_size(), 32);
+    for (int i = 0; i < n; ++i) io.levels[i] = io.shown_msg.level(i);
+  } else if (!io.moves) {
+    return;  // the pins the subject felt last, held
+  }
+  const int rows = static_cast<int>(io.shown_msg.rows()), cols = static_cast<int>(io.shown_msg.cols());
+  if (io.moves) {
+    for (int i = 0; i < std::min(rows * cols, 32); ++i) io.levels[i] = static_cast<float>(io.motion.level(i, last_tick + io.shown_offset_ns));
+  }
+  io.hand->feel_pins(io.levels, rows, cols);
 }
 
 // the answer in io.command, if it answers the open sample: its force written (at `now`, the
@@ -226,7 +244,8 @@ void Ffd::tick(std::int64_t now) {
   Io& io = *io_;
   while (!simulated_ && next_answer(0) && !apply_answer(now)) {
   }
-  feel_pins();
+  feel_pins(io.last_tick_ns < 0 ? now : io.last_tick_ns);
+  io.last_tick_ns = now;
   device_->read(now, io.sample);
   io.watchdog.update(devices::has(io.sample.faults, devices::DeviceFault::watchdog), now);
   io.state.mutable_header()->set_stamp_ns(0);

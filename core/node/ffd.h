@@ -32,7 +32,7 @@ class Ffd {
   bool next_answer(std::int64_t deadline_ns);
   bool await_answer(std::int64_t answer_by);
   bool await_shown(std::uint64_t due);
-  void feel_pins();
+  void feel_pins(std::int64_t last_tick);
   void publish_status();
   void say_summary();
 

@@ -48,16 +48,14 @@ class LoggerObserver : public Observer {
     o_.attach = p.text("attach");
     o_.keys = bus::client_keys("", "");
     o_.wait_s = p.number("wait_s");
+    filter_ = graph::TopicFilter(o_);  // a bad pattern is refused here, before anything moves
   }
   std::string activate() override {
     logger_ = std::make_unique<graph::Logger>(o_);
     logger_->attach();
     return "recording " + topics_ + " to " + o_.output;
   }
-  bool records(const std::string& topic) const override {
-    if (!o_.regex.empty() || !o_.exclude.empty()) return false;  // not told: not waited for
-    return o_.topics.empty() || std::find(o_.topics.begin(), o_.topics.end(), topic) != o_.topics.end();
-  }
+  bool records(const std::string& topic) const override { return filter_.wants(topic); }
   bool run(const std::function<bool()>& stop) override {
     try {
       logger_->run(stop);
@@ -77,6 +75,7 @@ class LoggerObserver : public Observer {
 
  private:
   graph::LoggerOptions o_;
+  graph::TopicFilter filter_;
   std::string topics_;
   std::unique_ptr<graph::Logger> logger_;
 };

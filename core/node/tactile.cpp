@@ -44,6 +44,7 @@ struct Tactile::Io {
   graph::WatchdogLog watchdog;
   const int pins;
   float levels[32] = {};
+  devices::PinMotion motion;
   msgs::TactileFrame frame;
   msgs::TactileShown shown;
   msgs::NodeStatus status;
@@ -64,7 +65,8 @@ void Tactile::apply(std::int64_t now) {
 void Tactile::publish_shown(std::int64_t now) {
   Io& io = *io_;
   device_->shown(now, io.levels, io.pins);
-  graph::fill(io.shown, device_->rows(), device_->cols(), io.levels, io.frame_seq);
+  const bool moves = device_->motion(io.motion);
+  graph::fill(io.shown, device_->rows(), device_->cols(), io.levels, io.frame_seq, moves ? &io.motion : nullptr);
   io.shown.mutable_header()->set_stamp_ns(now);
   io.shown_pub.publish(io.shown);
 }

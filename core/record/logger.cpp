@@ -54,15 +54,7 @@ Logger::~Logger() {
 }
 
 void Logger::attach() {
-  // the topic filters, checked before anything connects
-  for (auto [text, out, what] : {std::tuple{&options_.regex, &regex_, "regex"}, std::tuple{&options_.exclude, &exclude_, "exclude"}}) {
-    if (text->empty()) continue;
-    try {
-      out->emplace(*text, std::regex::ECMAScript);
-    } catch (const std::regex_error& e) {
-      throw config::Error(std::string(what) + " '" + *text + "' is not a regular expression: " + e.what() + "\n  fix: e.g. '^ffd/' or 'state$'");
-    }
-  }
+  filter_ = TopicFilter(options_);  // checked before anything connects
   endpoint_ = attach_endpoint(options_.attach);
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
@@ -105,14 +97,25 @@ void Logger::attach() {
   open_file();
 }
 
-bool Logger::wanted(const std::string& topic) const {
-  const bool listed = options_.topics.empty() || std::find(options_.topics.begin(), options_.topics.end(), topic) != options_.topics.end();
+TopicFilter::TopicFilter(const LoggerOptions& options) : topics_(options.topics) {
+  for (auto [text, out, what] : {std::tuple{&options.regex, &regex_, "regex"}, std::tuple{&options.exclude, &exclude_, "exclude"}}) {
+    if (text->empty()) continue;
+    try {
+      out->emplace(*text, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw config::Error(std::string(what) + " '" + *text + "' is not a regular expression: " + e.what() + "\n  fix: e.g. '^ffd/' or 'state$'");
+    }
+  }
+}
+
+bool TopicFilter::wants(const std::string& topic) const {
+  const bool listed = topics_.empty() || std::find(topics_.begin(), topics_.end(), topic) != topics_.end();
   return listed && (!regex_ || std::regex_search(topic, *regex_)) && !(exclude_ && std::regex_search(topic, *exclude_));
 }
 
 void Logger::update_graph(const msgs::GraphInfo& info) {
   for (const auto& d : info.topics()) {
-    if (wanted(d.name())) sub_.subscribe(d.name());
+    if (filter_.wants(d.name())) sub_.subscribe(d.name());
   }
 }
 

@@ -38,6 +38,19 @@ struct LoggerOptions {
   double wait_s = 10.0;                  // how long to wait for the graph to appear
 };
 
+// which topics a logger keeps: those listed (none listed: every topic), matching regex,
+// matching no exclude. Throws config::Error naming a pattern that is not a regular expression
+class TopicFilter {
+ public:
+  TopicFilter() = default;
+  explicit TopicFilter(const LoggerOptions& options);
+  bool wants(const std::string& topic) const;
+
+ private:
+  std::vector<std::string> topics_;
+  std::optional<std::regex> regex_, exclude_;
+};
+
 // sequence numbers of one publisher's topic (header.seq: +1 per message): a jump is a
 // loss, a step back a restart of the publisher: a new stream whose first message is seq 1,
 // so what came before the one received is lost too
@@ -109,10 +122,9 @@ class Logger {
   void take(const bus::RawMessage& m, std::int64_t now_ns);
   void update_graph(const msgs::GraphInfo& info);
   std::uint16_t schema_for(const std::string& type);
-  bool wanted(const std::string& topic) const;
 
   LoggerOptions options_;
-  std::optional<std::regex> regex_, exclude_;
+  TopicFilter filter_;
   std::string endpoint_;
   bus::ByteSubscriber sub_;
   std::unique_ptr<bus::DisconnectWatch> watch_;  // on sub_, from attach()

@@ -130,7 +130,7 @@ StatesRecorded states_recorded(const std::string& recording) {
 TEST(ContainerComponents, ALoggerComponentRecordsEveryTickFromTheFirst) {
   TempDir dir;
   const std::string scene = source_path("launch/scenes/bridge.yaml"), path = source_path("launch/paths/bridge_walk.csv");
-  const std::string file = dir.file("g.yaml"), all = dir.file("all.mcap"), forces = dir.file("forces.mcap");
+  const std::string file = dir.file("g.yaml"), all = dir.file("all.mcap"), forces = dir.file("forces.mcap"), states = dir.file("states.mcap");
   write_file(file, "launch:\n"
                    "  - container:\n"
                    "      name: rt\n"
@@ -140,7 +140,8 @@ TEST(ContainerComponents, ALoggerComponentRecordsEveryTickFromTheFirst) {
                    "        - {name: ffd, plugin: ffd, param: [{name: hand_path, value: " + path + "}, {name: start_scene, value: " + scene + "}]}\n"
                    "        - {name: tactile, plugin: tactile}\n"
                    "        - {name: rec, plugin: logger, param: [{name: output, value: " + all + "}]}\n"
-                   "        - {name: forces, plugin: logger, param: [{name: output, value: " + forces + "}, {name: topics, value: ffd/force}]}\n");
+                   "        - {name: forces, plugin: logger, param: [{name: output, value: " + forces + "}, {name: topics, value: ffd/force}]}\n"
+                   "        - {name: states, plugin: logger, param: [{name: output, value: " + states + "}, {name: regex, value: \"^ffd/\"}, {name: exclude, value: force}]}\n");
   const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --duration 2");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string said = r.out + r.err;
@@ -156,6 +157,12 @@ TEST(ContainerComponents, ALoggerComponentRecordsEveryTickFromTheFirst) {
   const Recorded a = recorded(all), b = recorded(forces);
   EXPECT_EQ(b.count("ffd/state"), 0u) << "the second keeps only ffd/force";
   EXPECT_EQ(same_forces(a, b), a.forces.size()) << "the same forces in both";
+  // a logger told by patterns is waited for as one told by names: from the first tick
+  const StatesRecorded by_pattern = states_recorded(states);
+  ASSERT_FALSE(by_pattern.seqs.empty()) << said;
+  EXPECT_EQ(by_pattern.seqs.front(), 1u) << "the regex logger records from the first tick";
+  EXPECT_EQ(by_pattern.seqs.size(), s.seqs.size()) << "every state";
+  EXPECT_EQ(by_pattern.forces, 0u) << "ffd/force excluded";
 }
 
 // a virtual subject feels the pins: without a tactile display the container refuses it,

@@ -195,12 +195,35 @@ TEST_F(Launch, RespawnRestartsANodeThatExits) {
 TEST_F(Launch, RespawnStopsAtRespawnMaxWithBackoff) {
   const std::string script = "echo start >> " + f("starts") + "\n" + kReady + "\nexit 3";
   const RunResult r = launch(sh_node("flaky", script, "respawn: true\nrespawn_delay: 0.05\nrespawn_max: 2"), "--duration 1.5");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(exists(f("starts"))) << r.err;
   EXPECT_EQ(lines_of(read_file(f("starts"))).size(), 3u) << r.err;
   EXPECT_TRUE(has(r.err, "restarting 'flaky' in 0.05 s (restart 1 of 2)")) << r.err;
   EXPECT_TRUE(has(r.err, "restarting 'flaky' in 0.1 s (restart 2 of 2)")) << r.err;
   EXPECT_TRUE(has(r.err, "was restarted 2 times (respawn_max 2): not restarting it again")) << r.err;
+  // then nothing is left of the graph: it ends, failed as its node did
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "every process has exited, the graph ended")) << r.err;
+  EXPECT_FALSE(has(r.err, "duration reached")) << r.err;
+}
+
+// processes none of which is required (a container that stops itself at its duration_s, a
+// job that ends): once the last has exited the graph has ended, and so does the launcher, at
+// once, failed when one of them failed; while one still runs, the graph goes on
+TEST_F(Launch, AGraphEndsWhenTheLastOfItsProcessesHasExited) {
+  const std::string early = std::string(kReady) + "\nsleep 0.2\nexit 0";
+  const std::string later = std::string(kReady) + "\nsleep 0.8\necho done > " + f("later") + "\nexit 0";
+  const auto began = std::chrono::steady_clock::now();
+  const RunResult r = launch(sh_node("early", early) + sh_node("later", later), "--duration 60");
+  const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(exists(f("later"))) << "the graph went on after the first exit: " << r.err;
+  EXPECT_TRUE(has(r.err, "every process has exited, the graph ended")) << r.err;
+  EXPECT_FALSE(has(r.err, "duration reached")) << r.err;
+  EXPECT_LT(took_s, 30.0) << "the launcher waited for its duration";
+  const RunResult failed = launch(sh_node("early", early) + sh_node("broken", std::string(kReady) + "\nsleep 0.4\nexit 5"), "--duration 60");
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
+  EXPECT_TRUE(has(failed.err, "exited with code 5")) << failed.err;
+  EXPECT_TRUE(has(failed.err, "every process has exited, the graph ended")) << failed.err;
 }
 
 // a node that writes "ready" and exits at once was ready: it is respawned, not a failed start

@@ -84,6 +84,13 @@ msgs::TactileShown tactile_shown() {
   m.set_cols(4);
   for (int i = 0; i < 16; ++i) m.add_level(static_cast<float>(i) / 15.0f);
   m.set_frame_seq(7);
+  auto* motion = m.mutable_motion();
+  motion->set_targets(0x00f0u);
+  motion->set_stroke_ns(24e6);
+  for (int i = 0; i < 16; ++i) {
+    motion->add_from_level(static_cast<double>(i) / 15.0);
+    motion->add_from_ns(1'000'000 + i);
+  }
   return m;
 }
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/devices/device.h"
 #include "core/devices/metec/protocol.h"
-#include "core/devices/simulated_tactile.h"
 #include "core/devices/usb/fake.h"
 #include "core/rt/clock.h"
 

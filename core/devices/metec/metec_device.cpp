@@ -109,6 +109,11 @@ void MetecTactileDevice::shown(std::int64_t now_ns, float* levels, int count) no
   for (int i = 0; i < n; ++i) levels[i] = static_cast<float>(m.level(i, now_ns));
 }
 
+bool MetecTactileDevice::motion(PinMotion& out) const noexcept {
+  out = motion_.load();
+  return true;
+}
+
 std::int64_t MetecTactileDevice::now() const noexcept { return params_.clock ? params_.clock() : rt::now_ns(); }
 
 bool MetecTactileDevice::write_modules(std::uint32_t pins, bool all) noexcept {

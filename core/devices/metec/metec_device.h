@@ -25,7 +25,6 @@
 
 #include "core/devices/device.h"
 #include "core/devices/metec/protocol.h"
-#include "core/devices/simulated_tactile.h"
 #include "core/devices/usb/emergency.h"
 #include "core/devices/usb/io_thread.h"
 #include "core/devices/usb/latest.h"
@@ -58,6 +57,7 @@ class MetecTactileDevice final : public TactileDevice {
   void activate() override;
   void write(std::int64_t now_ns, std::uint32_t pins) noexcept override;
   void shown(std::int64_t now_ns, float* levels, int count) noexcept override;
+  bool motion(PinMotion& out) const noexcept override;
   int rows() const override { return params_.rows; }
   int cols() const override { return params_.cols; }
   // pins lowered, high voltage off (waits at most 200 ms for the I/O thread)
