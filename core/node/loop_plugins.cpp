@@ -7,6 +7,7 @@
 #include "core/config/yaml.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"
+#include "core/node/replay_stages.h"
 
 namespace enact::node {
 
@@ -48,7 +49,7 @@ void load_plugin_library(const std::string& path) {
            "export both as extern \"C\" (core/node/loop_component.h, examples/plugins/guide_spring.cpp)");
   }
   if (abi() != kPluginAbi) {
-    refuse(path, "was built against plugin ABI " + std::to_string(abi()) + ", this enact-rt has " + std::to_string(kPluginAbi),
+    refuse(path, "was built against plugin ABI " + std::to_string(abi()) + ", this enact has " + std::to_string(kPluginAbi),
            "rebuild it against this enact's core/node/loop_component.h");
   }
   PluginRegistry registry;
@@ -69,6 +70,40 @@ std::unique_ptr<LoopComponent> make_stage(const std::string& plugin, const graph
   std::unique_ptr<LoopComponent> stage = it->second.make(params);
   if (!stage) throw config::Error("plugin '" + plugin + "' made no stage\n  fix: its make() must return the stage, or throw why it cannot");
   return stage;
+}
+
+graph::StageStep replay_stages(const std::vector<graph::RecordedStage>& recorded, const std::vector<std::string>& libraries) {
+  for (const std::string& library : libraries) load_plugin_library(library);
+  // deactivated when the replay lets go of them
+  struct Stages {
+    std::vector<std::unique_ptr<LoopComponent>> list;
+    ~Stages() {
+      for (auto& stage : list) stage->deactivate();
+    }
+  };
+  auto stages = std::make_shared<Stages>();
+  for (const graph::RecordedStage& r : recorded) {
+    if (!loaded().plugins.contains(r.plugin)) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(r.library, ec)) {
+        refuse(r.library, "there is no plugin library here, and the recorded loop's stage '" + r.name + "' (plugin " + r.plugin + ") came from it",
+               "give the library where it is now: --library PATH");
+      }
+      load_plugin_library(r.library);
+    }
+    graph::Params p(r.name);
+    for (const auto& [name, value] : r.params) p.set(name, value);
+    p.declare(*graph::component_table(r.plugin));
+    std::unique_ptr<LoopComponent> stage = make_stage(r.plugin, p);
+    if (!stage) refuse(r.library, "registers no plugin '" + r.plugin + "', the recorded loop's stage '" + r.name + "'", "give the library that holds it: --library PATH");
+    p.refuse_unknown();
+    stages->list.push_back(std::move(stage));
+  }
+  for (auto& stage : stages->list) stage->activate();
+  return [stages](std::int64_t time_ns, std::int64_t model_time_ns, const devices::ForceSample& sample, sim::StepOutput& step) {
+    Tick tick{time_ns, model_time_ns, &sample, &step};
+    for (auto& stage : stages->list) stage->step(tick);
+  };
 }
 
 }  // namespace enact::node

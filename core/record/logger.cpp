@@ -1,9 +1,11 @@
 #include "core/record/logger.h"
 
-#include <csignal>
-#include <cstdlib>
 #include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <tuple>
 
 #include <google/protobuf/descriptor.h>
@@ -97,6 +99,37 @@ void Logger::attach() {
   open_file();
 }
 
+record::StringMap components_metadata(const msgs::GraphInfo& info) {
+  record::StringMap out;
+  for (int i = 0; i < info.components_size(); ++i) {
+    char index[16];
+    std::snprintf(index, sizeof index, "%03d.", i);
+    const msgs::GraphInfo::Component& c = info.components(i);
+    out[std::string(index) + "node"] = c.node();
+    out[std::string(index) + "name"] = c.name();
+    out[std::string(index) + "plugin"] = c.plugin();
+    out[std::string(index) + "library"] = c.library();
+  }
+  return out;
+}
+
+std::vector<RecordedComponent> recorded_components(const record::StringMap& metadata) {
+  std::map<std::string, RecordedComponent> by_index;  // "000" < "001": the launch file's order
+  for (const auto& [key, value] : metadata) {
+    const std::size_t dot = key.find('.');
+    if (dot == std::string::npos) continue;
+    RecordedComponent& c = by_index[key.substr(0, dot)];
+    const std::string field = key.substr(dot + 1);
+    if (field == "node") c.node = value;
+    if (field == "name") c.name = value;
+    if (field == "plugin") c.plugin = value;
+    if (field == "library") c.library = value;
+  }
+  std::vector<RecordedComponent> out;
+  for (auto& [index, c] : by_index) out.push_back(std::move(c));
+  return out;
+}
+
 TopicFilter::TopicFilter(const LoggerOptions& options) : topics_(options.topics) {
   for (auto [text, out, what] : {std::tuple{&options.regex, &regex_, "regex"}, std::tuple{&options.exclude, &exclude_, "exclude"}}) {
     if (text->empty()) continue;
@@ -141,6 +174,7 @@ void Logger::open_file() {
   record::StringMap params;
   for (const auto& p : graph_.params()) params[p.name()] = p.value();
   writer_->add_metadata("enact.params", params);
+  writer_->add_metadata("enact.components", components_metadata(graph_));
   for (const auto& f : graph_.files()) writer_->add_attachment(f.name(), f.media_type(), f.data(), rt::now_ns() + wall_offset_ns_);
 }
 

@@ -38,6 +38,15 @@ struct LoggerOptions {
   double wait_s = 10.0;                  // how long to wait for the graph to appear
 };
 
+// the components of a graph's containers (GraphInfo.components) as a recording keeps them,
+// in the metadata record "enact.components": "NNN.node", "NNN.name", "NNN.plugin" and
+// "NNN.library" for the NNN-th, in the launch file's order
+struct RecordedComponent {
+  std::string node, name, plugin, library;
+};
+record::StringMap components_metadata(const msgs::GraphInfo& info);
+std::vector<RecordedComponent> recorded_components(const record::StringMap& metadata);
+
 // which topics a logger keeps: those listed (none listed: every topic), matching regex,
 // matching no exclude. Throws config::Error naming a pattern that is not a regular expression
 class TopicFilter {

@@ -14,6 +14,7 @@
 #include "core/params/node_params.h"
 #include "core/params/param_bus.h"
 #include "core/params/params.h"
+#include "core/record/logger.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
 #include "core/sim/reengage.h"
@@ -32,6 +33,8 @@ struct State {
   std::int64_t stamp_ns;
   math::Vec3 position_m;
   bool cut;  // the force path was cut (the driver's watchdog, a device error): the simulator re-synchronises
+  math::Vec3 velocity_m_per_s;
+  std::uint32_t buttons;
 };
 
 struct Force {
@@ -108,7 +111,8 @@ Traffic read_traffic(record::Reader& r) {
     if (m.topic == kParamAck && parse(ack) && ack.applied() && ack.state_seq() != 0 && acked.insert(ack.request_id()).second) {
       t.changes.push_back(change_of(ack, publisher));
     } else if (m.topic == kDeviceState && parse(state)) {
-      t.states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()), force_path_cut(state.faults())});
+      t.states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()), force_path_cut(state.faults()), get(state.velocity()),
+                          state.buttons()});
     } else if (m.topic == kForceCommand && parse(command)) {
       t.forces[command.answered_seq()] = {get(command.force()), command.zero(), command.header().seq()};
       t.sim_publisher = publisher;
@@ -199,6 +203,23 @@ Params recorded_sim_params(record::Reader& r, const ResimOptions& options, const
   return p;
 }
 
+// the stages of the loop whose simulator answered the states (node `sim_publisher`: a
+// container), in their order, with their parameters as recorded
+std::vector<RecordedStage> recorded_stages(record::Reader& r, const std::string& sim_publisher) {
+  const record::StringMap params = r.metadata("enact.params");
+  std::vector<RecordedStage> out;
+  for (const RecordedComponent& c : recorded_components(r.metadata("enact.components"))) {
+    if (c.node != sim_publisher || c.library.empty()) continue;
+    RecordedStage stage{c.name, c.plugin, c.library, {}};
+    const std::string prefix = c.node + "." + c.name + ".";
+    for (const auto& [key, value] : params) {
+      if (key.rfind(prefix, 0) == 0) stage.params[key.substr(prefix.size())] = value;
+    }
+    out.push_back(std::move(stage));
+  }
+  return out;
+}
+
 // one replay in progress: the simulator stepped on the recorded states, compared as it goes
 struct Replay {
   Replay(Traffic& t, sim::Simulator& s, sim::Reengagement& re, sim::ParamPlanner& pl, ResimResult& o)
@@ -211,6 +232,8 @@ struct Replay {
   std::int64_t t0;  // the simulator's clock starts here: the first state's stamp, or the keyframe's
   std::size_t first = 0, next_change = 0, next_frame = 0;
   msgs::TactileFrame frame;
+  StageStep stages;  // the recorded loop's stages, if it had any
+  sim::StepOutput staged;  // the model's output as they left it
 
   void diverge(std::uint64_t seq, const char* topic, std::string field, std::string rec, std::string rep) {
     if (!out.divergence) out.divergence = Divergence{out.steps, seq, topic, std::move(field), std::move(rec), std::move(rep)};
@@ -286,10 +309,15 @@ struct Replay {
     }
     if (s.cut) reengage.interrupt();
     const std::int64_t t_ns = s.stamp_ns - t0;
-    const sim::StepOutput& o = sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
+    const sim::StepOutput* o = &sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
+    if (stages) {
+      staged = *o;
+      stages(s.stamp_ns, t_ns, devices::ForceSample{s.stamp_ns, s.position_m, s.velocity_m_per_s, s.buttons, 0}, staged);
+      o = &staged;
+    }
     if (f == traffic.forces.end()) ++out.forces_missing;
-    else compare_force(s, f->second, o.force_n);
-    if (o.frame_due && next_frame < traffic.frames.size()) compare_frame(s, o.frame);
+    else compare_force(s, f->second, o->force_n);
+    if (o->frame_due && next_frame < traffic.frames.size()) compare_frame(s, o->frame);
     ++out.steps;
   }
 };
@@ -318,6 +346,16 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   out.start = start;
   sim::ParamPlanner planner(sim);
   Replay replay(traffic, sim, reengage, planner, out);
+  // the stages a user wrote for the recorded loop, made again, each tick after the model
+  out.stages = recorded_stages(r, traffic.sim_publisher);
+  if (!out.stages.empty()) {
+    if (!options.stages) {
+      throw config::Error(r.path() + ": its loop stepped " + std::to_string(out.stages.size()) + " stage(s) a user wrote (the first: '" + out.stages[0].name +
+                          "', plugin " + out.stages[0].plugin + " from " + out.stages[0].library + "), which a replay steps too\n"
+                          "  fix: replay it with enact resim or enact metrics, which load them");
+    }
+    replay.stages = options.stages(out.stages);
+  }
   if (keyframe) replay.from_keyframe(r, *keyframe, start);
   out.start.keyframe = keyframe != nullptr;
   out.first_state_seq = replay.first < traffic.states.size() ? traffic.states[replay.first].seq : 0;

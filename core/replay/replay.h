@@ -8,17 +8,36 @@
 // before that step. A regression check for the physics, and the way to recompute a trial's
 // metrics from its recording alone.
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/devices/device.h"
 #include "core/record/reader.h"
+#include "core/sim/simulator.h"
 #include "core/task/bridge_task.h"
 
 namespace enact::graph {
 
+// a stage of the recorded loop (a node::LoopComponent a user wrote: core/node/loop_component.h)
+// as the recording names it (its enact.components metadata), with its parameters as recorded
+struct RecordedStage {
+  std::string name, plugin, library;
+  std::map<std::string, std::string> params;  // scoped: "stiffness_n_per_m", not "rt.guide.stiffness_n_per_m"
+};
+// the recorded stages stepping on one tick, in order, as the loop stepped them after the
+// model: the tick's time, the model's, the device sample as recorded (its faults not: 0), the
+// model's output for them to change
+using StageStep = std::function<void(std::int64_t time_ns, std::int64_t model_time_ns, const devices::ForceSample& sample, sim::StepOutput& step)>;
+
 struct ResimOptions {
   std::string scene;  // scene file; "" = the recorded one
   std::string model;  // computer model (preset or file); "" = the recorded one
+  // makes the recorded stages again (node::replay_stages loads their libraries); without it a
+  // recording whose loop had stages is refused, naming them and the fix
+  std::function<StageStep(const std::vector<RecordedStage>&)> stages;
 };
 
 // the first place the replay differs from the recording
@@ -55,6 +74,7 @@ struct ResimResult {
   // no gap, so it published nothing for them. Not stepped, as the simulator did not step them.
   std::uint64_t states_never_received = 0;
   std::uint64_t changes = 0;           // live parameter changes re-applied (param/ack)
+  std::vector<RecordedStage> stages;   // the recorded loop's stages, stepped again after the model
   std::optional<Divergence> divergence;
   task::Metrics metrics;               // the bridge task's metrics of the replay
 };

@@ -56,6 +56,11 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
     for (const auto& p : n.params) add(n.name + "." + p.name, p.value);
     for (const auto& c : n.components) {
       for (const auto& p : c.params) add(n.name + "." + c.name + "." + p.name, p.value);
+      auto& component = *info.add_components();
+      component.set_node(n.name);
+      component.set_name(c.name);
+      component.set_plugin(c.plugin);
+      if (!c.library.empty()) component.set_library(std::filesystem::absolute(c.library).string());
     }
     const std::string exe = std::filesystem::path(n.exec).filename().string();
     if (node_table(exe)) info.add_param_nodes(n.name);

@@ -10,7 +10,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kMetricsHelp = R"(usage: enact metrics FILE.mcap [--json]
+constexpr const char* kMetricsHelp = R"(usage: enact metrics FILE.mcap [--library PATH]... [--json]
 
 Recompute a trial's metrics (falls, time_total_s, time_out_s, ratio, completed) from its
 recording alone: the recorded device states (ffd/state) replayed through a simulator
@@ -26,7 +26,8 @@ whole trial to the recording's end; the output says which.
 Exit status: 0 they agree, 1 they differ (or an error).
 
 options:
-  --json   print them as JSON
+  --library PATH   a stage's plugin library, as enact resim takes it
+  --json           print them as JSON
 )";
 
 // the replay and the live report agree: the same counts, times within a microsecond
@@ -49,6 +50,7 @@ void print(const char* what, const task::Metrics& m) {
 }  // namespace
 
 int metrics(int argc, char** argv) {
+  const graph::ResimOptions options = replay_options(argc, argv);
   const Args a = parse(argc, argv, 2, {}, {"json"});
   if (a.flag("help")) {
     std::fputs(kMetricsHelp, stdout);
@@ -57,7 +59,7 @@ int metrics(int argc, char** argv) {
   if (a.positional.size() != 1) throw UsageError("give exactly one recording");
   const std::string path = a.positional[0];
   record::Reader reader(path);
-  const graph::ResimResult replay = graph::resim(reader, {});
+  const graph::ResimResult replay = graph::resim(reader, options);
   const graph::ReplayStart& start = replay.start;
   const experiment::RecordedTrial live = experiment::read_trial(path, start.keyframe ? start.keyframe_stamp_ns : 0);
   // a replay that diverges from the recording does not reproduce the live run, whatever its counts

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/bus/client.h"
+#include "core/replay/replay.h"
 #include "msgs/graph.pb.h"
 #include "nodes/enact/args.h"
 
@@ -30,6 +31,11 @@ int foxglove_bridge(int argc, char** argv);
 int doctor(int argc, char** argv);
 int node(int argc, char** argv);
 int keys(int argc, char** argv);
+
+// how enact resim and enact metrics replay a recording: with `scene` and `model` ("" as
+// recorded), the recorded loop's stages made again (their libraries: --library PATH, taken
+// from argv, first; else as recorded)
+graph::ResimOptions replay_options(int& argc, char** argv, const std::string& scene = "", const std::string& model = "");
 
 // the GraphInfo of the graph at `endpoint`, attached with `keys` (UsageError when none answers within 3 s)
 msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& keys);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -253,6 +254,38 @@ TEST(ContainerStages, AStageFromAPluginLibraryGivesTheForceOfEveryTick) {
   EXPECT_GT(capped, 0u) << "at 8 mm the spring asks 1.2 N: capped at the start";
   EXPECT_LT(capped, compared) << "and not once the device came closer";
   EXPECT_GT(moved_m, 0.001) << "the guide moved the device toward its anchor";
+}
+
+// a recording of a loop with a stage a user wrote replays identically: enact resim and enact
+// metrics step the recorded stage again after the model (from the library the recording
+// names, with its recorded parameters); a library moved away is named with the fix, and
+// --library gives it where it is now. A replay without the stage gives the model's force
+// alone (none, where this hand holds the device) and diverges at the first tick
+TEST(ContainerStages, AReplayStepsTheRecordedStagesAgain) {
+  TempDir dir;
+  const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap"), moved = dir.file("libenact_guide_spring.so");
+  std::filesystem::copy_file(ENACT_GUIDE_SPRING, moved);
+  write_file(file, guided(rec, "{name: anchor_m, value: \"0.0006,-0.0222739,0.013\"}, {name: stiffness_n_per_m, value: \"120\"}", "guide_spring", moved));
+  const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const RunResult resim = run(std::string(ENACT_CLI) + " resim " + rec);
+  EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
+  EXPECT_NE(resim.out.find("stage guide (plugin guide_spring, " + moved + ") stepped after the model at every tick"), std::string::npos) << resim.out;
+  EXPECT_NE(resim.out.find("identical: every force and every pin frame"), std::string::npos) << resim.out;
+  const RunResult metrics = run(std::string(ENACT_CLI) + " metrics --json " + rec);
+  EXPECT_EQ(metrics.exit_code, 0) << metrics.out << metrics.err;
+  EXPECT_NE(metrics.out.find("\"agree\": true"), std::string::npos) << metrics.out;
+  // the library moved away: named, with the fix; given where it is now: identical again
+  std::filesystem::remove(moved);
+  const RunResult gone = run(std::string(ENACT_CLI) + " resim " + rec);
+  EXPECT_EQ(gone.exit_code, 1) << gone.out << gone.err;
+  EXPECT_NE(gone.err.find(moved + ": there is no plugin library here, and the recorded loop's stage 'guide' (plugin guide_spring) came from it"),
+            std::string::npos) << gone.err;
+  EXPECT_NE(gone.err.find("fix: give the library where it is now: --library PATH"), std::string::npos) << gone.err;
+  const RunResult given = run(std::string(ENACT_CLI) + " resim " + rec + " --library " + ENACT_GUIDE_SPRING + " --json");
+  EXPECT_EQ(given.exit_code, 0) << given.out << given.err;
+  EXPECT_NE(given.out.find("\"stages\": 1"), std::string::npos) << given.out;
+  EXPECT_NE(given.out.find("\"identical\": true"), std::string::npos) << given.out;
 }
 
 // a plugin library's stage is refused before anything moves, with the file and the fix: a

@@ -208,6 +208,11 @@ msgs::GraphInfo graph_info() {
   m.set_clock("simulated");
   m.add_param_nodes("sim");
   m.add_param_nodes("ffd");
+  auto* component = m.add_components();
+  component->set_node("rt");
+  component->set_name("guide");
+  component->set_plugin("guide_spring");
+  component->set_library("/x/libguide.so");
   return m;
 }
 
