@@ -357,8 +357,9 @@ int supervise(const LaunchDescription& graph, const SupervisorOptions& options, 
       if (!g.handle_exit(*c)) return finish(!c->hung && WIFEXITED(c->status) && WEXITSTATUS(c->status) == 0 ? 0 : 1);
       c->hung = false;
     }
-    // none was required, and each has ended: so has the graph (failed if one failed)
-    if (!exited.empty() && g.all_gone()) {
+    // none was required, and each has ended (reaped here or while a restart waited for its
+    // ready line): so has the graph (failed if one failed)
+    if (g.all_gone()) {
       log << "enact launch: every process has exited, the graph ended\n";
       return finish(g.any_failed() ? 1 : 0);
     }
