@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <ostream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,32 @@ bool read_ready(Child& c, const SupervisorOptions& options) {
   }
   return ready || c.ready_buffer.find("ready\n") != std::string::npos;
 }
+
+// a stream buffer that passes on whole lines only, each in one write
+class WholeLines final : public std::streambuf {
+ public:
+  explicit WholeLines(std::ostream& out) : out_(out) {}
+  ~WholeLines() override { sync(); }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    line_.push_back(traits_type::to_char_type(c));
+    if (c == '\n') sync();
+    return c;
+  }
+  int sync() override {
+    if (line_.empty()) return 0;
+    out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
+    out_.flush();
+    line_.clear();
+    return 0;
+  }
+
+ private:
+  std::ostream& out_;
+  std::string line_;
+};
 
 struct Graph {
   std::vector<Child> children;
@@ -289,7 +316,11 @@ void block_supervisor_signals() {
   sigprocmask(SIG_BLOCK, &blocked, nullptr);
 }
 
-int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& log) {
+int supervise(const LaunchDescription& graph, const SupervisorOptions& options, std::ostream& out) {
+  // whole lines to `out`, each in one write: the nodes write to the same terminal or file, and
+  // a line written piece by piece was split by theirs
+  WholeLines lines(out);
+  std::ostream log(&lines);
   // signals are read from a signalfd; children unblock them before exec
   sigset_t blocked;
   sigemptyset(&blocked);

@@ -11,10 +11,13 @@
 #include <chrono>
 #include <filesystem>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "core/launch/launch_file.h"
+#include "core/launch/supervisor.h"
 #include "tests/support/test_util.h"
 
 namespace enact::test {
@@ -204,6 +207,37 @@ TEST_F(Launch, RespawnStopsAtRespawnMaxWithBackoff) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_TRUE(has(r.err, "every process has exited, the graph ended")) << r.err;
   EXPECT_FALSE(has(r.err, "duration reached")) << r.err;
+}
+
+// the launcher's own lines reach its output whole, each in one write: the nodes write to the
+// same terminal or file, and a line written piece by piece was split by a node's line
+// ("restarting 'sim' in ffd: watchdog: ...")
+TEST_F(Launch, TheLaunchersLinesAreWrittenWhole) {
+  struct Writes final : std::streambuf {
+    std::vector<std::string> chunks;
+    std::streamsize xsputn(const char* s, std::streamsize n) override {
+      chunks.emplace_back(s, static_cast<std::size_t>(n));
+      return n;
+    }
+    int_type overflow(int_type c) override {
+      if (!traits_type::eq_int_type(c, traits_type::eof())) chunks.emplace_back(1, traits_type::to_char_type(c));
+      return c;
+    }
+  };
+  const std::string file = launch_file(sh_node("flaky", std::string(kReady) + "\nexit 3", "respawn: true\nrespawn_delay: 0.05\nrespawn_max: 1"));
+  const launch::LaunchDescription graph = launch::load_launch(file, {});
+  Writes writes;
+  std::ostream out(&writes);
+  launch::SupervisorOptions options;
+  options.duration_s = 20.0;
+  EXPECT_EQ(launch::supervise(graph, options, out), 1);
+  ASSERT_GT(writes.chunks.size(), 4u);
+  std::string all;
+  for (const std::string& chunk : writes.chunks) {
+    all += chunk;
+    EXPECT_TRUE(!chunk.empty() && chunk.back() == '\n' && chunk.find('\n') == chunk.size() - 1) << "a piece of a line: [" << chunk << "]";
+  }
+  EXPECT_TRUE(has(all, "restarting 'flaky' in 0.05 s (restart 1 of 1)")) << all;
 }
 
 // processes none of which is required (a container that stops itself at its duration_s, a
