@@ -38,10 +38,10 @@ options:
 
 }  // namespace
 
-graph::ResimOptions replay_options(int& argc, char** argv, const std::string& scene, const std::string& model) {
+graph::ResimOptions replay_options(int& argc, char** argv) {
   std::vector<std::string> libraries;
   for (const std::string& l : take_repeated(argc, argv, "--library")) libraries.push_back(find_file(l));
-  return {scene, model, [libraries](const std::vector<graph::RecordedStage>& recorded) { return node::replay_stages(recorded, libraries); }};
+  return {"", "", [libraries](const std::vector<graph::RecordedStage>& recorded) { return node::replay_stages(recorded, libraries); }};
 }
 
 int resim(int argc, char** argv) {

@@ -32,10 +32,10 @@ int doctor(int argc, char** argv);
 int node(int argc, char** argv);
 int keys(int argc, char** argv);
 
-// how enact resim and enact metrics replay a recording: with `scene` and `model` ("" as
-// recorded), the recorded loop's stages made again (their libraries: --library PATH, taken
-// from argv, first; else as recorded)
-graph::ResimOptions replay_options(int& argc, char** argv, const std::string& scene = "", const std::string& model = "");
+// how enact resim and enact metrics replay a recording: the recorded scene and model, the
+// recorded loop's stages made again (their libraries: --library PATH, taken from argv, first;
+// else as recorded)
+graph::ResimOptions replay_options(int& argc, char** argv);
 
 // the GraphInfo of the graph at `endpoint`, attached with `keys` (UsageError when none answers within 3 s)
 msgs::GraphInfo graph_info(const std::string& endpoint, const bus::ClientKeys& keys);
