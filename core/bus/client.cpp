@@ -6,6 +6,7 @@
 
 #include <zmq.h>
 
+#include "core/config/env.h"
 #include "core/bus/context.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/keys.h"
@@ -49,8 +50,8 @@ std::string explain(int event, int value, const std::string& endpoint, bool keye
 }  // namespace
 
 ClientKeys client_keys(const std::string& key_file, const std::string& server_key_file) {
-  const std::string key = option_or_env(key_file, kKeyEnv);
-  const std::string server = option_or_env(server_key_file, kServerKeyEnv);
+  const std::string key = option_or_env(key_file, env::kKey);
+  const std::string server = option_or_env(server_key_file, env::kServerKey);
   if (key.empty() && server.empty()) return {};
   if (key.empty() || server.empty()) {
     throw config::Error(std::string("keys: ") + (key.empty() ? "--server-key given without --key" : "--key given without --server-key") +

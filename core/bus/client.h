@@ -9,11 +9,6 @@
 
 namespace enact::bus {
 
-// environment variables naming the key files when no option does (`enact launch --access`
-// sets them for the graph's own observers, such as enact-logger)
-inline constexpr const char* kKeyEnv = "ENACT_KEY";
-inline constexpr const char* kServerKeyEnv = "ENACT_SERVER_KEY";
-
 // a client's keys; all empty: no CURVE
 struct ClientKeys {
   std::string secret_z85;

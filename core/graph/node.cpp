@@ -14,8 +14,9 @@
 #include "core/bus/context.h"
 #include "core/bus/endpoints.h"
 #include "core/config/yaml.h"
+#include "core/graph/launcher_pipe.h"
 #include "core/graph/topics.h"
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/rt/clock.h"
 #include "core/rt/profile.h"
 
@@ -29,19 +30,7 @@ void on_stop(int) {
   if (!g_stop.exchange(true)) alarm(kStopGrace_s);
 }
 
-// one line to the launcher on the ready pipe, if there is one
-void tell_launcher(const std::string& line) {
-  const char* fd = std::getenv(launch::kReadyFdEnv);
-  if (!fd) return;
-  const std::string text = line + "\n";
-  (void)!write(std::atoi(fd), text.data(), text.size());
-}
-
 }  // namespace
-
-void announce_topics(const bus::BytePublisher& out) {
-  for (const auto& [topic, type] : out.declared()) tell_launcher("topic " + topic + " " + type);
-}
 
 std::vector<std::string> nodes_not_announced(const msgs::GraphInfo& info) {
   std::vector<std::string> out;
@@ -53,7 +42,7 @@ std::vector<std::string> nodes_not_announced(const msgs::GraphInfo& info) {
 }
 
 std::string graph_dir() {
-  const char* dir = std::getenv(launch::kGraphDirEnv);
+  const char* dir = std::getenv(env::kGraphDir);
   std::string out = dir && *dir ? dir : "/tmp/enact-" + std::to_string(getuid());
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
@@ -64,8 +53,8 @@ std::string node_endpoint(const std::string& name) { return bus::ipc_endpoint(gr
 
 std::string attach_endpoint(const std::string& given) {
   if (!given.empty()) return given;
-  if (const char* env = std::getenv(launch::kAttachEnv); env && *env) return env;
-  throw config::Error("no attach endpoint given, and $" + std::string(launch::kAttachEnv) +
+  if (const char* env = std::getenv(env::kAttach); env && *env) return env;
+  throw config::Error("no attach endpoint given, and $" + std::string(env::kAttach) +
                       " is not set\n  fix: run it under `enact launch`, or give the attach endpoint (attach=ENDPOINT, or enact record --graph NAME)");
 }
 
@@ -102,7 +91,7 @@ void wait_for_subscribers(bus::BytePublisher& out, const char* topic, int count,
   // a short grace for subscribers already on their way, then the wait is announced
   if (await_subscribers(out, topic, count, rt::now_ns() + 200'000'000)) return;
   if (before_ready) tell_launcher("wait " + std::to_string(kObserversWait_s));
-  const char* attach = std::getenv(launch::kAttachEnv);
+  const char* attach = std::getenv(env::kAttach);
   say(node, "waiting up to " + std::to_string(static_cast<int>(kObserversWait_s)) + " s for " + std::to_string(count) + " " + who + " of " + topic +
                 (attach ? " (they attach at " + std::string(attach) + ")" : ""));
   const bool came = await_subscribers(out, topic, count, rt::now_ns() + static_cast<std::int64_t>(kObserversWait_s * 1e9));
@@ -141,7 +130,7 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
 }
 
 void apply_rt_profile(const std::string& node) {
-  const char* text = std::getenv(rt::kProfileEnv);
+  const char* text = std::getenv(env::kRtProfile);
   if (!text) return;
   const rt::NodeProfile profile = rt::NodeProfile::from_env(text);
   const rt::NodeProfileReport report = rt::apply_node_profile(profile);
@@ -153,20 +142,11 @@ void apply_rt_profile(const std::string& node) {
 bool loop_cpu_own() { return g_loop_cpu_own; }
 
 rt::GraphClock graph_clock() {
-  const char* text = std::getenv(launch::kClockEnv);
+  const char* text = std::getenv(env::kClock);
   if (!text) return rt::GraphClock::real;
   const auto clock = rt::parse_clock(text);
-  if (!clock) throw config::Error(std::string(launch::kClockEnv) + "='" + text + "' names no clock\n  fix: real or simulated (the launcher sets it from the launch file's clock: entry or --clock)");
+  if (!clock) throw config::Error(std::string(env::kClock) + "='" + text + "' names no clock\n  fix: real or simulated (the launcher sets it from the launch file's clock: entry or --clock)");
   return *clock;
-}
-
-int node_main(const char* program, int (*run)(int, char**), int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", program, e.what());
-    return 1;
-  }
 }
 
 void say(const std::string& node, const std::string& text) {

@@ -44,10 +44,6 @@ bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns);
 // observers=N) before it runs anyway
 inline constexpr double kObserversWait_s = 60.0;
 
-// tells the launcher (on $ENACT_READY_FD, before "ready") the topics `out` publishes, with
-// their types: what its typed publishers declared. Call it once every publisher is made.
-void announce_topics(const bus::BytePublisher& out);
-
 // waits up to kObserversWait_s (or a stop request) until `count` subscribers listen to
 // `topic` on `out`, saying so on stderr with the graph's attach endpoint, and (before the
 // node said "ready": `before_ready`) telling the launcher to wait that long more for it;
@@ -78,9 +74,6 @@ bool loop_cpu_own();
 // the graph clock the launcher gave this node (ENACT_CLOCK; unset: real time); throws
 // config::Error for a value that names no clock
 rt::GraphClock graph_clock();
-
-// a node's main: runs `run`, and reports an exception as "<program>: error: ..." with exit 1
-int node_main(const char* program, int (*run)(int, char**), int argc, char** argv);
 
 // print "<node>: <text>" on stderr, flushed (nodes' lines interleave under the launcher)
 void say(const std::string& node, const std::string& text);

@@ -1,6 +1,6 @@
 #include "core/launch/check.h"
 
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -26,7 +26,7 @@ std::pair<int, std::string> run_check(const std::vector<std::string>& argv, cons
     const int null = open("/dev/null", O_WRONLY);
     dup2(null, 1);
     dup2(err[1], 2);
-    unsetenv(kReadyFdEnv);
+    unsetenv(env::kReadyFd);
     for (const Param& e : env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));

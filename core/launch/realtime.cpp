@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <ostream>
 
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/rt/probe.h"
 
 namespace enact::launch {
@@ -13,7 +13,7 @@ std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, st
   // back to back and has no deadline to hold, so the profile is off (a SCHED_FIFO thread
   // that never sleeps would starve the observers on its CPU)
   if (graph.clock == rt::GraphClock::simulated) {
-    for (NodeSpec& n : graph.nodes) n.env.push_back({kClockEnv, rt::to_string(graph.clock), graph.clock_source});
+    for (NodeSpec& n : graph.nodes) n.env.push_back({env::kClock, rt::to_string(graph.clock), graph.clock_source});
     graph.realtime.enabled = false;
     log << "enact launch: clock simulated (" << graph.clock_source << "): the loop ticks as fast as the machine goes; no real-time profile\n";
   }
@@ -32,7 +32,7 @@ std::unique_ptr<rt::LauncherProfile> apply_realtime(LaunchDescription& graph, st
   }
   auto profile = std::make_unique<rt::LauncherProfile>(graph.realtime);
   for (NodeSpec& n : graph.nodes) {
-    if (profile->in_loop(n.name)) n.env.push_back({rt::kProfileEnv, profile->node(n.name).to_env(), "the launch file's realtime: entry"});
+    if (profile->in_loop(n.name)) n.env.push_back({env::kRtProfile, profile->node(n.name).to_env(), "the launch file's realtime: entry"});
   }
   log << "enact launch: " << profile->summary() << "\n";
   return profile;

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/rt/clock.h"
 
 namespace enact::launch {
@@ -72,8 +72,8 @@ bool start(Child& c, const sigset_t& blocked, const std::vector<Param>& env, std
     // the ready pipe on fd 3 (a single digit: shells accept it in >&$ENACT_READY_FD), kept across exec
     if (fds[1] == 3) fcntl(3, F_SETFD, 0);
     else dup2(fds[1], 3);
-    setenv(kReadyFdEnv, "3", 1);
-    setenv(kRespawnEnv, respawn.c_str(), 1);
+    setenv(env::kReadyFd, "3", 1);
+    setenv(env::kRespawn, respawn.c_str(), 1);
     for (const Param& e : env) setenv(e.name.c_str(), e.value.c_str(), 1);
     for (const Param& e : c.spec->env) setenv(e.name.c_str(), e.value.c_str(), 1);
     std::vector<char*> argv;

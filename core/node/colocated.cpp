@@ -7,7 +7,9 @@ namespace enact::graph {
 
 ColocatedLoop::ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock,
                              double reengage_s)
-    : sim_(simulator), force_(force), tactile_(tactile), clock_(clock), reengage_(reengage_s) {}
+    : sim_(simulator), force_(force), clock_(clock), reengage_(reengage_s) {
+  if (tactile) tactile_.emplace(*tactile);
+}
 
 void ColocatedLoop::activate() {
   force_.activate();
@@ -44,11 +46,11 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow
-  if (tactile_ && obs_.step.frame_due) tactile_->write(now_ns, obs_.step.frame);
+  if (tactile_ && obs_.step.frame_due) tactile_->apply(now_ns, obs_.step.frame, ++frames_);
   // a virtual subject's fingertip feels what the pins show
   if (hand_) {
-    tactile_->shown(now_ns, shown_, tactile_->rows() * tactile_->cols());
-    hand_->feel_pins(shown_, tactile_->rows(), tactile_->cols());
+    tactile_->show(now_ns, felt_);
+    hand_->feel_pins(felt_.level, tactile_->rows(), tactile_->cols());
   }
   if (obs_.step.event.kind != task::TaskEventKind::none) obs_.step.event.time_ns += start_ns_;  // on the monotonic clock
   obs_.seq += 1;

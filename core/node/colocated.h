@@ -8,10 +8,12 @@
 // returned as a trivially copyable record for the observers' queue. tick() allocates nothing, locks nothing, never
 // blocks and never throws.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/devices/device.h"
 #include "core/node/loop_component.h"
+#include "core/node/tactile_driver.h"
 #include "core/rt/clock.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
@@ -71,17 +73,20 @@ class ColocatedLoop {
   const sim::Reengagement& reengagement() const { return reengage_; }
   // the clock's time of the first tick: the simulator's time 0
   std::int64_t start_ns() const { return start_ns_; }
+  // the tactile display's driver (nullptr: none): what its pins show, its summary
+  const node::TactileDriver* tactile() const { return tactile_ ? &*tactile_ : nullptr; }
 
  private:
   sim::Simulator& sim_;
   devices::ForceDevice& force_;
-  devices::TactileDevice* tactile_;  // nullptr: none
+  std::optional<node::TactileDriver> tactile_;  // none: no tactile display
   Clock clock_;
   ParamQueue* changes_ = nullptr;
   AppliedQueue* applied_ = nullptr;
   std::vector<node::LoopComponent*> stages_;
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
-  float shown_[32] = {};
+  node::PinsShown felt_;  // what the virtual subject's fingertip feels
+  std::uint64_t frames_ = 0;  // tactile frames written
   Observation obs_;
   sim::Reengagement reengage_;
   std::int64_t start_ns_ = -1;  // time of the first tick

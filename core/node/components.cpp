@@ -164,6 +164,14 @@ std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p) {
   return device_ptr;
 }
 
+std::string safety_summary(const devices::ForceDevice& device) {
+  const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(&device);
+  if (!safe) return "no safety layer";
+  const bool zero = safe->sent_force_n() == math::Vec3{};
+  return "force steps held to the profile's limit: " + std::to_string(safe->slew_limited()) + ", re-engagements: " +
+         std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
+}
+
 std::unique_ptr<devices::TactileDevice> make_tactile_device(const Params& p) {
   const TactileConfig c = tactile_bindings().read(p);
   std::unique_ptr<devices::TactileDevice> out;

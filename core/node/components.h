@@ -19,6 +19,9 @@ namespace enact::graph {
 // emulator's hand; origin_m, profile). Parameters of another device or transport are refused.
 // Wrapped in the safety layer (clamp, NaN, watchdog); configured, not yet active
 std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
+// what the safety layer of a device make_force_device made did, and the force it left the
+// device with: the line both hosts of the force device print when it ends
+std::string safety_summary(const devices::ForceDevice& device);
 
 // the tactile device of tactile_bindings() (declared here): simulated, or metec (transport,
 // serial, first_cell); configured, not yet active

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "core/bus/typed.h"
+#include "core/config/env.h"
 #include "core/config/yaml.h"
 #include "core/devices/hand.h"
 #include "core/node/colocated.h"
@@ -95,12 +96,6 @@ struct Felt {
   }
 };
 
-struct Shown {
-  std::int64_t time_ns;
-  float level[32];
-  devices::PinMotion motion;
-  bool moves;  // the device knows the pins' motion
-};
 struct Scene {
   std::int64_t tick_ns;  // the tick it was taken at (names its computer model)
   graph::SceneSnapshot snap;
@@ -128,7 +123,7 @@ component's name) are checked on that thread, handed to the real-time thread thr
 lock-free queue, applied at the top of a tick, and answered on param/ack.
 
 container parameters (--param NAME=VALUE; rate_hz is the simulator's rate too):
-)", .plugins = true, .more_help = plugin_help};
+)", .plugins = true, .send_hwm = 10000, .more_help = plugin_help};
 
 struct Container::Io : SimTopics {
   Io(Container& c)
@@ -151,7 +146,7 @@ struct Container::Io : SimTopics {
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   rt::SpscQueue<graph::Observation, 16384> queue;
   rt::SpscQueue<Scene, 64> scenes;
-  rt::SpscQueue<Shown, 64> shown_queue;
+  rt::SpscQueue<PinsShown, 64> shown_queue;
   rt::SpscQueue<rt::LoopSummary, 8> summaries;
   graph::ParamQueue changes;
   graph::AppliedQueue applied;
@@ -181,7 +176,7 @@ struct Container::Io : SimTopics {
   Felt felt;
   graph::Observation o;
   Scene scene;
-  Shown levels;
+  PinsShown levels;
   rt::LoopSummary summary;
 };
 
@@ -205,7 +200,7 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   if (p.has("cpus")) rtp_.cpus.push_back(p.integer("cpus"));
   // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
   // process: the publisher thread and the bus stay with the observers
-  if (const char* profile = std::getenv(rt::kProfileEnv)) {
+  if (const char* profile = std::getenv(env::kRtProfile)) {
     const rt::NodeProfile np = rt::NodeProfile::from_env(profile);
     if (!np.cpus.empty()) rtp_.cpus = np.cpus;
     if (np.fifo_priority > 0) rtp_.fifo_priority = np.fifo_priority;
@@ -296,7 +291,7 @@ void Container::rt_main() {
   const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / shown_rate_hz_));
   const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz));
   Scene scene{};
-  Shown levels{};
+  PinsShown levels{};
   io.loop.activate();
   scheduler.start(start);
   const std::int64_t began_ns = rt::now_ns();
@@ -324,9 +319,7 @@ void Container::rt_main() {
       deliver(io.scenes, scene);
     }
     if (tactile_ && n % shown_every == 0) {
-      levels.time_ns = tick_ns;
-      tactile_->shown(tick_ns, levels.level, io.rows * io.cols);
-      levels.moves = tactile_->motion(levels.motion);
+      io.loop.tactile()->show(tick_ns, levels);
       deliver(io.shown_queue, levels);
     }
     if (n % status_every == status_every - 1) {
@@ -456,15 +449,19 @@ void Container::print_summary() {
   std::printf("%s: %s\n", name, rt::format(rt::summarize(io.stats, sched_.rate_hz)).c_str());
   const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
   std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
-              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu; %s\n",
+              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
               name, felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
               static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
               static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
-              static_cast<unsigned long long>(io.dropped.load()), io.cuts.summary().c_str());
+              static_cast<unsigned long long>(io.dropped.load()));
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
   const std::string verdict = clock_ == rt::GraphClock::simulated ? graph::simulated_verdict(sched_.rate_hz, whole.ticks, run_ns_)
                                                                    : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts);
   std::printf("%s: verdict: %s\n", name, verdict.c_str());
+  // the clock master's lines, as enact-ffd prints them
+  if (clock_ == rt::GraphClock::simulated && felt.completed) std::printf("%s: the task is completed: the run ends here (simulated time)\n", ffd_name_.c_str());
+  std::printf("%s: %s; %s\n", ffd_name_.c_str(), io.cuts.summary().c_str(), graph::safety_summary(*force_).c_str());
+  if (const TactileDriver* tactile = io.loop.tactile()) std::printf("%s: %s\n", tac_name_.c_str(), tactile->summary().c_str());
   // what the machine itself takes from a spinning loop, beside what this one missed
   if (spin_floor_ >= 0.0 && clock_ == rt::GraphClock::real) {
     std::printf("%s: the machine's floor: a thread spinning to 44 kHz deadlines with no work misses %.3f %% of them here (enact doctor)\n", name,
@@ -473,8 +470,7 @@ void Container::print_summary() {
   std::fflush(stdout);
 }
 
-int Container::run() {
-  host_.open(10000);
+void Container::open_ports() {
   graph::ParamBoard& board = host_.board();
   board.add(sim_p_, sim_name_, sim_name_ + ".");
   board.add(ffd_p_, ffd_name_, ffd_name_ + ".");
@@ -485,20 +481,27 @@ int Container::run() {
   io_ = std::make_unique<Io>(*this);
   for (const auto& stage : stages_) io_->loop.add_stage(*stage);
   simulator_.save(io_->keyframe);
-  host_.announce();
+}
+
+void Container::activate() {
   io_->loop.connect_params(io_->changes, io_->applied);
   // a recording from the first tick needs its loggers subscribed first (its own among them)
   observers_.start(true);
   graph::wait_for_subscribers(io_->out, graph::kDeviceState, wait_for_ + observers_.recorders(graph::kDeviceState), host_.name(), "observer (logger)");
   observers_.start(false);
-  std::thread rt_thread([this] { rt_main(); });
+  rt_thread_ = std::thread([this] { rt_main(); });
   graph::say(host_.name(), "the loop " + wait_why_);
-  graph::report_ready();
+}
+
+void Container::run() {
   while (!rt_done_.load()) {
     // in simulated time the loop waits for this thread: no pause while there is work
     if (drain() == 0 || clock_ == rt::GraphClock::real) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  rt_thread.join();
+}
+
+int Container::deactivate() {
+  rt_thread_.join();
   drain();
   if (limit_ns_.load() >= 0) publish_limit();
   print_summary();

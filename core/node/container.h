@@ -10,6 +10,7 @@
 #include <vector>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "core/devices/device.h"
 #include "core/node/colocated.h"
@@ -29,10 +30,14 @@ class Container {
  public:
   explicit Container(Host& host);  // components configured: bad input refused here
   ~Container();
-  int run();
+  // its lifecycle in the process host (host_main)
+  void open_ports();
+  void activate();
+  void run();
+  int deactivate();
 
  private:
-  struct Io;  // publishers, queues, the loop: made by run()
+  struct Io;  // publishers, queues, the loop: made by open_ports()
   void rt_main();
   std::size_t drain();
   void publish_tick();
@@ -69,6 +74,7 @@ class Container {
   std::unique_ptr<devices::ForceDevice> force_;
   std::unique_ptr<devices::TactileDevice> tactile_;
   std::unique_ptr<Io> io_;
+  std::thread rt_thread_;  // the loop's, from activate() to deactivate()
   std::atomic<bool> rt_done_{false};
   std::int64_t run_ns_ = 0;  // the loop's wall-clock time (read after rt_done_)
   std::atomic<std::int64_t> limit_ns_{-1};  // the last tick's time, when duration_s ended the loop

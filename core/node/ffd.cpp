@@ -7,7 +7,6 @@
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/devices/hand.h"
-#include "core/devices/safety.h"
 #include "core/node/components.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
@@ -33,15 +32,6 @@ parameters (--param NAME=VALUE):
 )", .loop = true};
 
 namespace {
-
-// what the safety layer did, and the force it left the device with
-std::string safety_summary(devices::ForceDevice& device) {
-  const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(&device);
-  if (!safe) return "no safety layer";
-  const bool zero = safe->sent_force_n() == math::Vec3{};
-  return "force steps held to the profile's limit: " + std::to_string(safe->slew_limited()) + ", re-engagements: " +
-         std::to_string(safe->reengagements()) + "; force at exit: " + (zero ? "zeroed before the device was switched off" : "NOT zero");
-}
 
 // simulated time: how long the driver waits for the pins of a frame the simulator sent
 constexpr std::int64_t kShownWait_ns = 2'000'000'000;
@@ -231,8 +221,12 @@ bool Ffd::apply_answer(std::int64_t now) {
   if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) return false;
   // in simulated time at the model's time, as every tick's read: the loop reads no wall clock
   device_->write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
-  if (simulated_) io.frame_due = io.command.tactile_frame_seq();
-  else io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
+  if (simulated_) {
+    io.frame_due = io.command.tactile_frame_seq();
+    run_over_ = io.command.run_over();
+  } else {
+    io.stats.latency.record(rt::now_ns() - io.sample.time_ns);
+  }
   return true;
 }
 
@@ -283,7 +277,7 @@ void Ffd::say_summary() {
                        std::to_string(io.answers.unanswered()) + " of " + std::to_string(io.answers.requests()) +
                        ", late answers: " + std::to_string(io.answers.stale()) +
                        ", lost answers (seq gaps): " + std::to_string(io.commands.counters().lost) + ".");
-  graph::say(name, io.watchdog.summary() + "; " + safety_summary(*device_));
+  graph::say(name, io.watchdog.summary() + "; " + graph::safety_summary(*device_));
   graph::say(name, "verdict: " + (simulated_ ? graph::simulated_verdict(sched_.rate_hz, io.answers.requests(), rt::now_ns() - started_ns_)
                                              : graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
                                                                    io.answers.unanswered() + io.scheduler->skipped(), io.watchdog)));
@@ -293,24 +287,29 @@ void Ffd::say_summary() {
   }
 }
 
-int Ffd::run() {
-  host_.open(1000);
-  io_ = std::make_unique<Io>(*this);
-  host_.announce();
+void Ffd::open_ports() { io_ = std::make_unique<Io>(*this); }
+
+void Ffd::activate() {
   open_hop();
   plan_wait();
   device_->activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
-  const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  end_ns_ = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
   io_->next_status = start + 1'000'000'000;
   io_->scheduler->start(start);
   started_ns_ = rt::now_ns();
-  graph::report_ready();
-  while (!graph::stop_requested()) {
+}
+
+void Ffd::run() {
+  while (!graph::stop_requested() && !run_over_) {
     const std::int64_t now = io_->scheduler->wait();
-    if (now >= end) break;
+    if (now >= end_ns_) break;
     tick(now);
   }
+  if (run_over_) graph::say(host_.name(), "the task is completed: the run ends here (simulated time)");
+}
+
+int Ffd::deactivate() {
   io_->answers.close();
   device_->deactivate();  // zero force first
   say_summary();

@@ -21,10 +21,14 @@ class Ffd {
  public:
   explicit Ffd(Host& host);  // the device made from its parameters
   ~Ffd();
-  int run();
+  // its lifecycle in the process host (host_main)
+  void open_ports();
+  void activate();
+  void run();
+  int deactivate();
 
  private:
-  struct Io;  // sockets, publishers, the loop's state: made by run()
+  struct Io;  // sockets, publishers, the loop's state: made by open_ports()
   void open_hop();
   void plan_wait();
   bool apply_answer(std::int64_t now);
@@ -47,6 +51,8 @@ class Ffd {
   bool local_hop_;
   bool simulated_;  // the graph's clock: lock-step ticks, every answer waited for
   std::int64_t started_ns_ = 0;  // the wall clock at the loop's start
+  std::int64_t end_ns_ = 0;      // the loop's end (duration_s after its start; none: INT64_MAX)
+  bool run_over_ = false;        // simulated time: the simulator's answer said the task is completed
   std::unique_ptr<Io> io_;
 };
 

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "core/config/yaml.h"
+#include "core/graph/launcher_pipe.h"
 #include "core/graph/node.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"
@@ -11,18 +12,18 @@
 
 namespace enact::node {
 
-Host::Host(const NodeKind& kind, graph::NodeArgs args) : args_(std::move(args)) {
+Host::Host(const NodeKind& kind, graph::NodeArgs args) : kind_(kind), args_(std::move(args)) {
   args_.params.declare(*graph::node_table(kind.executable));
   if (!kind.plugins) args_.params.refuse_unknown();
 }
 
 Host::~Host() = default;
 
-void Host::open(int send_hwm) {
+void Host::open() {
   graph::install_stop_handlers();
   // in simulated time no observer loses a message: the node waits for it instead
   const bool simulated = graph::graph_clock() == rt::GraphClock::simulated;
-  if (send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = send_hwm, .wait_when_full = simulated});
+  if (kind_.send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = kind_.send_hwm, .wait_when_full = simulated});
   board_ = std::make_unique<graph::ParamBoard>(args_.name);
   board_->add(args_.params, args_.name);
 }
@@ -31,6 +32,8 @@ void Host::announce() {
   if (out_) graph::announce_topics(*out_);
   board_->start();
 }
+
+void Host::ready() { graph::report_ready(); }
 
 int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body) {
   try {

@@ -3,10 +3,13 @@
 // the command line (--name, --param, --component, --library, --help, --check), loads a
 // container's plugin libraries (node/loop_component.h), gives --help from the
 // node's parameter table, applies the launcher's real-time profile to a loop process before
-// any socket, declares the table and refuses unknown parameters; then the component reads
-// its parameters (the launcher's --check stops there, binding nothing); then the host
-// installs the stop handlers, binds the node's publisher and its parameter board, and the
-// component runs until a stop request. Errors reach stderr as "enact-x: error: ...", exit 1.
+// any socket, declares the table and refuses unknown parameters; then it takes the component
+// through its lifecycle (host_main): the component reads its parameters (the launcher's
+// --check stops there, binding nothing); the host installs the stop handlers, binds the
+// node's publisher and its parameter board; the component makes its ports, the host tells
+// the launcher its topics; the component activates, the host says "ready"; the component
+// runs until a stop request and deactivates. Errors reach stderr as "enact-x: error: ...",
+// exit 1.
 //
 //   int main(int argc, char** argv) { return enact::node::host_main<enact::node::Tactile>(enact::node::kTactile, argc, argv); }
 #include <functional>
@@ -26,6 +29,10 @@ struct NodeKind {
   const char* help;          // usage and what it does; the parameter list follows
   bool loop = false;         // a loop process: the launcher's real-time profile applies
   bool plugins = false;      // it hosts components (--component): it checks their parameters itself
+  // messages its publisher queues per subscriber (0: it publishes nothing of its own and has
+  // none; in simulated time it waits for a full subscriber instead of dropping:
+  // bus::PublisherOptions::wait_when_full)
+  int send_hwm = 1000;
   std::string (*more_help)() = nullptr;  // after the parameter list (a container's components)
 };
 
@@ -45,14 +52,15 @@ class Host {
   // the node's publisher and parameter board (its own parameters added), bound by open()
   bus::BytePublisher& out() { return *out_; }
   graph::ParamBoard& board() { return *board_; }
-  // stop handlers, publisher (`send_hwm` messages queued per subscriber; 0: a node that
-  // publishes nothing of its own has none; in simulated time it waits for a full
-  // subscriber instead of dropping: bus::PublisherOptions::wait_when_full), parameter board
-  void open(int send_hwm);
+  // stop handlers, publisher, parameter board
+  void open();
   // every typed publisher made: the launcher is told the topics, the board starts
   void announce();
+  // the component is active: the launcher is told so (the one "ready" of the process)
+  void ready();
 
  private:
+  const NodeKind& kind_;
   graph::NodeArgs args_;
   std::unique_ptr<bus::BytePublisher> out_;
   std::unique_ptr<graph::ParamBoard> board_;
@@ -61,13 +69,24 @@ class Host {
 // runs `body` as node `kind` (see above); its result is the exit code
 int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body);
 
-// a node process running component C: C(Host&) reads and checks its parameters, C::run()
-// opens the host and runs until a stop request (its result is the exit code)
+// a node process running component C, which has one lifecycle:
+//   C(Host&)           configure: read and check its parameters, make its device
+//   void open_ports()  its publishers and subscribers, on the host's publisher
+//   void activate()    devices on, peers awaited: what must hold before the node is ready
+//   void run()         until a stop request, or until its own work is done
+//   int deactivate()   devices safe (zero force, pins down), its summary said: the exit code
 template <class C>
 int host_main(const NodeKind& kind, int argc, char** argv) {
   return run_node(kind, argc, argv, [](Host& host) {
     C component(host);
-    return host.checking() ? 0 : component.run();
+    if (host.checking()) return 0;
+    host.open();
+    component.open_ports();
+    host.announce();
+    component.activate();
+    host.ready();
+    component.run();
+    return component.deactivate();
   });
 }
 

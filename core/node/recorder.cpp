@@ -21,7 +21,7 @@ file and give the clock master `observers: 1` (docs/recording-and-replay.md), or
 component of the co-located container (plugin logger: the container waits for it).
 
 parameters (--param NAME=VALUE):
-)"};
+)", .send_hwm = 0};
 
 const NodeKind kFoxglove{.executable = "enact-foxglove", .default_name = "foxglove", .help = R"(usage: enact-foxglove [--name NAME] --param NAME=VALUE...
 
@@ -29,7 +29,7 @@ Serves the graph to Foxglove (WebSocket, foxglove.websocket.v1): every topic wit
 Protobuf schema, and foxglove/scene (foxglove.SceneUpdate) for the 3D panel.
 
 parameters (--param NAME=VALUE):
-)"};
+)", .send_hwm = 0};
 
 namespace {
 
@@ -169,16 +169,17 @@ bool ObserverGroup::stop_all() {
 
 ObserverNode::ObserverNode(Host& host, const char* plugin) : host_(host), observer_(make_observer(plugin, host.params())) {}
 
-int ObserverNode::run() {
-  host_.open(0);
-  host_.announce();
-  const std::string doing = observer_->activate();
-  graph::report_ready();
-  graph::say(host_.name(), doing);
-  const bool ran = observer_->run([] { return graph::stop_requested(); });
+void ObserverNode::activate() { doing_ = observer_->activate(); }
+
+void ObserverNode::run() {
+  graph::say(host_.name(), doing_);
+  ran_ = observer_->run([] { return graph::stop_requested(); });
+}
+
+int ObserverNode::deactivate() {
   const Observer::Ending end = observer_->deactivate();
   if (!end.said.empty()) graph::say(host_.name(), end.said);
-  return ran && end.ok ? 0 : 1;
+  return ran_ && end.ok ? 0 : 1;
 }
 
 }  // namespace enact::node

@@ -82,11 +82,17 @@ class ObserverGroup {
 class ObserverNode {
  public:
   ObserverNode(Host& host, const char* plugin);
-  int run();
+  // its lifecycle in the process host (host_main): an observer publishes nothing of its own
+  void open_ports() {}
+  void activate();
+  void run();
+  int deactivate();
 
  private:
   Host& host_;
   std::unique_ptr<Observer> observer_;
+  std::string doing_;  // what activate() said it does
+  bool ran_ = false;   // run() ended well
 };
 
 extern const NodeKind kLogger;

@@ -12,7 +12,7 @@
 #include "core/params/param_bus.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/node/sim_topics.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
@@ -38,7 +38,7 @@ constexpr std::int64_t kParamPoll_ns = 10'000'000;
 
 // the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
 int respawn_count() {
-  const char* n = std::getenv(launch::kRespawnEnv);
+  const char* n = std::getenv(env::kRespawn);
   return n ? std::atoi(n) : 0;
 }
 
@@ -136,6 +136,7 @@ void Sim::answer(std::int64_t received_ns) {
   const sim::StepOutput& o = simulator_.step(step_ns, reengage_.position(simulator_, step_ns, graph::get(state_.position())));
   graph::fill(io.command, state_.header().seq(), o.force_n, o.fault);
   io.command.set_tactile_frame_seq(o.frame_due ? io.frame_pub.last_seq() + 1 : 0);  // published just after
+  io.command.set_run_over(simulated_ && o.event.kind == task::TaskEventKind::completed);
   io.force_pub.publish(io.command);
   io.stats.latency.record(rt::now_ns() - received_ns);
   io.params.stepped(simulator_.steps(), state_.header().seq(), state_.header().stamp_ns());
@@ -222,16 +223,19 @@ std::string Sim::summary() const {
          std::to_string(reengage_.count()) + " times (largest offset " + std::to_string(reengage_.largest_offset_m() * 1e3) + " mm).";
 }
 
-int Sim::run() {
-  host_.open(1000);
+void Sim::open_ports() {
   io_ = std::make_unique<Io>(*this);
-  host_.announce();
   scene_period_ns_ = scene_rate_hz_ > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz_) : INT64_MAX;
+}
+
+void Sim::activate() {
   restart_begins();
   simulator_.activate(0);
   simulator_.save(io_->keyframe);
   reengage_.interrupt();
-  graph::report_ready();
+}
+
+void Sim::run() {
   // observers asked for (a logger recording a replay from its first step) listen before the
   // first answer (on the bus hop the driver subscribes too). After "ready": the launcher
   // starts the rest of the graph meanwhile; the driver waits for the simulator on the loop
@@ -260,6 +264,9 @@ int Sim::run() {
       apply_params();
     }
   }
+}
+
+int Sim::deactivate() {
   simulator_.deactivate();
   graph::say(host_.name(), summary());
   return 0;

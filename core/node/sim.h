@@ -21,10 +21,14 @@ class Sim {
  public:
   explicit Sim(Host& host);  // the simulator configured from its parameters
   ~Sim();
-  int run();
+  // its lifecycle in the process host (host_main)
+  void open_ports();
+  void activate();
+  void run();
+  int deactivate();
 
  private:
-  struct Io;  // sockets, publishers, parameter port: made by run()
+  struct Io;  // sockets, publishers, parameter port: made by open_ports()
   bool next_state(std::int64_t timeout_ns);
   void answer(std::int64_t received_ns);
   void publish_outputs(const sim::StepOutput& o, std::int64_t received_ns);

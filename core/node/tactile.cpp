@@ -1,7 +1,5 @@
 #include "core/node/tactile.h"
 
-#include <algorithm>
-
 #include "core/bus/typed.h"
 #include "core/node/components.h"
 #include "core/graph/messages.h"
@@ -25,6 +23,7 @@ parameters (--param NAME=VALUE):
 Tactile::Tactile(Host& host)
     : host_(host),
       device_(graph::make_tactile_device(host.params())),
+      driver_(*device_),
       sim_node_(host.params().text("sim_node")),
       shown_rate_hz_(host.params().number("shown_rate_hz")),
       watchdog_s_(host.params().number("watchdog_s")) {}
@@ -35,38 +34,30 @@ Tactile::~Tactile() = default;
 struct Tactile::Io {
   explicit Io(Tactile& t)
       : out(t.host_.out()), shown_pub(out, graph::kTactileShown), status_pub(out, graph::kNodeStatus), frames(in, graph::kTactileFrame),
-        watchdog(t.host_.name(), "no tactile/frame: pins lowered"), pins(t.device_->rows() * t.device_->cols()) {}
+        watchdog(t.host_.name(), "no tactile/frame: pins lowered") {}
   bus::BytePublisher& out;
   bus::Publisher<msgs::TactileShown> shown_pub;
   bus::Publisher<msgs::NodeStatus> status_pub;
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::TactileFrame> frames;
   graph::WatchdogLog watchdog;
-  const int pins;
-  float levels[32] = {};
-  devices::PinMotion motion;
   msgs::TactileFrame frame;
+  PinsShown pins;
   msgs::TactileShown shown;
   msgs::NodeStatus status;
-  std::uint64_t frame_seq = 0, applied = 0;
 };
 
 // the frame just received, on the pins at `now`
 void Tactile::apply(std::int64_t now) {
-  Io& io = *io_;
-  std::uint32_t bits = 0;
-  for (int i = 0; i < std::min(io.pins, io.frame.level_size()); ++i) bits |= io.frame.level(i) > 0.5f ? 1u << i : 0u;
-  device_->write(now, bits);
-  io.frame_seq = io.frame.header().seq();
-  ++io.applied;
+  const msgs::TactileFrame& frame = io_->frame;
+  driver_.apply(now, pins_up(frame.level().data(), frame.level_size(), driver_.pins()), frame.header().seq());
 }
 
 // what the pins show at `now`, published
 void Tactile::publish_shown(std::int64_t now) {
   Io& io = *io_;
-  device_->shown(now, io.levels, io.pins);
-  const bool moves = device_->motion(io.motion);
-  graph::fill(io.shown, device_->rows(), device_->cols(), io.levels, io.frame_seq, moves ? &io.motion : nullptr);
+  driver_.show(now, io.pins);
+  graph::fill(io.shown, driver_.rows(), driver_.cols(), io.pins.level, io.pins.frame_seq, io.pins.moves ? &io.pins.motion : nullptr);
   io.shown.mutable_header()->set_stamp_ns(now);
   io.shown_pub.publish(io.shown);
 }
@@ -97,7 +88,7 @@ void Tactile::run_real() {
     // frames stopped (after the first): every pin down until the next one
     if (last_frame_ns >= 0 && !io.watchdog.tripped() && now - last_frame_ns > watchdog_ns) {
       io.watchdog.update(true, now);
-      device_->write(now, 0u);
+      driver_.lower(now);
     }
     if (now < next_shown) continue;
     next_shown += period;
@@ -127,23 +118,32 @@ void Tactile::run_simulated() {
       publish_status(io.frame.header().stamp_ns());
     }
   }
+  // stopped: the frames already here are the model's as much as those before (the clock
+  // master, when it feels no pins, runs ahead of this node): every one is applied
+  while (io.frames.receive(io.frame, 0)) {
+    apply(io.frame.header().stamp_ns());
+    publish_shown(io.frame.header().stamp_ns());
+  }
 }
 
-int Tactile::run() {
-  host_.open(1000);
-  io_ = std::make_unique<Io>(*this);
-  host_.announce();
+void Tactile::open_ports() { io_ = std::make_unique<Io>(*this); }
+
+void Tactile::activate() {
   io_->in.connect(graph::node_endpoint(sim_node_));
-  device_->activate();
-  graph::report_ready();
+  driver_.activate();
+}
+
+void Tactile::run() {
   if (graph::graph_clock() == rt::GraphClock::simulated) {
     run_simulated();
   } else {
     run_real();
   }
-  device_->deactivate();  // every pin down
-  graph::say(host_.name(), std::to_string(io_->applied) + " frames applied; frames lost (seq gaps): " + std::to_string(io_->frames.counters().lost) + "; " +
-                               io_->watchdog.summary() + "; pins lowered.");
+}
+
+int Tactile::deactivate() {
+  driver_.deactivate();  // every pin down
+  graph::say(host_.name(), driver_.summary("frames lost (seq gaps): " + std::to_string(io_->frames.counters().lost) + "; " + io_->watchdog.summary() + "; "));
   return 0;
 }
 

@@ -1,13 +1,14 @@
 #pragma once
-// The tactile display driver of a distributed graph (enact-tactile). It applies each
-// TactileFrame to the pins and publishes what they physically show (after the cells' rise
-// time) on tactile/shown. On stop it lowers every pin, and when frames stop coming for
-// longer than watchdog_s (the simulator hangs or died) too, until they come again.
+// The tactile display driver of a distributed graph (enact-tactile): node::TactileDriver
+// (node/tactile_driver.h) on the bus. It applies each TactileFrame to the pins and publishes
+// what they physically show (after the cells' rise time) on tactile/shown. On stop it lowers
+// every pin, and when frames stop coming for longer than watchdog_s (the simulator hangs or
+// died) too, until they come again.
 #include <memory>
 #include <string>
 
-#include "core/devices/device.h"
 #include "core/node/host.h"
+#include "core/node/tactile_driver.h"
 
 namespace enact::node {
 
@@ -17,10 +18,14 @@ class Tactile {
  public:
   explicit Tactile(Host& host);  // the device made from its parameters
   ~Tactile();
-  int run();
+  // its lifecycle in the process host (host_main)
+  void open_ports();
+  void activate();
+  void run();
+  int deactivate();
 
  private:
-  struct Io;  // sockets, publishers and messages: made by run()
+  struct Io;  // sockets, publishers and messages: made by open_ports()
   void apply(std::int64_t now);
   void publish_shown(std::int64_t now);
   void publish_status(std::int64_t now);
@@ -29,6 +34,7 @@ class Tactile {
 
   Host& host_;
   std::unique_ptr<devices::TactileDevice> device_;
+  TactileDriver driver_;
   std::string sim_node_;
   double shown_rate_hz_;
   double watchdog_s_;

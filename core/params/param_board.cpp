@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "core/graph/launcher_pipe.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
 

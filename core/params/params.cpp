@@ -1,8 +1,5 @@
 #include "core/params/params.h"
 
-#include <unistd.h>
-
-#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -10,7 +7,6 @@
 
 #include "core/config/number.h"
 #include "core/config/yaml.h"
-#include "core/launch/env.h"
 
 namespace enact::graph {
 
@@ -141,14 +137,6 @@ NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name)
   out.params = Params(out.name);
   for (const auto& p : params) out.params.set_from(p);
   return out;
-}
-
-void report_ready() {
-  const char* fd = std::getenv(launch::kReadyFdEnv);
-  if (!fd) return;
-  const auto n = config::parse_integer(fd);
-  if (!n || *n < 0 || *n > INT_MAX || write(static_cast<int>(*n), "ready\n", 6) != 6) return;
-  close(static_cast<int>(*n));
 }
 
 }  // namespace enact::graph

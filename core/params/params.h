@@ -72,7 +72,4 @@ struct NodeArgs {
 };
 NodeArgs parse_node_args(int argc, char** argv, const std::string& default_name);
 
-// tell the launcher this node is active (ENACT_READY_FD), if started by one
-void report_ready();
-
 }  // namespace enact::graph

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/config/format.h"
+#include "core/graph/launcher_pipe.h"
 #include "core/graph/node.h"
 #include "core/session/session.h"
 #include "core/rt/clock.h"

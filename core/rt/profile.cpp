@@ -11,6 +11,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "core/config/env.h"
 #include "core/config/yaml.h"
 
 namespace enact::rt {
@@ -119,7 +120,7 @@ NodeProfile NodeProfile::from_env(const std::string& text) {
       else if (key == "sharing") out.sharing = std::max(1, std::stoi(value));
       else throw std::invalid_argument(key);
     } catch (const std::exception&) {
-      throw config::Error(std::string(kProfileEnv) + ": cannot read '" + word +
+      throw config::Error(std::string(env::kRtProfile) + ": cannot read '" + word +
                           "'\n  fix: unset it, or write e.g. \"cpus=1 fifo=0 io_fifo=0\" (enact launch sets it from the launch file's realtime: entry)");
     }
   }

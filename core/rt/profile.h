@@ -18,9 +18,6 @@
 
 namespace enact::rt {
 
-// the environment variable carrying a loop process's NodeProfile
-inline constexpr const char* kProfileEnv = "ENACT_RT_PROFILE";
-
 // what a launch file asks for (launch file entry `realtime:`)
 struct GraphProfile {
   bool enabled = false;

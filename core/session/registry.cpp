@@ -17,7 +17,7 @@
 #include <thread>
 
 #include "core/config/yaml.h"
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/rt/clock.h"
 
 namespace enact::graph {
@@ -100,7 +100,7 @@ std::string names_of(const std::vector<GraphEntry>& graphs) {
 }  // namespace
 
 std::string registry_dir() {
-  if (const char* dir = std::getenv(launch::kRegistryEnv); dir && *dir) return dir;
+  if (const char* dir = std::getenv(env::kRegistry); dir && *dir) return dir;
   return (fs::temp_directory_path() / ("enact-" + std::to_string(getuid())) / "graphs").string();
 }
 

@@ -8,7 +8,7 @@
 #include "core/bus/endpoints.h"
 #include "core/session/launch_info.h"
 #include "core/graph/topics.h"
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "msgs/param_update.pb.h"
 
 namespace enact::graph {
@@ -60,10 +60,10 @@ std::string GraphSession::node_endpoint(const std::string& node) const { return 
 
 std::vector<launch::Param> GraphSession::environment() const {
   // the launcher's own values (no source to name)
-  std::vector<launch::Param> env{{launch::kGraphDirEnv, folder_.path(), ""}, {launch::kAttachEnv, attach_.endpoint(), ""}, {launch::kGraphEnv, name(), ""}};
+  std::vector<launch::Param> env{{env::kGraphDir, folder_.path(), ""}, {env::kAttach, attach_.endpoint(), ""}, {env::kGraph, name(), ""}};
   if (!own_.key.empty()) {
-    env.push_back({bus::kKeyEnv, own_.key, ""});
-    env.push_back({bus::kServerKeyEnv, own_.server_key, ""});
+    env.push_back({env::kKey, own_.key, ""});
+    env.push_back({env::kServerKey, own_.server_key, ""});
   }
   return env;
 }

@@ -11,7 +11,7 @@
 //     an access file, $ENACT_KEY and $ENACT_SERVER_KEY: the key of the graph's own observers),
 //   - a supervisor run that a stop() from any thread ends in order.
 // The topics come from the nodes themselves: each declares what it publishes on its ready
-// pipe (graph::announce_topics), and the session lists them in GraphInfo.
+// pipe (graph::announce_topics, core/graph/launcher_pipe.h), and the session lists them in GraphInfo.
 #include <atomic>
 #include <iosfwd>
 #include <optional>

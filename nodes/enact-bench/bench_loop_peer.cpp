@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/config/env.h"
 #include "core/bus/context.h"
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
@@ -131,7 +132,7 @@ Peer::Peer(const std::string& dir, const std::string& scene, const PeerSetup& se
                                    "--scene", scene,   "--peer-of",     setup.parent_list, "--peer-link",
                                    setup.link_path,    "--peer-pipes",  std::to_string(setup.pipe_in) + "," + std::to_string(setup.pipe_out)};
   std::vector<std::string> env;
-  const std::string profile_key = std::string(rt::kProfileEnv) + "=";
+  const std::string profile_key = std::string(env::kRtProfile) + "=";
   for (char** e = environ; *e; ++e) {
     if (std::strncmp(*e, profile_key.c_str(), profile_key.size()) != 0) env.emplace_back(*e);
   }

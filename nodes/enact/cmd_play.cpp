@@ -12,10 +12,10 @@
 #include "core/bus/bytes.h"
 #include "core/config/suggest.h"
 #include "core/session/session.h"
+#include "core/graph/launcher_pipe.h"
 #include "core/graph/node.h"
-#include "core/params/params.h"
 #include "core/replay/player.h"
-#include "core/launch/env.h"
+#include "core/config/env.h"
 #include "core/config/format.h"
 #include "core/record/reader.h"
 #include "core/rt/clock.h"
@@ -136,7 +136,7 @@ int play(int argc, char** argv) {
 
   graph::install_stop_handlers();
   std::unique_ptr<graph::GraphSession> session;
-  const bool standalone = std::getenv(launch::kGraphDirEnv) == nullptr;
+  const bool standalone = std::getenv(env::kGraphDir) == nullptr;
   if (standalone) {
     graph::SessionOptions so;
     so.supervised = false;

@@ -1,0 +1,58 @@
+// One component, two hosts: the bridge run by its distributed graph (a process per component)
+// and by its co-located container, in simulated time, for the same model seconds. Each
+// component ends the same way in either host and says so in the same words.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <regex>
+#include <string>
+
+#include "tests/integration/integration_util.h"
+
+namespace enact::test {
+namespace {
+
+// what a run printed (stdout and stderr together)
+std::string launched(const std::string& file) {
+  const RunResult r = run(kCli + " launch " + source_path(file) + " --clock simulated --arg duration_s=1 --arg realtime=false");
+  EXPECT_EQ(r.exit_code, 0) << file << "\n" << r.out << r.err;
+  return r.out + r.err;
+}
+
+// the number in "<node>: N frames applied; ..." of the tactile driver's summary line (-1: none)
+long frames_applied(const std::string& log) {
+  std::smatch m;
+  if (!std::regex_search(log, m, std::regex("(^|\\n)tactile: ([0-9]+) frames applied; [^\\n]*pins lowered\\."))) return -1;
+  return std::stol(m[2]);
+}
+
+TEST(BothHosts, EachComponentEndsTheSameWayAndSaysSoInTheSameWords) {
+  const std::string distributed = launched("launch/bridge.yaml"), colocated = launched("launch/bridge_rt.yaml");
+  // the force device: its safety layer's line, the force zeroed before the device went off
+  const std::regex force_line("(^|\\n)ffd: [^\\n]*; force steps held to the profile's limit: [0-9]+, re-engagements: [0-9]+; "
+                              "force at exit: zeroed before the device was switched off");
+  EXPECT_TRUE(std::regex_search(distributed, force_line)) << distributed;
+  EXPECT_TRUE(std::regex_search(colocated, force_line)) << colocated;
+  // the tactile display: every frame of the model's second applied, the pins lowered; one may
+  // still be in flight when the distributed graph stops
+  const long frames_distributed = frames_applied(distributed), frames_colocated = frames_applied(colocated);
+  EXPECT_GT(frames_colocated, 10) << colocated;
+  EXPECT_LE(std::labs(frames_distributed - frames_colocated), 1L) << distributed << "\n---\n" << colocated;
+}
+
+// in simulated time nobody is there once the task is completed: either host ends its run at
+// that tick by itself (the scripted walk completes the bridge in 9.1 model seconds), says so,
+// and the graph ends well before the launcher's own limit
+TEST(BothHosts, InSimulatedTimeEitherGraphEndsWithItsTask) {
+  for (const char* file : {"launch/bridge.yaml", "launch/bridge_rt.yaml"}) {
+    const RunResult r = run(kCli + " launch " + source_path(file) + " --clock simulated --arg realtime=false --duration 300");
+    const std::string log = r.out + r.err;
+    EXPECT_EQ(r.exit_code, 0) << file << "\n" << log;
+    EXPECT_NE(log.find("ffd: the task is completed: the run ends here (simulated time)"), std::string::npos) << file << "\n" << log;
+    EXPECT_EQ(log.find("duration reached"), std::string::npos) << file << ": it ran on to the launcher's limit\n" << log;
+    EXPECT_TRUE(std::regex_search(log, std::regex("progress [0-9.]+ \\(completed\\)"))) << file << "\n" << log;
+  }
+}
+
+}  // namespace
+}  // namespace enact::test
