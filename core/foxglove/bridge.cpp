@@ -219,7 +219,10 @@ void Bridge::on_text(ClientId c, const std::string& text) {
     } else if (op == "advertise" && param_out_) {
       advertise_from(c, client, msg.at("channels"));
     } else if (op == "unadvertise" && param_out_) {
-      for (const json& id : msg.at("channelIds")) client.published.erase(id.get<std::uint32_t>());
+      for (const json& id : msg.at("channelIds")) {
+        client.published.erase(id.get<std::uint32_t>());
+        client.unrouted.erase(id.get<std::uint32_t>());
+      }
     } else if (op == "getParameters") {
       get_parameters(c, msg);
     } else if (op == "setParameters") {
@@ -240,6 +243,8 @@ void Bridge::advertise_from(ClientId c, Client& client, const json& channels) {
     const bool known_encoding = std::find(std::begin(kClientEncodings), std::end(kClientEncodings), encoding) != std::end(kClientEncodings);
     if (!topic.empty() && known_encoding && ch.value("schemaName", "") == msgs::ParamUpdate::descriptor()->full_name()) {
       client.published[ch.at("id").get<std::uint32_t>()] = {topic, encoding};
+    } else if (topic.empty()) {
+      client.unrouted.insert(ch.at("id").get<std::uint32_t>());
     } else {
       server_->send(c, status(kError, "only param/set (schema enact.msgs.ParamUpdate, encoding json or protobuf) may be published, not " +
                                           ch.value("topic", "?") + " (" + ch.value("schemaName", "?") + ", " + encoding + ")"), false);
@@ -250,10 +255,12 @@ void Bridge::advertise_from(ClientId c, Client& client, const json& channels) {
 void Bridge::on_binary(ClientId c, const std::string& data) {
   std::lock_guard lock(mutex_);
   if (!param_out_ || data.size() < 5 || static_cast<std::uint8_t>(data[0]) != kMessageData) return;
-  const auto& published = clients_[c].published;
-  const auto it = published.find(get_le32(data, 1));
-  if (it == published.end()) {
-    server_->send(c, status(kError, "a message on channel " + std::to_string(get_le32(data, 1)) + ", which this client did not advertise"), false);
+  const Client& client = clients_[c];
+  const std::uint32_t channel = get_le32(data, 1);
+  if (client.unrouted.contains(channel)) return;  // a panel's own topic: dropped
+  const auto it = client.published.find(channel);
+  if (it == client.published.end()) {
+    server_->send(c, status(kError, "a message on channel " + std::to_string(channel) + ", which this client did not advertise"), false);
     return;
   }
   msgs::ParamUpdate update;

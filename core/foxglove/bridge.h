@@ -103,6 +103,10 @@ class Bridge {
     std::map<std::uint32_t, std::uint32_t> subscription_of;   // channel id -> subscription id
     std::map<std::uint32_t, std::int64_t> last_sent_ns;       // channel id -> when last sent
     std::map<std::uint32_t, Published> published;             // client channel id -> what
+    // channels it advertised on topics the graph does not take (a panel's own, such as the
+    // 3D panel's /clicked_point): accepted, as foxglove_bridge does, and what comes on them
+    // dropped
+    std::set<std::uint32_t> unrouted;
     std::set<std::string> param_updates;                      // parameters it follows
     bool all_param_updates = false;                           // it follows every parameter
   };

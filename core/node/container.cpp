@@ -392,8 +392,7 @@ void Container::publish_status() {
   graph::fill(io.status_msg, host_.name(), io.summary, io.felt.device_faults + io.felt.sim_faults, "");
   io.cuts.fill(io.status_msg);
   graph::fill_verdict(io.status_msg, sched_.rate_hz, io.summary.ticks, io.summary.overruns, io.cuts);
-  graph::add_counters(io.status_msg, io.out, &io.params.subscriber());
-  io.status_pub.publish(io.status_msg);
+  host_.publish_status(io.status_msg, &io.params.subscriber());
 }
 
 // the publisher thread's round: parameter changes to the real-time thread (never more than

@@ -42,7 +42,6 @@ struct Ffd::Io {
   Io(Ffd& f)
       : out(f.host_.out()),
         state_pub(out, graph::kDeviceState),
-        status_pub(out, graph::kNodeStatus),
         commands(in, graph::kForceCommand),
         shown(conflated(shown_in), graph::kTactileShown),
         hand(f.device_->simulated_hand()),
@@ -54,7 +53,6 @@ struct Ffd::Io {
   }
   bus::BytePublisher& out;
   bus::Publisher<msgs::DeviceState> state_pub;
-  bus::Publisher<msgs::NodeStatus> status_pub;
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::ForceCommand> commands;
   // the hop to the simulator: the same-host link (the bus still carries every state to the
@@ -260,13 +258,12 @@ void Ffd::publish_status() {
   rt::take_timing(*io.scheduler, io.stats);
   graph::fill(io.status, host_.name(), rt::summarize(io.stats, sched_.rate_hz), io.answers.unanswered(),
               io.answers.unanswered() ? "samples without a force answer in time" : "");
-  graph::add_counters(io.status, io.out, &io.in);
   io.watchdog.fill(io.status);
   // every deadline: a sample taken and answered in time, or not (a skipped tick is missed)
   graph::fill_verdict(io.status, sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
                       io.answers.unanswered() + io.scheduler->skipped(), io.watchdog);
   io.status.mutable_header()->set_stamp_ns(0);
-  io.status_pub.publish(io.status);
+  host_.publish_status(io.status, &io.in);
 }
 
 void Ffd::say_summary() {

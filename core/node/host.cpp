@@ -6,6 +6,7 @@
 #include "core/config/yaml.h"
 #include "core/graph/launcher_pipe.h"
 #include "core/graph/node.h"
+#include "core/graph/topics.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"
 #include "core/params/param_table.h"
@@ -23,7 +24,10 @@ void Host::open() {
   graph::install_stop_handlers();
   // in simulated time no observer loses a message: the node waits for it instead
   const bool simulated = graph::graph_clock() == rt::GraphClock::simulated;
-  if (kind_.send_hwm > 0) out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = kind_.send_hwm, .wait_when_full = simulated});
+  if (kind_.send_hwm > 0) {
+    out_ = std::make_unique<bus::BytePublisher>(graph::node_endpoint(args_.name), bus::PublisherOptions{.node = args_.name, .send_hwm = kind_.send_hwm, .wait_when_full = simulated});
+    status_ = std::make_unique<bus::Publisher<msgs::NodeStatus>>(*out_, graph::kNodeStatus);
+  }
   board_ = std::make_unique<graph::ParamBoard>(args_.name);
   board_->add(args_.params, args_.name);
 }
@@ -34,6 +38,11 @@ void Host::announce() {
 }
 
 void Host::ready() { graph::report_ready(); }
+
+void Host::publish_status(msgs::NodeStatus& status, const bus::ByteSubscriber* in) {
+  graph::add_counters(status, *out_, in);
+  status_->publish(status);
+}
 
 int run_node(const NodeKind& kind, int argc, char** argv, const std::function<int(Host&)>& body) {
   try {

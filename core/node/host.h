@@ -17,8 +17,10 @@
 #include <string>
 
 #include "core/bus/bytes.h"
+#include "core/bus/typed.h"
 #include "core/params/param_board.h"
 #include "core/params/params.h"
+#include "msgs/node_status.pb.h"
 
 namespace enact::node {
 
@@ -58,11 +60,15 @@ class Host {
   void announce();
   // the component is active: the launcher is told so (the one "ready" of the process)
   void ready();
+  // the node's status, once a second: the counters of its publisher and of `in` (its
+  // subscriber, if any) added, published on node/status
+  void publish_status(msgs::NodeStatus& status, const bus::ByteSubscriber* in);
 
  private:
   const NodeKind& kind_;
   graph::NodeArgs args_;
   std::unique_ptr<bus::BytePublisher> out_;
+  std::unique_ptr<bus::Publisher<msgs::NodeStatus>> status_;
   std::unique_ptr<graph::ParamBoard> board_;
 };
 

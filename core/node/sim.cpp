@@ -179,8 +179,7 @@ void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
     io.stats.ticks = steps_;
     graph::fill(io.status, host_.name(), rt::summarize(io.stats, simulator_.model().rate_hz), simulator_.state().faults,
                 physics::to_string(simulator_.state().last_fault));
-    graph::add_counters(io.status, io.out, &io.in);
-    io.status_pub.publish(io.status);
+    host_.publish_status(io.status, &io.in);
   }
 }
 

@@ -33,11 +33,10 @@ Tactile::~Tactile() = default;
 // the node's sockets and messages, and what it has applied
 struct Tactile::Io {
   explicit Io(Tactile& t)
-      : out(t.host_.out()), shown_pub(out, graph::kTactileShown), status_pub(out, graph::kNodeStatus), frames(in, graph::kTactileFrame),
+      : out(t.host_.out()), shown_pub(out, graph::kTactileShown), frames(in, graph::kTactileFrame),
         watchdog(t.host_.name(), "no tactile/frame: pins lowered") {}
   bus::BytePublisher& out;
   bus::Publisher<msgs::TactileShown> shown_pub;
-  bus::Publisher<msgs::NodeStatus> status_pub;
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::TactileFrame> frames;
   graph::WatchdogLog watchdog;
@@ -65,10 +64,9 @@ void Tactile::publish_shown(std::int64_t now) {
 void Tactile::publish_status(std::int64_t now) {
   Io& io = *io_;
   graph::fill(io.status, host_.name(), rt::LoopSummary{.rate_hz = shown_rate_hz_}, 0, "");
-  graph::add_counters(io.status, io.out, &io.in);
   io.watchdog.update(io.watchdog.tripped(), now);
   io.watchdog.fill(io.status);
-  io.status_pub.publish(io.status);
+  host_.publish_status(io.status, &io.in);
 }
 
 // real time: frames applied as they come, the pins shown at shown_rate_hz, every pin down

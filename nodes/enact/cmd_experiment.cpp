@@ -69,7 +69,8 @@ options:
   --out DIR             results folder (default: results/<name of the experiment>)
   --clock CLOCK         the trial graphs' clock, over their launch file's: simulated runs
                         each trial as fast as the machine goes (virtual subjects or
-                        observers, simulated devices, the co-located graph), the same trial as in real time
+                        observers, simulated devices; the co-located or the distributed
+                        graph), the same trial as in real time
                         without a missed deadline; results.csv's missed_deadlines says how
                         many each real-time trial missed
   --plan                print the plan (trial order, seeds), check every trial graph's

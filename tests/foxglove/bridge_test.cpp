@@ -129,6 +129,10 @@ TEST_F(FoxgloveBridge, FoxglovesClientListsSetsAndFollowsParametersAndPublishesJ
   EXPECT_EQ(s["updates"]["sim.threshold_m"], 0.002);
   // a malformed one is refused with the parser's reason
   EXPECT_NE(statuses.find("param/set: JSON that is not an enact.msgs.ParamUpdate"), std::string::npos) << statuses;
+  // the 3D panel's own channels are accepted and what comes on them dropped, as
+  // foxglove_bridge does: no problem for Studio to show
+  for (const char* topic : {"clicked_point", "initialpose", "move_base_simple/goal"}) EXPECT_EQ(statuses.find(topic), std::string::npos) << statuses;
+  EXPECT_EQ(statuses.find("did not advertise"), std::string::npos) << statuses;
 }
 
 // `enact foxglove --graph NAME` on a graph that stops and starts again under that name (on

@@ -2,7 +2,9 @@
 // .deps/npm) as Foxglove's Parameters and Publish panels use it, against `enact foxglove`:
 // getParameters (every parameter of the graph), subscribeParameterUpdates, setParameters on
 // a live parameter, a fixed one and a misspelt one, then param/set published in json (what
-// the Publish panel sends) and a malformed json message. Prints a JSON summary.
+// the Publish panel sends) and a malformed json message; the channels Foxglove Studio's 3D
+// panel advertises on every connect (/clicked_point, /initialpose, /move_base_simple/goal),
+// with a message on one. Prints a JSON summary.
 // Usage: ENACT_NODE_MODULES=DIR/node_modules node foxglove_params.mjs ws://127.0.0.1:PORT SECONDS
 import { createRequire } from "node:module";
 import path from "node:path";
@@ -67,6 +69,9 @@ function publishJson() {
   const text = (o) => new TextEncoder().encode(JSON.stringify(o));
   client.sendMessage(channel, text({ name: "sim.threshold_m", number: 0.002, requestId: "4343" }));
   client.sendMessage(channel, text({ nmae: "sim.threshold_m" }));
+  const panel = ["/clicked_point", "/initialpose", "/move_base_simple/goal"].map((topic) =>
+    client.advertise({ topic, encoding: "json", schemaName: topic === "/clicked_point" ? "geometry_msgs/PointStamped" : "geometry_msgs/PoseStamped" }));
+  client.sendMessage(panel[0], text({ point: { x: 0.01, y: 0.02, z: 0.0 } }));
 }
 
 setTimeout(() => {

@@ -65,6 +65,7 @@ msgs::ForceCommand force_command() {
   m.set_zero(true);
   m.set_faults(msgs::COMMAND_FAULT_FORCE_CLAMPED);
   m.set_tactile_frame_seq(9);
+  m.set_run_over(true);
   return m;
 }
 
