@@ -77,13 +77,13 @@ std::string base64(const std::string& bytes) {
 Bridge::Bridge(BridgeOptions options) : options_(std::move(options)) {
   bus::validate_endpoint(options_.attach, "attach endpoint");
   connect(options_.attach);
-  WsHandlers h;
-  h.on_open = [this](ClientId c) { on_open(c); };
-  h.on_close = [this](ClientId c) { on_close(c); };
-  h.on_text = [this](ClientId c, const std::string& t) { on_text(c, t); };
-  h.on_binary = [this](ClientId c, const std::string& d) { on_binary(c, d); };
+  net::WsHandlers h;
+  h.on_open = [this](net::ClientId c) { on_open(c); };
+  h.on_close = [this](net::ClientId c) { on_close(c); };
+  h.on_text = [this](net::ClientId c, const std::string& t) { on_text(c, t); };
+  h.on_binary = [this](net::ClientId c, const std::string& d) { on_binary(c, d); };
   try {
-    server_ = std::make_unique<WsServer>(options_.host, options_.port, kSubprotocol, std::move(h), options_.max_backlog_bytes);
+    server_ = std::make_unique<net::WsServer>(options_.host, options_.port, kSubprotocol, std::move(h), options_.max_backlog_bytes);
   } catch (const std::runtime_error& e) {
     throw config::Error(std::string(e.what()) + "\n  fix: give a free port with --port, or stop what uses it");
   }
@@ -174,7 +174,7 @@ std::string Bridge::advertise_json(const std::vector<const Channel*>& channels) 
 
 // --- WebSocket thread
 
-void Bridge::on_open(ClientId c) {
+void Bridge::on_open(net::ClientId c) {
   std::lock_guard lock(mutex_);  // param_out_ and the endpoint change when the graph restarts
   json capabilities = {"parameters", "parametersSubscribe"};
   if (param_out_) capabilities.push_back("clientPublish");
@@ -191,13 +191,13 @@ void Bridge::on_open(ClientId c) {
   if (!all.empty()) server_->send(c, advertise_json(all), false);
 }
 
-void Bridge::on_close(ClientId c) {
+void Bridge::on_close(net::ClientId c) {
   std::lock_guard lock(mutex_);
   clients_.erase(c);
   subscriptions_changed_ = true;
 }
 
-void Bridge::on_text(ClientId c, const std::string& text) {
+void Bridge::on_text(net::ClientId c, const std::string& text) {
   const json msg = json::parse(text, nullptr, false);
   std::lock_guard lock(mutex_);
   Client& client = clients_[c];
@@ -237,7 +237,7 @@ void Bridge::on_text(ClientId c, const std::string& text) {
   }
 }
 
-void Bridge::advertise_from(ClientId c, Client& client, const json& channels) {
+void Bridge::advertise_from(net::ClientId c, Client& client, const json& channels) {
   for (const json& ch : channels) {
     const std::string topic = inbound_topic(ch.at("topic").get<std::string>()), encoding = ch.value("encoding", "");
     const bool known_encoding = std::find(std::begin(kClientEncodings), std::end(kClientEncodings), encoding) != std::end(kClientEncodings);
@@ -252,7 +252,7 @@ void Bridge::advertise_from(ClientId c, Client& client, const json& channels) {
   }
 }
 
-void Bridge::on_binary(ClientId c, const std::string& data) {
+void Bridge::on_binary(net::ClientId c, const std::string& data) {
   std::lock_guard lock(mutex_);
   if (!param_out_ || data.size() < 5 || static_cast<std::uint8_t>(data[0]) != kMessageData) return;
   const Client& client = clients_[c];
@@ -282,7 +282,7 @@ void Bridge::send_update(msgs::ParamUpdate update, Request request) {
   ++stats_.published;
 }
 
-void Bridge::get_parameters(ClientId c, const json& msg) {
+void Bridge::get_parameters(net::ClientId c, const json& msg) {
   json list = json::array();
   const json& names = msg.at("parameterNames");
   for (const msgs::ParamValues& b : boards_) {
@@ -295,7 +295,7 @@ void Bridge::get_parameters(ClientId c, const json& msg) {
   server_->send(c, values.dump(), false);
 }
 
-void Bridge::set_parameters(ClientId c, const json& msg) {
+void Bridge::set_parameters(net::ClientId c, const json& msg) {
   const std::string id = msg.value("id", "");
   for (const json& p : msg.at("parameters")) {
     const std::string name = p.at("name").get<std::string>();

@@ -32,7 +32,7 @@
 #include "core/bus/bytes.h"
 #include "core/bus/client.h"
 #include "core/foxglove/scene.h"
-#include "core/foxglove/ws_server.h"
+#include "core/net/ws_server.h"
 #include "msgs/graph.pb.h"
 #include "msgs/param_update.pb.h"
 
@@ -112,19 +112,19 @@ class Bridge {
   };
   // a change sent for a client (setParameters, or a message it published)
   struct Request {
-    ClientId client = 0;
+    net::ClientId client = 0;
     std::string id;          // setParameters' id (answered with parameterValues)
     bool set_parameters = false;
   };
 
   // WebSocket thread
-  void on_open(ClientId c);
-  void on_close(ClientId c);
-  void on_text(ClientId c, const std::string& text);
-  void on_binary(ClientId c, const std::string& data);
-  void advertise_from(ClientId c, Client& client, const nlohmann::json& channels);
-  void get_parameters(ClientId c, const nlohmann::json& msg);
-  void set_parameters(ClientId c, const nlohmann::json& msg);
+  void on_open(net::ClientId c);
+  void on_close(net::ClientId c);
+  void on_text(net::ClientId c, const std::string& text);
+  void on_binary(net::ClientId c, const std::string& data);
+  void advertise_from(net::ClientId c, Client& client, const nlohmann::json& channels);
+  void get_parameters(net::ClientId c, const nlohmann::json& msg);
+  void set_parameters(net::ClientId c, const nlohmann::json& msg);
   void follow_parameters(Client& client, const nlohmann::json& names, bool follow);
   // sends `update` into the graph for a client (refused here when its parameter is not live)
   void send_update(msgs::ParamUpdate update, Request request);
@@ -146,7 +146,7 @@ class Bridge {
   const Channel* channel_of(const std::string& topic) const;
 
   BridgeOptions options_;
-  std::unique_ptr<WsServer> server_;
+  std::unique_ptr<net::WsServer> server_;
   std::unique_ptr<graph::ParamClient> param_out_;  // only when clients may publish
   std::unique_ptr<bus::ByteSubscriber> sub_;   // observer thread, but for its making
   std::int64_t graph_seen_ns_ = 0;             // observer thread: the last graph/topics
@@ -158,7 +158,7 @@ class Bridge {
   mutable std::mutex mutex_;                   // guards channels_, clients_, stats_
   std::vector<Channel> channels_;
   std::uint32_t last_channel_id_ = 0;
-  std::map<ClientId, Client> clients_;
+  std::map<net::ClientId, Client> clients_;
   BridgeStats stats_;
   std::vector<msgs::ParamValues> boards_;      // each node's parameters in force
   std::map<std::uint64_t, Request> requests_;  // by request id, until answered

@@ -51,13 +51,6 @@ std::string graph_dir() {
 
 std::string node_endpoint(const std::string& name) { return bus::ipc_endpoint(graph_dir(), name); }
 
-std::string attach_endpoint(const std::string& given) {
-  if (!given.empty()) return given;
-  if (const char* env = std::getenv(env::kAttach); env && *env) return env;
-  throw config::Error("no attach endpoint given, and $" + std::string(env::kAttach) +
-                      " is not set\n  fix: run it under `enact launch`, or give the attach endpoint (attach=ENDPOINT, or enact record --graph NAME)");
-}
-
 void install_stop_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_stop;

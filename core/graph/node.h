@@ -20,9 +20,6 @@ namespace enact::graph {
 std::string graph_dir();
 // where node `name` publishes: ipc://<graph_dir>/<name>.pub
 std::string node_endpoint(const std::string& name);
-// the attach point an observer node uses: `given`, else $ENACT_ATTACH (set by `enact launch`
-// for its nodes); throws, with the fix, when there is neither
-std::string attach_endpoint(const std::string& given);
 // the nodes of the graph's launch file that publish their parameters (GraphInfo.param_nodes)
 // and have not declared their topics yet (each declares all of its own at once, its
 // param/values/<node> among them): a graph still starting lists only some of its topics

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <iostream>
 #include <utility>
 
 #include "core/config/lists.h"
@@ -9,6 +10,7 @@
 #include "core/foxglove/bridge.h"
 #include "core/graph/node.h"
 #include "core/record/logger.h"
+#include "core/session/registry.h"
 
 namespace enact::node {
 
@@ -33,6 +35,19 @@ parameters (--param NAME=VALUE):
 
 namespace {
 
+// how long an observer node waits for its graph when its parameters say nothing of it
+constexpr double kGraphWait_s = 10.0;
+
+// where an observer attaches: its attach parameter, else the graph the one rule finds
+// (graph::pick_graph: the graph whose launcher started it, else the only one running),
+// waited for up to wait_s
+std::string attach_point(const std::string& given, double wait_s) {
+  graph::AttachChoice choice;
+  choice.endpoint = given;
+  choice.wait_s = wait_s;
+  return graph::find_graph(choice, std::cerr, [] { return graph::stop_requested(); }).endpoint;
+}
+
 class LoggerObserver : public Observer {
  public:
   explicit LoggerObserver(graph::Params& p) {
@@ -51,6 +66,7 @@ class LoggerObserver : public Observer {
     filter_ = graph::TopicFilter(o_);  // a bad pattern is refused here, before anything moves
   }
   std::string activate() override {
+    o_.attach = attach_point(o_.attach, o_.wait_s);
     logger_ = std::make_unique<graph::Logger>(o_);
     logger_->attach();
     return "recording " + topics_ + " to " + o_.output;
@@ -89,7 +105,7 @@ class FoxgloveObserver : public Observer {
     o_.keys = bus::client_keys("", "");
   }
   std::string activate() override {
-    o_.attach = graph::attach_endpoint(attach_);
+    o_.attach = attach_point(attach_, kGraphWait_s);
     bridge_ = std::make_unique<foxglove::Bridge>(o_);
     return foxglove::describe(*bridge_, o_);
   }

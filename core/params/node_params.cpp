@@ -106,7 +106,7 @@ ParamTable logger_table() {
       {.name = "chunk_duration_s", .fallback = "1", .min = 0, .above_min = true, .doc = "a chunk reaches the file at least this often (the most a kill -9 loses)"},
       {.name = "split_size_mb", .fallback = number(kLogger.split_size_mb), .min = 0, .doc = "start a new file past this size (0: never)"},
       {.name = "split_duration_s", .fallback = number(kLogger.split_duration_s), .min = 0, .doc = "start a new file after this long (0: never)"},
-      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: $ENACT_ATTACH; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
+      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: the graph that launched it, else the only one running; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
       {.name = "wait_s", .fallback = number(kLogger.wait_s), .min = 0, .doc = "how long to wait for the graph"},
   };
 }
@@ -116,7 +116,7 @@ ParamTable foxglove_table() {
       {.name = "port", .type = ParamType::integer, .fallback = "8765", .min = 0, .max = 65535, .doc = "WebSocket port (0: any free port)"},
       {.name = "host", .type = ParamType::text, .fallback = "127.0.0.1", .doc = "where it listens (clients may publish param/set only on loopback)"},
       {.name = "max_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "per client, on topics that run faster"},
-      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: $ENACT_ATTACH; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
+      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: the graph that launched it, else the only one running; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
   };
 }
 

@@ -57,7 +57,8 @@ Logger::~Logger() {
 
 void Logger::attach() {
   filter_ = TopicFilter(options_);  // checked before anything connects
-  endpoint_ = attach_endpoint(options_.attach);
+  if (options_.attach.empty()) throw config::Error("no attach endpoint given\n  fix: give the graph's (LoggerOptions::attach: graph::find_graph finds it by name)");
+  endpoint_ = options_.attach;
   bus::validate_endpoint(endpoint_, "attach endpoint");
   // deep receive queue: the logger must keep up with bursts while it compresses a chunk
   sub_.set_receive_hwm(1'000'000);

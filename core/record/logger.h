@@ -26,7 +26,7 @@
 namespace enact::graph {
 
 struct LoggerOptions {
-  std::string attach;                    // attach endpoint; "" = $ENACT_ATTACH, else the last local graph's
+  std::string attach;                    // the graph's attach endpoint (graph::find_graph resolves a name)
   bus::ClientKeys keys;                  // for a graph with an access file (bus::client_keys)
   std::string output = "recording.mcap";  // file; with splitting, NAME_000.mcap, NAME_001.mcap, ...
   std::vector<std::string> topics;       // topics to keep; empty = every topic of the graph

@@ -198,29 +198,37 @@ Registration::~Registration() {
   if (held && held->pid == entry_.pid && held->pid_start == entry_.pid_start) fs::remove(entry_.file, ec);
 }
 
+std::optional<GraphEntry> pick_graph(const AttachChoice& choice, const std::vector<GraphEntry>& graphs, const std::string& current) {
+  const char* launched_in = std::getenv(env::kAttach);
+  const bool named = !choice.graph.empty() || !choice.prefix.empty();
+  const std::string endpoint = !choice.endpoint.empty() ? choice.endpoint : !named && launched_in && *launched_in ? launched_in : "";
+  std::vector<GraphEntry> fit;
+  for (const GraphEntry& g : graphs) {
+    const bool match = !endpoint.empty()       ? g.endpoint == endpoint
+                       : !choice.graph.empty() ? g.name == choice.graph
+                                               : g.name.rfind(choice.prefix, 0) == 0;
+    if (!match) continue;
+    if (!current.empty() && g.endpoint == current) return g;
+    fit.push_back(g);
+  }
+  // an endpoint needs no entry (another machine's graph)
+  if (!endpoint.empty() && fit.empty()) {
+    GraphEntry elsewhere;
+    elsewhere.name = "(not registered here)";
+    elsewhere.endpoint = endpoint;
+    return elsewhere;
+  }
+  if (fit.size() == 1 || (!fit.empty() && (!endpoint.empty() || !choice.prefix.empty()))) return fit.front();
+  if (fit.size() > 1) throw AmbiguousGraph("several graphs run; name one with --graph NAME:" + names_of(fit));
+  return std::nullopt;
+}
+
 GraphEntry find_graph(const AttachChoice& choice, std::ostream& say, const std::function<bool()>& stop) {
   const std::int64_t give_up_ns = rt::now_ns() + static_cast<std::int64_t>(std::max(choice.wait_s, 0.0) * 1e9);
   bool said = false;
   while (true) {
     const std::vector<GraphEntry> graphs = list_graphs();
-    std::vector<GraphEntry> fit;
-    for (const GraphEntry& g : graphs) {
-      const bool match = !choice.endpoint.empty() ? g.endpoint == choice.endpoint
-                         : !choice.graph.empty()  ? g.name == choice.graph
-                         : !choice.prefix.empty() ? g.name.rfind(choice.prefix, 0) == 0
-                                                  : true;
-      if (match) fit.push_back(g);
-    }
-    // an endpoint given needs no entry (another machine's graph)
-    if (!choice.endpoint.empty()) {
-      if (!fit.empty()) return fit.front();
-      GraphEntry e;
-      e.name = "(not registered here)";
-      e.endpoint = choice.endpoint;
-      return e;
-    }
-    if (fit.size() == 1 || (!fit.empty() && !choice.prefix.empty())) return fit.front();
-    if (fit.size() > 1) throw AmbiguousGraph("several graphs run; name one with --graph NAME:" + names_of(fit));
+    if (const std::optional<GraphEntry> g = pick_graph(choice, graphs)) return *g;
     if (!said) {
       said = true;
       const std::string what = !choice.graph.empty() ? "graph '" + choice.graph + "'" : !choice.prefix.empty() ? "a graph named " + choice.prefix + "..." : "a graph";

@@ -87,8 +87,15 @@ struct AmbiguousGraph : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// the graph to attach to: --attach as given (its entry when one has that endpoint), else
-// the graph named (or the only one running), waiting for it to appear while `stop` is false
+// The one rule by which every tool, observer node and the viewer finds its graph, among
+// `graphs` (list_graphs()): --attach ENDPOINT as given (its entry when one has that endpoint,
+// else an unregistered entry: another machine's graph); else the graph named; else the first
+// whose name starts with the prefix; else $ENACT_ATTACH (the graph whose launcher started this
+// process); else the only one running. Of several that fit, `current` (the endpoint in use)
+// is kept. nullopt: none fits (yet). Throws AmbiguousGraph when several run and none is named.
+std::optional<GraphEntry> pick_graph(const AttachChoice& choice, const std::vector<GraphEntry>& graphs, const std::string& current = "");
+
+// the graph to attach to (pick_graph), waiting for it to appear while `stop` is false
 // (saying so once on `say`). Throws AmbiguousGraph when several run and none is named,
 // config::Error when none appeared in wait_s.
 GraphEntry find_graph(const AttachChoice& choice, std::ostream& say, const std::function<bool()>& stop);

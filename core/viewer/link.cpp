@@ -10,18 +10,14 @@ namespace {
 // how often the registry is read
 constexpr std::int64_t kLook_ns = 500'000'000;
 
-// the running graph that fits `choice` (the one in use while it runs and fits), nullopt
-// when none does, or when several do and none is named
+// the running graph that fits `choice` (graph::pick_graph: the one in use while it runs and
+// fits), nullopt when none does, or when several do and none is named
 std::optional<graph::GraphEntry> pick(const graph::AttachChoice& choice, const std::string& current) {
-  std::vector<graph::GraphEntry> fit;
-  for (const graph::GraphEntry& g : graph::list_graphs()) {
-    const bool match = !choice.graph.empty() ? g.name == choice.graph : g.name.rfind(choice.prefix, 0) == 0;
-    if (!match) continue;
-    if (g.endpoint == current) return g;
-    fit.push_back(g);
+  try {
+    return graph::pick_graph(choice, graph::list_graphs(), current);
+  } catch (const graph::AmbiguousGraph&) {
+    return std::nullopt;
   }
-  if (fit.size() == 1 || (!fit.empty() && !choice.prefix.empty())) return fit.front();
-  return std::nullopt;
 }
 
 }  // namespace

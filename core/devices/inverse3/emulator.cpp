@@ -34,10 +34,10 @@ struct Inverse3Emulator::Impl {
   std::uint32_t buttons = 0;
   std::uint64_t messages = 0, bad = 0, updates = 0;
   int session_id = 0;
-  std::set<foxglove::ClientId> clients;
-  std::set<foxglove::ClientId> listeners;
-  std::unique_ptr<foxglove::WsServer> sim;
-  std::unique_ptr<foxglove::WsServer> events;
+  std::set<net::ClientId> clients;
+  std::set<net::ClientId> listeners;
+  std::unique_ptr<net::WsServer> sim;
+  std::unique_ptr<net::WsServer> events;
 
   explicit Impl(Inverse3EmulatorParams p) : params(std::move(p)), handle(params.handle) {}
 
@@ -78,14 +78,14 @@ struct Inverse3Emulator::Impl {
     return ours;
   }
 
-  void opened(foxglove::ClientId id) {
+  void opened(net::ClientId id) {
     std::lock_guard lock(mutex);
     clients.insert(id);
     ++session_id;
     sim->send(id, state_message(rt::now_ns(), true), false);
   }
 
-  void received(foxglove::ClientId id, const std::string& text) {
+  void received(net::ClientId id, const std::string& text) {
     // the device's next tick: one update per tick at most (later while the service stalls)
     const std::int64_t now = rt::now_ns();
     const std::int64_t next_tick = std::max(start_ns + ((now - start_ns) / tick_ns + 1) * tick_ns, stalled_until_ns.load());
@@ -119,24 +119,24 @@ Inverse3Emulator::Inverse3Emulator(Inverse3EmulatorParams params) : impl_(std::m
   i.handle.configure();
   i.handle.activate();
   i.start_ns = rt::now_ns();
-  foxglove::WsHandlers sim;
-  sim.on_open = [&i](foxglove::ClientId id) { i.opened(id); };
-  sim.on_close = [&i](foxglove::ClientId id) {
+  net::WsHandlers sim;
+  sim.on_open = [&i](net::ClientId id) { i.opened(id); };
+  sim.on_close = [&i](net::ClientId id) {
     std::lock_guard lock(i.mutex);
     i.clients.erase(id);
   };
-  sim.on_text = [&i](foxglove::ClientId id, const std::string& text) { i.received(id, text); };
-  foxglove::WsHandlers events;
-  events.on_open = [&i](foxglove::ClientId id) {
+  sim.on_text = [&i](net::ClientId id, const std::string& text) { i.received(id, text); };
+  net::WsHandlers events;
+  events.on_open = [&i](net::ClientId id) {
     std::lock_guard lock(i.mutex);
     i.listeners.insert(id);
   };
-  events.on_close = [&i](foxglove::ClientId id) {
+  events.on_close = [&i](net::ClientId id) {
     std::lock_guard lock(i.mutex);
     i.listeners.erase(id);
   };
-  i.sim = std::make_unique<foxglove::WsServer>("127.0.0.1", i.params.port, "", sim, kBacklog_bytes);
-  i.events = std::make_unique<foxglove::WsServer>("127.0.0.1", i.params.events_port, "", events, kBacklog_bytes);
+  i.sim = std::make_unique<net::WsServer>("127.0.0.1", i.params.port, "", sim, kBacklog_bytes);
+  i.events = std::make_unique<net::WsServer>("127.0.0.1", i.params.events_port, "", events, kBacklog_bytes);
 }
 
 Inverse3Emulator::~Inverse3Emulator() {
@@ -156,7 +156,7 @@ void Inverse3Emulator::emit(const std::string& name, const std::string& level, c
   json data = {{"device_family", "inverse"}, {"device_id", impl_->params.device_id}};
   if (!safety_type.empty()) data["safety_type"] = safety_type;
   const std::string text = json{{"name", name}, {"category", "device"}, {"level", level}, {"data", data}, {"message", message}}.dump();
-  std::set<foxglove::ClientId> listeners;
+  std::set<net::ClientId> listeners;
   {
     std::lock_guard lock(impl_->mutex);
     listeners = impl_->listeners;
@@ -165,7 +165,7 @@ void Inverse3Emulator::emit(const std::string& name, const std::string& level, c
 }
 
 void Inverse3Emulator::disconnect() {
-  std::set<foxglove::ClientId> clients;
+  std::set<net::ClientId> clients;
   {
     std::lock_guard lock(impl_->mutex);
     clients = impl_->clients;

@@ -23,7 +23,7 @@
 #include <string>
 
 #include "core/devices/simulated_force.h"
-#include "core/foxglove/ws_server.h"
+#include "core/net/ws_server.h"
 
 namespace enact::devices::inverse3 {
 

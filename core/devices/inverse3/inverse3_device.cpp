@@ -67,7 +67,7 @@ void Inverse3ForceDevice::configure() {
   profile_ = *profile;
   // the simulation channel and its inventory
   try {
-    client_ = std::make_unique<WsClient>(p.host, p.port, p.connect_timeout_s);
+    client_ = std::make_unique<net::WsClient>(p.host, p.port, p.connect_timeout_s);
   } catch (const std::runtime_error& e) {
     refuse(kDevice, std::string("the Haply Inverse Service does not answer: ") + e.what(),
            "start the service (the Haply Hub, or: systemctl start haply-inverse-service) and plug the Inverse3 in; or set port to the service's simulation port");
@@ -84,7 +84,7 @@ void Inverse3ForceDevice::configure() {
   // the events channel: optional
   if (p.events_port > 0) {
     try {
-      events_client_ = std::make_unique<WsClient>(p.host, p.events_port, p.connect_timeout_s);
+      events_client_ = std::make_unique<net::WsClient>(p.host, p.events_port, p.connect_timeout_s);
     } catch (const std::runtime_error& e) {
       std::fprintf(stderr, "inverse3: no events channel (%s): safety events will not be reported\n", e.what());
     }

@@ -25,7 +25,7 @@
 
 #include "core/devices/device.h"
 #include "core/devices/inverse3/protocol.h"
-#include "core/devices/inverse3/ws_client.h"
+#include "core/net/ws_client.h"
 #include "core/devices/io_exchange.h"
 
 namespace enact::devices::inverse3 {
@@ -79,8 +79,8 @@ class Inverse3ForceDevice final : public ForceDevice {
   Inverse3Params params_;
   devices::DeviceProfile profile_;
   std::string device_id_;
-  std::unique_ptr<WsClient> client_;
-  std::unique_ptr<WsClient> events_client_;
+  std::unique_ptr<net::WsClient> client_;
+  std::unique_ptr<net::WsClient> events_client_;
   IoExchange exchange_;
   std::thread io_;
   std::thread events_thread_;

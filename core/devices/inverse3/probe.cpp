@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "core/devices/inverse3/protocol.h"
-#include "core/devices/inverse3/ws_client.h"
+#include "core/net/ws_client.h"
 
 namespace enact::devices::inverse3 {
 
@@ -14,7 +14,7 @@ vendor::Presence probe_inverse3(const std::string& host, int port, double timeou
   const std::string where = host + ":" + std::to_string(port);
   std::optional<std::string> inventory;
   try {
-    WsClient client(host, port, timeout_s);
+    net::WsClient client(host, port, timeout_s);
     inventory = client.receive(std::llround(timeout_s * 1e9));
   } catch (const std::runtime_error& e) {
     return {false, what + "absent: the Haply Inverse Service does not answer on " + where + " (" + e.what() + ")\n" +

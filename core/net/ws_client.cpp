@@ -1,5 +1,5 @@
 // Built as C++17 (websocketpp 0.8 does not compile as C++20): see ws_client.h.
-#include "core/devices/inverse3/ws_client.h"
+#include "core/net/ws_client.h"
 
 #include <chrono>
 #include <condition_variable>
@@ -11,7 +11,7 @@
 #include <websocketpp/client.hpp>
 #include <websocketpp/config/asio_no_tls_client.hpp>
 
-namespace enact::devices::inverse3 {
+namespace enact::net {
 
 using Client = websocketpp::client<websocketpp::config::asio_client>;
 using Handle = websocketpp::connection_hdl;
@@ -123,4 +123,4 @@ void WsClient::close() {
   i.gone = true;
 }
 
-}  // namespace enact::devices::inverse3
+}  // namespace enact::net

@@ -1,6 +1,6 @@
 #pragma once
 // A WebSocket client on its own thread (websocketpp over standalone asio, as the Foxglove
-// server: core/foxglove/ws_server.h), text messages both ways, received messages queued for
+// server: core/net/ws_server.h), text messages both ways, received messages queued for
 // a consumer thread. Kept free of websocketpp types: websocketpp 0.8 only compiles as C++17,
 // so ws_client.cpp is built as C++17 and the rest of enact sees this plain interface. Not
 // for the real-time thread: receive() waits on a condition variable.
@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-namespace enact::devices::inverse3 {
+namespace enact::net {
 
 class WsClient {
  public:
@@ -35,4 +35,4 @@ class WsClient {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace enact::devices::inverse3
+}  // namespace enact::net

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-namespace enact::foxglove {
+namespace enact::net {
 
 // a connection, unique over the server's life
 using ClientId = std::uint64_t;
@@ -51,4 +51,4 @@ class WsServer {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace enact::foxglove
+}  // namespace enact::net

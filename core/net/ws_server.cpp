@@ -1,5 +1,5 @@
 // Built as C++17 (websocketpp 0.8 does not compile as C++20): see ws_server.h.
-#include "core/foxglove/ws_server.h"
+#include "core/net/ws_server.h"
 
 #include <map>
 #include <mutex>
@@ -9,7 +9,7 @@
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
-namespace enact::foxglove {
+namespace enact::net {
 
 using Server = websocketpp::server<websocketpp::config::asio>;
 using Handle = websocketpp::connection_hdl;
@@ -147,4 +147,4 @@ void WsServer::stop() {
   if (i.thread.joinable()) i.thread.join();
 }
 
-}  // namespace enact::foxglove
+}  // namespace enact::net
