@@ -9,7 +9,6 @@
 
 #include "core/config/format.h"
 #include "core/config/yaml.h"
-#include "core/node/components.h"
 #include "core/graph/messages.h"
 #include "core/params/node_params.h"
 #include "core/params/param_bus.h"
