@@ -8,6 +8,8 @@
 #include "core/bus/typed.h"
 #include "core/devices/hand.h"
 #include "core/node/components.h"
+#include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
@@ -87,20 +89,15 @@ struct Ffd::Io {
 
 Ffd::Ffd(Host& host)
     : host_(host),
-      spin_us_(host.params().number("spin_us")),
-      sim_node_(host.params().text("sim_node")),
-      tactile_node_(host.params().text("tactile_node")),
-      duration_s_(host.params().number("duration_s")),
-      observers_(host.params().integer("observers")),
-      local_hop_(host.params().text("loop_transport") != "zeromq"),
+      config_(graph::ffd_node_bindings().read(host.params())),
+      local_hop_(config_.loop_transport != "zeromq"),
       simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
-  graph::Params& p = host.params();
-  sched_.rate_hz = p.number("rate_hz");
+  sched_.rate_hz = config_.loop.rate_hz;
   sched_.simulated = simulated_;
   sched_.validate();
-  rtp_.lock_memory = p.flag("lock_memory");
-  rtp_.fifo_priority = p.integer("fifo_priority");
-  device_ = graph::make_force_device(p);
+  rtp_.lock_memory = config_.loop.lock_memory;
+  rtp_.fifo_priority = config_.loop.fifo_priority;
+  device_ = graph::make_force_device(host.params());
 }
 
 Ffd::~Ffd() = default;
@@ -114,17 +111,17 @@ void Ffd::open_hop() {
     io.link = bus::LoopLink::listen(bus::loop_link_path(graph::graph_dir(), name));
     io.state_pub.also_over(&io.link);
   } else {
-    io.in.connect(graph::node_endpoint(sim_node_));
+    io.in.connect(graph::node_endpoint(config_.sim_node));
   }
-  if (io.feels_pins) io.shown_in.connect(graph::node_endpoint(tactile_node_));
+  if (io.feels_pins) io.shown_in.connect(graph::node_endpoint(config_.tactile_node));
   // the simulator subscribes to the states on the bus on either hop (on the local one until
   // the first state reaches it over the link): it counts with the observers asked for. It
   // takes the link once its own observers listen
-  const int subscribers = local_hop_ && observers_ == 0 ? 0 : 1 + observers_;
+  const int subscribers = local_hop_ && config_.observers == 0 ? 0 : 1 + config_.observers;
   graph::wait_for_subscribers(io.out, graph::kDeviceState, subscribers, name, "subscriber (the simulator, then observers)");
-  if (local_hop_) graph::wait_for_loop_peer(io.link, name, sim_node_);
-  graph::say(name, local_hop_ ? "loop hop to " + sim_node_ + ": local (Unix link " + io.link.path() + ", read by the loop thread)"
-                              : "loop hop to " + sim_node_ + ": ZeroMQ (loop_transport=zeromq)");
+  if (local_hop_) graph::wait_for_loop_peer(io.link, name, config_.sim_node);
+  graph::say(name, local_hop_ ? "loop hop to " + config_.sim_node + ": local (Unix link " + io.link.path() + ", read by the loop thread)"
+                              : "loop hop to " + config_.sim_node + ": ZeroMQ (loop_transport=zeromq)");
 }
 
 // how to wait, from this machine's probe: the spin window covers its wake-up lateness; a
@@ -140,7 +137,7 @@ void Ffd::plan_wait() {
   const rt::RtReport report = rt::apply_rt_setup(rtp_);
   graph::say(host_.name(), report.summary());
   const bool fifo = rt::running_fifo();
-  const rt::WaitPlan wait = rt::loop_wait(spin_us_, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_cpu_own());
+  const rt::WaitPlan wait = rt::loop_wait(config_.loop.spin_us, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_cpu_own());
   if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);
   host_.board().set(host_.name() + ".fifo_priority", std::to_string(rt::fifo_priority_now()));  // what the loop runs at
   sched_.spin_ns = wait.spin_ns;
@@ -279,7 +276,7 @@ void Ffd::say_summary() {
                                              : graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
                                                                    io.answers.unanswered() + io.scheduler->skipped(), io.watchdog)));
   if (io.feels_pins) {
-    graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + tactile_node_ + " (tactile/shown)" +
+    graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + config_.tactile_node + " (tactile/shown)" +
                          (simulated_ ? "; frames whose pins did not come in time: " + std::to_string(io.pins_missed) + "." : "."));
   }
 }
@@ -291,7 +288,7 @@ void Ffd::activate() {
   plan_wait();
   device_->activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
-  end_ns_ = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  end_ns_ = config_.loop.duration_s > 0.0 ? start + static_cast<std::int64_t>(config_.loop.duration_s * 1e9) : INT64_MAX;
   io_->next_status = start + 1'000'000'000;
   io_->scheduler->start(start);
   started_ns_ = rt::now_ns();

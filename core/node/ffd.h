@@ -10,6 +10,7 @@
 
 #include "core/devices/device.h"
 #include "core/node/host.h"
+#include "core/params/device_config.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/scheduler.h"
 
@@ -42,10 +43,7 @@ class Ffd {
 
   Host& host_;
   rt::SchedulerParams sched_;
-  double spin_us_;
-  std::string sim_node_, tactile_node_;
-  double duration_s_;
-  int observers_;
+  graph::FfdNodeConfig config_;
   rt::RtParams rtp_;
   std::unique_ptr<devices::ForceDevice> device_;
   bool local_hop_;

@@ -6,7 +6,9 @@
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/node/components.h"
+#include "core/params/device_config.h"
 #include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/params/param_bus.h"
@@ -49,8 +51,8 @@ struct Sim::Io : SimTopics {
       : SimTopics(s.host_.out()),
         out(s.host_.out()),
         states(in, graph::kDeviceState),
-        ffd_endpoint(graph::node_endpoint(s.ffd_node_)),
-        link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.ffd_node_) : ""),
+        ffd_endpoint(graph::node_endpoint(s.config_.ffd_node)),
+        link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.config_.ffd_node) : ""),
         params(s.simulator_, s.host_.name(), out, event_pub, &s.host_.board()),
         task_state(out) {
     force_pub.also_over(&link);
@@ -80,11 +82,9 @@ struct Sim::Io : SimTopics {
 
 Sim::Sim(Host& host)
     : host_(host),
-      ffd_node_(host.params().text("ffd_node")),
-      scene_rate_hz_(host.params().number("scene_rate_hz")),
-      observers_(host.params().integer("observers")),
+      config_(graph::sim_node_bindings().read(host.params())),
       reengage_(host.params().number("reengage_s")),
-      local_hop_(host.params().text("loop_transport") != "zeromq"),
+      local_hop_(config_.loop_transport != "zeromq"),
       simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
   simulator_.configure(graph::sim_params(host.params()));
 }
@@ -224,7 +224,7 @@ std::string Sim::summary() const {
 
 void Sim::open_ports() {
   io_ = std::make_unique<Io>(*this);
-  scene_period_ns_ = scene_rate_hz_ > 0.0 ? static_cast<std::int64_t>(1e9 / scene_rate_hz_) : INT64_MAX;
+  scene_period_ns_ = static_cast<std::int64_t>(1e9 / config_.scene_rate_hz);
 }
 
 void Sim::activate() {
@@ -239,7 +239,7 @@ void Sim::run() {
   // first answer (on the bus hop the driver subscribes too). After "ready": the launcher
   // starts the rest of the graph meanwhile; the driver waits for the simulator on the loop
   // link, so its loop starts after this wait
-  const int subscribers = observers_ > 0 ? observers_ + (local_hop_ ? 0 : 1) : 0;
+  const int subscribers = config_.observers > 0 ? config_.observers + (local_hop_ ? 0 : 1) : 0;
   graph::wait_for_subscribers(io_->out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
   // only now the states: a player (`enact play` of a recording) waits for this subscription,
   // so no state waits in a queue meanwhile to be answered later in a burst, faster than the

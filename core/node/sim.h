@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/node/host.h"
+#include "core/params/device_config.h"
 #include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
@@ -38,9 +39,7 @@ class Sim {
 
   Host& host_;
   sim::Simulator simulator_;
-  std::string ffd_node_;
-  double scene_rate_hz_;
-  int observers_;
+  graph::SimNodeConfig config_;
   sim::Reengagement reengage_;
   bool local_hop_;
   bool simulated_;  // the graph's clock: the frames carry the sample's time

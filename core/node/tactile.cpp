@@ -2,6 +2,9 @@
 
 #include "core/bus/typed.h"
 #include "core/node/components.h"
+#include "core/params/device_config.h"
+#include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/graph/topics.h"
@@ -24,9 +27,7 @@ Tactile::Tactile(Host& host)
     : host_(host),
       device_(graph::make_tactile_device(host.params())),
       driver_(*device_),
-      sim_node_(host.params().text("sim_node")),
-      shown_rate_hz_(host.params().number("shown_rate_hz")),
-      watchdog_s_(host.params().number("watchdog_s")) {}
+      config_(graph::tactile_node_bindings().read(host.params())) {}
 
 Tactile::~Tactile() = default;
 
@@ -63,7 +64,7 @@ void Tactile::publish_shown(std::int64_t now) {
 
 void Tactile::publish_status(std::int64_t now) {
   Io& io = *io_;
-  graph::fill(io.status, host_.name(), rt::LoopSummary{.rate_hz = shown_rate_hz_}, 0, "");
+  graph::fill(io.status, host_.name(), rt::LoopSummary{.rate_hz = config_.shown_rate_hz}, 0, "");
   io.watchdog.update(io.watchdog.tripped(), now);
   io.watchdog.fill(io.status);
   host_.publish_status(io.status, &io.in);
@@ -73,8 +74,8 @@ void Tactile::publish_status(std::int64_t now) {
 // while frames stop for longer than watchdog_s
 void Tactile::run_real() {
   Io& io = *io_;
-  const std::int64_t period = static_cast<std::int64_t>(1e9 / shown_rate_hz_);
-  const std::int64_t watchdog_ns = static_cast<std::int64_t>(watchdog_s_ * 1e9);
+  const std::int64_t period = static_cast<std::int64_t>(1e9 / config_.shown_rate_hz);
+  const std::int64_t watchdog_ns = static_cast<std::int64_t>(config_.watchdog_s * 1e9);
   std::int64_t next_shown = rt::now_ns(), next_status = next_shown + 1'000'000'000, last_frame_ns = -1;
   while (!graph::stop_requested()) {
     if (graph::wait_readable(io.in.socket(), next_shown) && io.frames.receive(io.frame, 0)) {
@@ -127,7 +128,7 @@ void Tactile::run_simulated() {
 void Tactile::open_ports() { io_ = std::make_unique<Io>(*this); }
 
 void Tactile::activate() {
-  io_->in.connect(graph::node_endpoint(sim_node_));
+  io_->in.connect(graph::node_endpoint(config_.sim_node));
   driver_.activate();
 }
 

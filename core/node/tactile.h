@@ -9,6 +9,7 @@
 
 #include "core/node/host.h"
 #include "core/node/tactile_driver.h"
+#include "core/params/device_config.h"
 
 namespace enact::node {
 
@@ -35,9 +36,7 @@ class Tactile {
   Host& host_;
   std::unique_ptr<devices::TactileDevice> device_;
   TactileDriver driver_;
-  std::string sim_node_;
-  double shown_rate_hz_;
-  double watchdog_s_;
+  graph::TactileNodeConfig config_;
   std::unique_ptr<Io> io_;
 };
 

@@ -1,8 +1,9 @@
 #pragma once
-// The config structs of the device components, each field bound once to its parameter
-// (node_params.cpp: force_bindings(), tactile_bindings(); param_binding.h): the table gives
-// --help, the checks and `enact param`, and make_force_device / make_tactile_device
-// (components.cpp) read them through it.
+// The config structs of the device components and of the node processes' own plumbing, each
+// field bound once to its parameter (node_params.cpp: force_bindings(), tactile_bindings(),
+// ffd_node_bindings(), ...; param_binding.h): the table gives --help, the checks and `enact
+// param`, and make_force_device / make_tactile_device (components.cpp) and the node
+// components (core/node) read them through it.
 #include <string>
 
 #include "core/devices/falcon/falcon_device.h"
@@ -34,6 +35,35 @@ struct TactileConfig {
   devices::SimulatedTactileParams cells;  // rows, cols, rise_time_s (both devices)
   std::string transport = "usb";          // metec: usb or emulator
   devices::metec::MetecParams metec;      // metec: serial, first_cell
+};
+
+// what a loop process has: enact-ffd (and enact-rt's own table)
+struct LoopConfig {
+  double rate_hz = 5000.0;
+  double spin_us = -1.0;     // -1: sized from this machine's probe
+  double duration_s = 0.0;   // 0: until SIGINT/SIGTERM
+  bool lock_memory = false;
+  int fifo_priority = 0;     // 0: normal scheduling
+};
+
+// the plumbing of the node processes: their peers' names, rates, the observers they wait for
+struct SimNodeConfig {
+  std::string loop_transport = "auto";  // the ffd <-> sim hop: auto, local or zeromq
+  std::string ffd_node = "ffd";
+  double scene_rate_hz = 60.0;
+  int observers = 0;
+};
+struct FfdNodeConfig {
+  LoopConfig loop;
+  std::string loop_transport = "auto";
+  std::string sim_node = "sim";
+  std::string tactile_node = "tactile";
+  int observers = 0;
+};
+struct TactileNodeConfig {
+  std::string sim_node = "sim";
+  double shown_rate_hz = 100.0;
+  double watchdog_s = 0.25;
 };
 
 }  // namespace enact::graph

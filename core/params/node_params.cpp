@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <type_traits>
 
 #include "core/launch/check.h"
 
@@ -35,53 +36,52 @@ const devices::SimulatedForceParams kHand{};
 const graph::LoggerOptions kLogger{};
 
 // what a loop process shares: enact-ffd, enact-rt
-ParamTable loop_table() {
-  return {
-      {.name = "rate_hz", .fallback = "5000", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"},
-      {.name = "spin_us", .fallback = "-1", .min = -1, .doc = "spin on the clock for the last microseconds before each tick (-1: sized from this machine's probe, enact doctor)"},
-      {.name = "duration_s", .fallback = "0", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"},
-      {.name = "lock_memory", .type = ParamType::flag, .fallback = "false", .doc = "mlockall the process"},
-      {.name = "fifo_priority", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"},
+template <class Config>
+void bind_loop(ParamBindings<Config>& b) {
+  const auto loop = [](Config& c) -> LoopConfig& {
+    if constexpr (std::is_same_v<Config, LoopConfig>) return c;
+    else return c.loop;
   };
+  b.field([loop](Config& c) -> double& { return loop(c).rate_hz; }, {.name = "rate_hz", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"})
+      .field([loop](Config& c) -> double& { return loop(c).spin_us; },
+             {.name = "spin_us", .min = -1, .doc = "spin on the clock for the last microseconds before each tick (-1: sized from this machine's probe, enact doctor)"})
+      .field([loop](Config& c) -> double& { return loop(c).duration_s; }, {.name = "duration_s", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"})
+      .field([loop](Config& c) -> bool& { return loop(c).lock_memory; }, {.name = "lock_memory", .doc = "mlockall the process"})
+      .field([loop](Config& c) -> int& { return loop(c).fifo_priority; },
+             {.name = "fifo_priority", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"});
+}
+ParamTable loop_table() {
+  static const ParamBindings<LoopConfig> b = [] {
+    ParamBindings<LoopConfig> out;
+    bind_loop(out);
+    return out;
+  }();
+  return b.table();
 }
 
 // the ffd <-> sim hop, declared by both ends
 ParamSpec loop_transport_decl() {
-  return {.name = "loop_transport", .type = ParamType::choice, .fallback = "auto", .choices = {"auto", "local", "zeromq"},
+  return {.name = "loop_transport", .type = ParamType::choice, .choices = {"auto", "local", "zeromq"},
           .doc = "the ffd <-> sim hop: local (a same-host Unix link the loop threads read themselves: the machine's pipe floor), zeromq (the bus), "
                  "auto (local: a graph's nodes share one host); observers see every message either way"};
 }
 
 ParamTable sim_node_table() {
   ParamTable t = sim_table();
-  const ParamTable own{
-      loop_transport_decl(),
-      {.name = "ffd_node", .type = ParamType::text, .fallback = "ffd", .doc = "the FFD driver's node name (its ffd/state)"},
-      {.name = "scene_rate_hz", .fallback = "60", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"},
-      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/force before answering"},
-  };
+  const ParamTable& own = sim_node_bindings().table();
   t.insert(t.end(), own.begin(), own.end());
   return t;
 }
 
 ParamTable ffd_node_table() {
-  const ParamTable loop = loop_table(), device = force_table();
-  const ParamTable own{
-      loop_transport_decl(),
-      {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its ffd/force)"},
-      {.name = "tactile_node", .type = ParamType::text, .fallback = "tactile", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"},
-      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state besides the simulator"},
-  };
-  return join({&loop, &own, &device});
+  const ParamTable& own = ffd_node_bindings().table();
+  const ParamTable device = force_table();
+  return join({&own, &device});
 }
 
 ParamTable tactile_node_table() {
+  const ParamTable& own = tactile_node_bindings().table();
   const ParamTable device = tactile_table();
-  const ParamTable own{
-      {.name = "sim_node", .type = ParamType::text, .fallback = "sim", .doc = "the simulator's node name (its tactile/frame)"},
-      {.name = "shown_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "tactile/shown rate"},
-      {.name = "watchdog_s", .fallback = "0.25", .min = 0, .above_min = true, .doc = "every pin down while no frame came for this long"},
-  };
   return join({&own, &device});
 }
 
@@ -246,6 +246,42 @@ const ParamBindings<ForceConfig>& force_bindings() {
 }
 
 const ParamTable& force_table() { return force_bindings().table(); }
+
+const ParamBindings<SimNodeConfig>& sim_node_bindings() {
+  static const ParamBindings<SimNodeConfig> b = [] {
+    ParamBindings<SimNodeConfig> out;
+    out.field(&SimNodeConfig::loop_transport, loop_transport_decl())
+        .field(&SimNodeConfig::ffd_node, {.name = "ffd_node", .doc = "the FFD driver's node name (its ffd/state)"})
+        .field(&SimNodeConfig::scene_rate_hz, {.name = "scene_rate_hz", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"})
+        .field(&SimNodeConfig::observers, {.name = "observers", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/force before answering"});
+    return out;
+  }();
+  return b;
+}
+
+const ParamBindings<FfdNodeConfig>& ffd_node_bindings() {
+  static const ParamBindings<FfdNodeConfig> b = [] {
+    ParamBindings<FfdNodeConfig> out;
+    bind_loop(out);
+    out.field(&FfdNodeConfig::loop_transport, loop_transport_decl())
+        .field(&FfdNodeConfig::sim_node, {.name = "sim_node", .doc = "the simulator's node name (its ffd/force)"})
+        .field(&FfdNodeConfig::tactile_node, {.name = "tactile_node", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"})
+        .field(&FfdNodeConfig::observers, {.name = "observers", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state besides the simulator"});
+    return out;
+  }();
+  return b;
+}
+
+const ParamBindings<TactileNodeConfig>& tactile_node_bindings() {
+  static const ParamBindings<TactileNodeConfig> b = [] {
+    ParamBindings<TactileNodeConfig> out;
+    out.field(&TactileNodeConfig::sim_node, {.name = "sim_node", .doc = "the simulator's node name (its tactile/frame)"})
+        .field(&TactileNodeConfig::shown_rate_hz, {.name = "shown_rate_hz", .min = 0, .above_min = true, .doc = "tactile/shown rate"})
+        .field(&TactileNodeConfig::watchdog_s, {.name = "watchdog_s", .min = 0, .above_min = true, .doc = "every pin down while no frame came for this long"});
+    return out;
+  }();
+  return b;
+}
 
 const ParamBindings<TactileConfig>& tactile_bindings() {
   using T = TactileConfig;

@@ -31,6 +31,13 @@ struct ForceConfig;
 struct TactileConfig;
 const ParamBindings<ForceConfig>& force_bindings();
 const ParamBindings<TactileConfig>& tactile_bindings();
+// the node processes' own parameters, bound to their plumbing's structs (device_config.h)
+struct SimNodeConfig;
+struct FfdNodeConfig;
+struct TactileNodeConfig;
+const ParamBindings<SimNodeConfig>& sim_node_bindings();
+const ParamBindings<FfdNodeConfig>& ffd_node_bindings();
+const ParamBindings<TactileNodeConfig>& tactile_node_bindings();
 
 // the components of a real-time container (enact-rt) and of the nodes that wrap one
 const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim): sim_bindings()'s table
