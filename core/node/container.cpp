@@ -18,6 +18,7 @@
 #include "core/graph/messages.h"
 #include "core/graph/node.h"
 #include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/params/param_bus.h"
 #include "core/params/param_table.h"
 #include "core/graph/task_state.h"
@@ -192,11 +193,11 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   if (!tac_name_.empty()) tac_p_ = p.scoped(tac_name_);
   for (const auto& [name, plugin] : names.others) members_.push_back({name, plugin, p.scoped(name)});
   p.refuse_unknown();
-  sched_.rate_hz = p.number("rate_hz");
+  config_ = graph::rt_bindings().read(p);
+  sched_.rate_hz = config_.loop.rate_hz;
   sched_.validate();
-  duration_s_ = p.number("duration_s");
-  rtp_.lock_memory = p.flag("lock_memory");
-  rtp_.fifo_priority = p.integer("fifo_priority");
+  rtp_.lock_memory = config_.loop.lock_memory;
+  rtp_.fifo_priority = config_.loop.fifo_priority;
   if (p.has("cpus")) rtp_.cpus.push_back(p.integer("cpus"));
   // the graph's real-time profile (launch entry realtime:) places the loop thread, not the
   // process: the publisher thread and the bus stay with the observers
@@ -214,7 +215,7 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
     rtp_.cpus.clear();
     wait_why_ = "ticks back to back: the graph's clock is simulated (a tick's time is its index over rate_hz)";
   } else {
-    plan_wait(p.number("spin_us"));
+    plan_wait(config_.loop.spin_us);
   }
   // components, configured (bad input is refused here, before anything moves)
   sim::SimParams sp = graph::sim_params(sim_p_);
@@ -244,9 +245,6 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
                         "  fix: add {name: tactile, plugin: tactile} to the component list, or give '" + ffd_name_ + "' a scripted hand (" + ffd_name_ +
                         ".hand_path) instead of a virtual subject");
   }
-  scene_rate_hz_ = p.number("scene_rate_hz");
-  shown_rate_hz_ = p.number("shown_rate_hz");
-  wait_for_ = p.integer("observers");
 }
 
 Container::~Container() = default;
@@ -287,15 +285,15 @@ void Container::rt_main() {
   tick.sleep_every_tick = io.report.fifo;
   rt::PeriodicScheduler scheduler(tick);
   const std::int64_t start = rt::now_ns() + 1'000'000;
-  const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / scene_rate_hz_));
-  const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / shown_rate_hz_));
+  const std::int64_t scene_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / config_.scene_rate_hz));
+  const std::int64_t shown_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz / config_.shown_rate_hz));
   const std::int64_t status_every = std::max<std::int64_t>(1, std::llround(sched_.rate_hz));
   Scene scene{};
   PinsShown levels{};
   io.loop.activate();
   scheduler.start(start);
   const std::int64_t began_ns = rt::now_ns();
-  const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+  const std::int64_t end = config_.loop.duration_s > 0.0 ? start + static_cast<std::int64_t>(config_.loop.duration_s * 1e9) : INT64_MAX;
   std::int64_t last_ns = start;  // the last tick's time
   for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
     // the tick's time is its deadline, on either clock: the model never reads the wall clock
@@ -486,7 +484,7 @@ void Container::activate() {
   io_->loop.connect_params(io_->changes, io_->applied);
   // a recording from the first tick needs its loggers subscribed first (its own among them)
   observers_.start(true);
-  graph::wait_for_subscribers(io_->out, graph::kDeviceState, wait_for_ + observers_.recorders(graph::kDeviceState), host_.name(), "observer (logger)");
+  graph::wait_for_subscribers(io_->out, graph::kDeviceState, config_.observers + observers_.recorders(graph::kDeviceState), host_.name(), "observer (logger)");
   observers_.start(false);
   rt_thread_ = std::thread([this] { rt_main(); });
   graph::say(host_.name(), "the loop " + wait_why_);

@@ -14,6 +14,7 @@
 
 #include "core/devices/device.h"
 #include "core/node/colocated.h"
+#include "core/params/device_config.h"
 #include "core/params/params.h"
 #include "core/node/host.h"
 #include "core/node/loop_component.h"
@@ -66,8 +67,8 @@ class Container {
   std::string wait_why_;
   double spin_floor_ = -1.0;  // spinning whole: what a thread spinning with no work misses here (the probe's)
   rt::GraphClock clock_ = rt::GraphClock::real;
-  double duration_s_, reengage_s_, scene_rate_hz_, shown_rate_hz_;
-  int wait_for_;  // observers of ffd/state (outside the container) the loop waits for
+  graph::RtConfig config_;  // its own parameters
+  double reengage_s_;
   ObserverGroup observers_;  // observer components, beside the loop
   std::vector<std::unique_ptr<LoopComponent>> stages_;  // stages of the tick, in order
   sim::Simulator simulator_;

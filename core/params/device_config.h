@@ -60,6 +60,12 @@ struct FfdNodeConfig {
   std::string tactile_node = "tactile";
   int observers = 0;
 };
+struct RtConfig {
+  LoopConfig loop;
+  double scene_rate_hz = 60.0;
+  double shown_rate_hz = 100.0;
+  int observers = 0;  // outside the container, of ffd/state
+};
 struct TactileNodeConfig {
   std::string sim_node = "sim";
   double shown_rate_hz = 100.0;

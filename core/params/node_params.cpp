@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <type_traits>
 
 #include "core/launch/check.h"
 
@@ -35,28 +34,15 @@ const sim::SimParams kSim{};
 const devices::SimulatedForceParams kHand{};
 const graph::LoggerOptions kLogger{};
 
-// what a loop process shares: enact-ffd, enact-rt
+// what a loop process shares (a config with a LoopConfig `loop`): enact-ffd, enact-rt
 template <class Config>
 void bind_loop(ParamBindings<Config>& b) {
-  const auto loop = [](Config& c) -> LoopConfig& {
-    if constexpr (std::is_same_v<Config, LoopConfig>) return c;
-    else return c.loop;
-  };
-  b.field([loop](Config& c) -> double& { return loop(c).rate_hz; }, {.name = "rate_hz", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"})
-      .field([loop](Config& c) -> double& { return loop(c).spin_us; },
+  b.field([](Config& c) -> double& { return c.loop.rate_hz; }, {.name = "rate_hz", .min = rt::kMinRate_hz, .max = rt::kMaxRate_hz, .doc = "loop rate"})
+      .field([](Config& c) -> double& { return c.loop.spin_us; },
              {.name = "spin_us", .min = -1, .doc = "spin on the clock for the last microseconds before each tick (-1: sized from this machine's probe, enact doctor)"})
-      .field([loop](Config& c) -> double& { return loop(c).duration_s; }, {.name = "duration_s", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"})
-      .field([loop](Config& c) -> bool& { return loop(c).lock_memory; }, {.name = "lock_memory", .doc = "mlockall the process"})
-      .field([loop](Config& c) -> int& { return loop(c).fifo_priority; },
-             {.name = "fifo_priority", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"});
-}
-ParamTable loop_table() {
-  static const ParamBindings<LoopConfig> b = [] {
-    ParamBindings<LoopConfig> out;
-    bind_loop(out);
-    return out;
-  }();
-  return b.table();
+      .field([](Config& c) -> double& { return c.loop.duration_s; }, {.name = "duration_s", .min = 0, .doc = "stop after this long (0: until SIGINT/SIGTERM)"})
+      .field([](Config& c) -> bool& { return c.loop.lock_memory; }, {.name = "lock_memory", .doc = "mlockall the process"})
+      .field([](Config& c) -> int& { return c.loop.fifo_priority; }, {.name = "fifo_priority", .min = 0, .max = 99, .doc = "SCHED_FIFO priority of the loop (0: normal scheduling)"});
 }
 
 // the ffd <-> sim hop, declared by both ends
@@ -85,16 +71,7 @@ ParamTable tactile_node_table() {
   return join({&own, &device});
 }
 
-ParamTable rt_table() {
-  const ParamTable loop = loop_table();
-  const ParamTable own{
-      {.name = "cpus", .type = ParamType::integer, .fallback = "", .min = 0, .max = 4095, .doc = "the CPU of the loop thread (empty: any)"},
-      {.name = "scene_rate_hz", .fallback = "60", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"},
-      {.name = "shown_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "tactile/shown rate"},
-      {.name = "observers", .type = ParamType::integer, .fallback = "0", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state before the loop starts"},
-  };
-  return join({&loop, &own});
-}
+ParamTable rt_table() { return rt_bindings().table(); }
 
 ParamTable logger_table() {
   return {
@@ -267,6 +244,19 @@ const ParamBindings<FfdNodeConfig>& ffd_node_bindings() {
         .field(&FfdNodeConfig::sim_node, {.name = "sim_node", .doc = "the simulator's node name (its ffd/force)"})
         .field(&FfdNodeConfig::tactile_node, {.name = "tactile_node", .doc = "the tactile driver's node name (a virtual subject feels its tactile/shown)"})
         .field(&FfdNodeConfig::observers, {.name = "observers", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state besides the simulator"});
+    return out;
+  }();
+  return b;
+}
+
+const ParamBindings<RtConfig>& rt_bindings() {
+  static const ParamBindings<RtConfig> b = [] {
+    ParamBindings<RtConfig> out;
+    bind_loop(out);
+    out.declared({.name = "cpus", .type = ParamType::integer, .fallback = "", .min = 0, .max = 4095, .doc = "the CPU of the loop thread (empty: any)"})
+        .field(&RtConfig::scene_rate_hz, {.name = "scene_rate_hz", .min = 0, .above_min = true, .doc = "sim/scene rate (decimated)"})
+        .field(&RtConfig::shown_rate_hz, {.name = "shown_rate_hz", .min = 0, .above_min = true, .doc = "tactile/shown rate"})
+        .field(&RtConfig::observers, {.name = "observers", .min = 0, .max = 100, .doc = "wait up to 60 s for this many observers of ffd/state before the loop starts"});
     return out;
   }();
   return b;

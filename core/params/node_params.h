@@ -35,9 +35,13 @@ const ParamBindings<TactileConfig>& tactile_bindings();
 struct SimNodeConfig;
 struct FfdNodeConfig;
 struct TactileNodeConfig;
+struct RtConfig;
 const ParamBindings<SimNodeConfig>& sim_node_bindings();
 const ParamBindings<FfdNodeConfig>& ffd_node_bindings();
 const ParamBindings<TactileNodeConfig>& tactile_node_bindings();
+// the co-located container's own (enact-rt; its loop thread's CPU, `cpus`, is read by name:
+// empty means any)
+const ParamBindings<RtConfig>& rt_bindings();
 
 // the components of a real-time container (enact-rt) and of the nodes that wrap one
 const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim): sim_bindings()'s table
