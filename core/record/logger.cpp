@@ -214,12 +214,12 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
     it = channels_.emplace(key_, std::move(c)).first;
   }
   Channel& c = it->second;
-  if (has_header && c.report.seq.repeats(header_.seq())) return;
+  if (has_header && c.report.seq.repeats(header_.seq(), header_.stamp_ns())) return;
   if (c.id == kNoChannel) {
     c.id = writer_->add_channel(schema_for(c.report.type), c.report.topic, "protobuf", {{"publisher", c.report.publisher}});
   }
   // sequence: +1 per message per publisher and topic; a jump is a loss
-  c.report.seq.add(has_header ? header_.seq() : c.report.seq.last + 1);
+  c.report.seq.add(has_header ? header_.seq() : c.report.seq.last + 1, header_.stamp_ns());
   ++messages_;
   const std::int64_t publish_ns = has_header && header_.stamp_ns() > 0 ? header_.stamp_ns() : now_ns;
   writer_->write(c.id, static_cast<std::uint32_t>(c.report.seq.last), now_ns + wall_offset_ns_, publish_ns,

@@ -65,18 +65,21 @@ class TopicFilter {
 // so what came before the one received is lost too
 struct SequenceCheck {
   std::uint64_t last = 0, messages = 0, gaps = 0, restarts = 0;
-  void add(std::uint64_t seq) {
+  std::int64_t last_stamp_ns = 0;  // header.stamp_ns of the last
+  void add(std::uint64_t seq, std::int64_t stamp_ns = 0) {
     if (messages > 0 && seq > last + 1) gaps += seq - last - 1;
     if (messages > 0 && seq <= last) {
       ++restarts;
       gaps += seq - 1;
     }
     last = seq;
+    last_stamp_ns = stamp_ns;
     ++messages;
   }
   // the same message again (an attach point repeats a state topic's last message for an
-  // observer that came late)
-  bool repeats(std::uint64_t seq) const { return messages > 0 && seq != 0 && seq == last; }
+  // observer that came late): its seq and its stamp. Another message with the same seq (two
+  // `enact param set` processes, each sending its first request as seq 1) is no repeat
+  bool repeats(std::uint64_t seq, std::int64_t stamp_ns) const { return messages > 0 && seq != 0 && seq == last && stamp_ns == last_stamp_ns; }
 };
 
 // traffic of one channel (topic and publishing node)

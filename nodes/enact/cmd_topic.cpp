@@ -101,12 +101,11 @@ std::unique_ptr<google::protobuf::Message> make(const std::string& type) {
   return std::unique_ptr<google::protobuf::Message>(google::protobuf::MessageFactory::generated_factory()->GetPrototype(d)->New());
 }
 
-// the header's seq and source, read through reflection (every stream message has header = 1)
-std::pair<std::string, std::uint64_t> header_of(const google::protobuf::Message& m) {
+// the header, read through reflection (every stream message has header = 1; none: an empty one)
+const msgs::Header& header_of(const google::protobuf::Message& m) {
   const auto* field = m.GetDescriptor()->FindFieldByName("header");
-  if (!field) return {"", 0};
-  const auto& h = static_cast<const msgs::Header&>(m.GetReflection()->GetMessage(m, field));
-  return {h.source(), h.seq()};
+  if (!field) return msgs::Header::default_instance();
+  return static_cast<const msgs::Header&>(m.GetReflection()->GetMessage(m, field));
 }
 
 // the messages lost in gaps by every publisher
@@ -173,10 +172,10 @@ int echo_or_hz(const Attached& graph, const std::string& topic, const Watch& w) 
     }
     if (!raw || raw->topic() != topic || !msg->ParseFromArray(raw->payload(), static_cast<int>(raw->payload_size()))) continue;
     // per publisher: a state topic's last message may come again (an observer joined)
-    const auto [source, seq] = header_of(*msg);
-    graph::SequenceCheck& check = seqs[source];
-    if (check.repeats(seq)) continue;
-    check.add(seq);
+    const msgs::Header& h = header_of(*msg);
+    graph::SequenceCheck& check = seqs[h.source()];
+    if (check.repeats(h.seq(), h.stamp_ns())) continue;
+    check.add(h.seq(), h.stamp_ns());
     ++received;
     ++window;
     if (echo) print_echo(topic, *msg, paths, w.csv);

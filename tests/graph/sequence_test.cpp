@@ -20,6 +20,17 @@ TEST(SequenceCheck, CountsJumpsAndTheMissedStartOfARestartedStream) {
   EXPECT_EQ(c.restarts, 2u);
 }
 
+// a message the attach point sends again (a latched topic's last, for a late observer) is a
+// repeat; another with the same seq, from another process of the same source (two `enact
+// param set`, each counting from 1), is not
+TEST(SequenceCheck, OnlyTheSameMessageAgainIsARepeat) {
+  SequenceCheck c;
+  c.add(1, 1'000);
+  EXPECT_TRUE(c.repeats(1, 1'000));
+  EXPECT_FALSE(c.repeats(1, 2'000));
+  EXPECT_FALSE(c.repeats(2, 1'000));
+}
+
 TEST(SequenceCheck, ALateJoinerLosesNothing) {
   SequenceCheck c;
   for (const std::uint64_t seq : {500, 501, 502}) c.add(seq);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 #include <optional>
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include "core/record/reader.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
+#include "msgs/param_update.pb.h"
 #include "tests/integration/integration_util.h"
 #include "tests/support/recorded_ticks.h"
 
@@ -21,6 +23,7 @@ namespace {
 struct Summary {
   std::uint64_t states = 0, forces = 0, first_state_seq = 0, state_gaps = 0;
   std::uint64_t watchdog_states = 0;  // carrying DEVICE_FAULT_WATCHDOG
+  std::set<std::uint64_t> requests, acks;  // request ids of the param/set and param/ack kept
   std::map<std::uint64_t, msgs::Vec3> force_by_answer;  // answered_seq -> force
   bool complete = false;
   std::vector<std::string> damage;
@@ -32,6 +35,8 @@ Summary summarize(const std::string& path) {
   std::uint64_t last = 0;
   msgs::DeviceState state;
   msgs::ForceCommand force;
+  msgs::ParamUpdate request;
+  msgs::ParamAck ack;
   r.for_each([&](const record::Message& m) {
     if (m.topic == "ffd/state" && state.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       if (s.states == 0) s.first_state_seq = state.header().seq();
@@ -40,6 +45,8 @@ Summary summarize(const std::string& path) {
       ++s.states;
       s.watchdog_states += (state.faults() & msgs::DEVICE_FAULT_WATCHDOG) != 0;
     }
+    if (m.topic == "param/set" && request.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) s.requests.insert(request.request_id());
+    if (m.topic == "param/ack" && ack.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) s.acks.insert(ack.request_id());
     if (m.topic == "ffd/force" && force.ParseFromArray(m.data.data(), static_cast<int>(m.data.size()))) {
       s.force_by_answer[force.answered_seq()] = force.force();
       ++s.forces;
@@ -271,6 +278,10 @@ void live_changes_replay_exactly(const std::string& graph_file, const std::strin
   const Summary s = summarize(file);
   EXPECT_EQ(s.first_state_seq, 1u);
   EXPECT_EQ(s.state_gaps, 0u);
+  // the audit trail: each of the eight `enact param set` processes' request kept (all of one
+  // source, each with seq 1), and its ack
+  EXPECT_EQ(s.requests.size(), 8u);
+  EXPECT_EQ(s.acks, s.requests);
   const RunResult resim = run(kCli + " resim " + file);
   EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
   EXPECT_NE(resim.out.find("8 live parameter changes re-applied"), std::string::npos) << resim.out;
