@@ -49,8 +49,8 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   if (tactile_ && obs_.step.frame_due) tactile_->apply(now_ns, obs_.step.frame, ++frames_);
   // a virtual subject's fingertip feels what the pins show
   if (hand_) {
-    tactile_->show(now_ns, felt_);
-    hand_->feel_pins(felt_.level, tactile_->rows(), tactile_->cols());
+    tactile_->levels(now_ns, felt_);
+    hand_->feel_pins(felt_, tactile_->rows(), tactile_->cols());
   }
   if (obs_.step.event.kind != task::TaskEventKind::none) obs_.step.event.time_ns += start_ns_;  // on the monotonic clock
   obs_.seq += 1;

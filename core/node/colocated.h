@@ -85,7 +85,7 @@ class ColocatedLoop {
   AppliedQueue* applied_ = nullptr;
   std::vector<node::LoopComponent*> stages_;
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
-  node::PinsShown felt_;  // what the virtual subject's fingertip feels
+  float felt_[32] = {};  // what the virtual subject's fingertip feels
   std::uint64_t frames_ = 0;  // tactile frames written
   Observation obs_;
   sim::Reengagement reengage_;

@@ -22,6 +22,8 @@ std::unique_ptr<devices::ForceDevice> make_force_device(const Params& p);
 // what the safety layer of a device make_force_device made did, and the force it left the
 // device with: the line both hosts of the force device print when it ends
 std::string safety_summary(const devices::ForceDevice& device);
+// the force device's line when the task's completion ended a run in simulated time (both hosts)
+inline constexpr const char* kRunOverLine = "the task is completed: the run ends here (simulated time)";
 
 // the tactile device of tactile_bindings() (declared here): simulated, or metec (transport,
 // serial, first_cell); configured, not yet active

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -293,7 +292,7 @@ void Container::rt_main() {
   io.loop.activate();
   scheduler.start(start);
   const std::int64_t began_ns = rt::now_ns();
-  const std::int64_t end = config_.loop.duration_s > 0.0 ? start + static_cast<std::int64_t>(config_.loop.duration_s * 1e9) : INT64_MAX;
+  const std::int64_t end = config_.loop.end_ns(start);
   std::int64_t last_ns = start;  // the last tick's time
   for (std::int64_t n = 0; !graph::stop_requested(); ++n) {
     // the tick's time is its deadline, on either clock: the model never reads the wall clock
@@ -456,7 +455,7 @@ void Container::print_summary() {
                                                                    : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts);
   std::printf("%s: verdict: %s\n", name, verdict.c_str());
   // the clock master's lines, as enact-ffd prints them
-  if (clock_ == rt::GraphClock::simulated && felt.completed) std::printf("%s: the task is completed: the run ends here (simulated time)\n", ffd_name_.c_str());
+  if (clock_ == rt::GraphClock::simulated && felt.completed) std::printf("%s: %s\n", ffd_name_.c_str(), graph::kRunOverLine);
   std::printf("%s: %s; %s\n", ffd_name_.c_str(), io.cuts.summary().c_str(), graph::safety_summary(*force_).c_str());
   if (const TactileDriver* tactile = io.loop.tactile()) std::printf("%s: %s\n", tac_name_.c_str(), tactile->summary().c_str());
   // what the machine itself takes from a spinning loop, beside what this one missed

@@ -1,7 +1,6 @@
 #include "core/node/ffd.h"
 
 #include <algorithm>
-#include <climits>
 #include <utility>
 
 #include "core/bus/loop_link.h"
@@ -288,7 +287,7 @@ void Ffd::activate() {
   plan_wait();
   device_->activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
-  end_ns_ = config_.loop.duration_s > 0.0 ? start + static_cast<std::int64_t>(config_.loop.duration_s * 1e9) : INT64_MAX;
+  end_ns_ = config_.loop.end_ns(start);
   io_->next_status = start + 1'000'000'000;
   io_->scheduler->start(start);
   started_ns_ = rt::now_ns();
@@ -300,7 +299,7 @@ void Ffd::run() {
     if (now >= end_ns_) break;
     tick(now);
   }
-  if (run_over_) graph::say(host_.name(), "the task is completed: the run ends here (simulated time)");
+  if (run_over_) graph::say(host_.name(), graph::kRunOverLine);
 }
 
 int Ffd::deactivate() {

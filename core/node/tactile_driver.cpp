@@ -14,9 +14,11 @@ void TactileDriver::apply(std::int64_t now_ns, std::uint32_t pins, std::uint64_t
 
 void TactileDriver::lower(std::int64_t now_ns) noexcept { device_.write(now_ns, 0u); }
 
+void TactileDriver::levels(std::int64_t now_ns, float* out) const noexcept { device_.shown(now_ns, out, pins()); }
+
 void TactileDriver::show(std::int64_t now_ns, PinsShown& out) const noexcept {
   out.time_ns = now_ns;
-  device_.shown(now_ns, out.level, pins());
+  levels(now_ns, out.level);
   out.moves = device_.motion(out.motion);
   out.frame_seq = frame_seq_;
 }

@@ -37,7 +37,10 @@ class TactileDriver {
   void apply(std::int64_t now_ns, std::uint32_t pins, std::uint64_t frame_seq) noexcept;
   // every pin down from now_ns, until the next frame (a watchdog's action)
   void lower(std::int64_t now_ns) noexcept;
-  // what the pins show at now_ns, into out; on the loop: allocates nothing
+  // what the pins show at now_ns, levels[0 .. pins()) (a virtual subject's fingertip, every
+  // tick); on the loop: allocates nothing
+  void levels(std::int64_t now_ns, float* out) const noexcept;
+  // the same with the pins' motion (tactile/shown's content), into out
   void show(std::int64_t now_ns, PinsShown& out) const noexcept;
   // every pin down, output off
   void deactivate() noexcept;

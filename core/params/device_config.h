@@ -4,6 +4,8 @@
 // ffd_node_bindings(), ...; param_binding.h): the table gives --help, the checks and `enact
 // param`, and make_force_device / make_tactile_device (components.cpp) and the node
 // components (core/node) read them through it.
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "core/devices/falcon/falcon_device.h"
@@ -44,6 +46,10 @@ struct LoopConfig {
   double duration_s = 0.0;   // 0: until SIGINT/SIGTERM
   bool lock_memory = false;
   int fifo_priority = 0;     // 0: normal scheduling
+  // the time the loop ends, when it starts at start_ns (duration_s 0: INT64_MAX, never)
+  std::int64_t end_ns(std::int64_t start_ns) const {
+    return duration_s > 0.0 ? start_ns + static_cast<std::int64_t>(duration_s * 1e9) : std::numeric_limits<std::int64_t>::max();
+  }
 };
 
 // the plumbing of the node processes: their peers' names, rates, the observers they wait for
