@@ -17,7 +17,6 @@
 #include "core/rt/clock.h"
 #include "core/rt/spsc_queue.h"
 #include "core/sim/params.h"
-#include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 
 namespace enact::graph {
@@ -46,11 +45,9 @@ using AppliedQueue = rt::SpscQueue<sim::ParamApplied, sim::kMaxParamsInFlight>;
 
 class ColocatedLoop {
  public:
-  // reengage_s: after a cut of the force path, how long the simulator's body takes to return
-  // from out of the objects to the device (sim::Reengagement); tactile: nullptr for none (a
-  // simulated hand that feels pins then feels nothing: the container refuses that graph)
-  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock,
-                double reengage_s = sim::kReengageDefault_s);
+  // tactile: nullptr for none (a simulated hand that feels pins then feels nothing: the
+  // container refuses that graph)
+  ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock);
 
   // a stage of the tick, after those added before (it outlives the loop); before activate()
   void add_stage(node::LoopComponent& stage) { stages_.push_back(&stage); }
@@ -69,10 +66,6 @@ class ColocatedLoop {
   const Observation& tick(std::int64_t now_ns);
   // zero the force and lower the pins first, then stop the simulator and the stages
   void deactivate() noexcept;
-  // the body's re-synchronisations (the first tick's included)
-  const sim::Reengagement& reengagement() const { return reengage_; }
-  // the clock's time of the first tick: the simulator's time 0
-  std::int64_t start_ns() const { return start_ns_; }
   // the tactile display's driver (nullptr: none): what its pins show, its summary
   const node::TactileDriver* tactile() const { return tactile_ ? &*tactile_ : nullptr; }
 
@@ -88,8 +81,6 @@ class ColocatedLoop {
   float felt_[32] = {};  // what the virtual subject's fingertip feels
   std::uint64_t frames_ = 0;  // tactile frames written
   Observation obs_;
-  sim::Reengagement reengage_;
-  std::int64_t start_ns_ = -1;  // time of the first tick
   std::int64_t whole_ns_ = 0;   // the last tick whose sample said the force path was whole
 };
 

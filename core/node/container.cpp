@@ -76,9 +76,7 @@ struct Felt {
   std::uint64_t ticks = 0, frames = 0, dropped = 0, device_faults = 0, sim_faults = 0;
   double force_sum_n = 0.0, force_max_n = 0.0, pins_sum = 0.0;
   std::uint64_t on_top = 0;
-  int falls = 0;
   bool completed = false;
-  double progress = 0.0;
 
   void add(const graph::Observation& o) {
     const double f = math::norm(o.step.force_n);
@@ -90,9 +88,7 @@ struct Felt {
     on_top += o.step.on_top;
     device_faults += o.sample.faults != 0;
     sim_faults += o.step.fault;
-    falls += o.step.event.kind == task::TaskEventKind::fall_start;
     completed = completed || o.step.event.kind == task::TaskEventKind::completed;
-    progress = std::max(progress, o.step.on_top ? o.step.progress : 0.0);
   }
 };
 
@@ -133,7 +129,7 @@ struct Container::Io : SimTopics {
         shown_pub(out, graph::kTactileShown),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
-        loop(c.simulator_, *c.force_, c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr, c.reengage_s_),
+        loop(c.simulator_, *c.force_, c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr),
         cuts(c.host_.name(), "force path cut (a late tick or a device error): body re-synchronised, force back from zero"),
         rows(c.tactile_ ? c.tactile_->rows() : c.simulator_.model().proxies[0].rows),
         cols(c.tactile_ ? c.tactile_->cols() : c.simulator_.model().proxies[0].cols) {}
@@ -218,7 +214,6 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   }
   // components, configured (bad input is refused here, before anything moves)
   sim::SimParams sp = graph::sim_params(sim_p_);
-  reengage_s_ = sim_p_.number("reengage_s");
   sp.rate_hz = sched_.rate_hz;
   simulator_.configure(sp);
   force_ = graph::make_force_device(ffd_p_);
@@ -336,9 +331,6 @@ void Container::rt_main() {
 void Container::save_keyframe(const graph::Observation& o) {
   Io& io = *io_;
   simulator_.save(io.keyframe);
-  io.keyframe.sample_ns = o.sample.time_ns;
-  io.keyframe.origin_ns = io.loop.start_ns();
-  io.keyframe.reengage = io.loop.reengagement();
   io.keyframe_tick = o.seq;
   io.keyframe_full.store(true, std::memory_order_release);
 }
@@ -445,16 +437,16 @@ void Container::print_summary() {
   std::printf("%s: %s\n", name, rt::format(rt::summarize(io.stats, sched_.rate_hz)).c_str());
   const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
   std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
-              "%llu tactile frames, falls %d, progress %.2f%s; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
+              "%llu tactile frames; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
               name, felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
-              static_cast<unsigned long long>(felt.frames), felt.falls, felt.progress, felt.completed ? " (completed)" : "",
-              static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
+              static_cast<unsigned long long>(felt.frames), static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(io.dropped.load()));
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
   const std::string verdict = clock_ == rt::GraphClock::simulated ? graph::simulated_verdict(sched_.rate_hz, whole.ticks, run_ns_)
                                                                    : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts);
   std::printf("%s: verdict: %s\n", name, verdict.c_str());
-  // the clock master's lines, as enact-ffd prints them
+  // each component's lines, as its own process prints them
+  std::printf("%s: %s\n", sim_name_.c_str(), simulator_.summary().c_str());
   if (clock_ == rt::GraphClock::simulated && felt.completed) std::printf("%s: %s\n", ffd_name_.c_str(), graph::kRunOverLine);
   std::printf("%s: %s; %s\n", ffd_name_.c_str(), io.cuts.summary().c_str(), graph::safety_summary(*force_).c_str());
   if (const TactileDriver* tactile = io.loop.tactile()) std::printf("%s: %s\n", tac_name_.c_str(), tactile->summary().c_str());

@@ -68,7 +68,6 @@ class Container {
   double spin_floor_ = -1.0;  // spinning whole: what a thread spinning with no work misses here (the probe's)
   rt::GraphClock clock_ = rt::GraphClock::real;
   graph::RtConfig config_;  // its own parameters
-  double reengage_s_;
   ObserverGroup observers_;  // observer components, beside the loop
   std::vector<std::unique_ptr<LoopComponent>> stages_;  // stages of the tick, in order
   sim::Simulator simulator_;

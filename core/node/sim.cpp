@@ -1,6 +1,7 @@
 #include "core/node/sim.h"
 
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 
 #include "core/bus/loop_link.h"
@@ -83,7 +84,6 @@ struct Sim::Io : SimTopics {
 Sim::Sim(Host& host)
     : host_(host),
       config_(graph::sim_node_bindings().read(host.params())),
-      reengage_(host.params().number("reengage_s")),
       local_hop_(config_.loop_transport != "zeromq"),
       simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
   simulator_.configure(graph::sim_params(host.params()));
@@ -127,21 +127,17 @@ bool Sim::next_state(std::int64_t timeout_ns) {
 // device error cut the force) from a body re-synchronised with the device
 void Sim::answer(std::int64_t received_ns) {
   Io& io = *io_;
-  if (first_ns_ < 0) {
-    first_ns_ = state_.header().stamp_ns();
-    next_scene_ = next_status_ = next_keyframe_ = received_ns;
-  }
-  if (graph::force_path_cut(state_.faults())) reengage_.interrupt();
-  const std::int64_t step_ns = state_.header().stamp_ns() - first_ns_;
-  const sim::StepOutput& o = simulator_.step(step_ns, reengage_.position(simulator_, step_ns, graph::get(state_.position())));
+  if (steps_ == 0) next_scene_ = next_status_ = next_keyframe_ = received_ns;
+  const std::int64_t sample_ns = state_.header().stamp_ns();
+  const sim::StepOutput& o = simulator_.step_sample(sample_ns, graph::get(state_.position()), graph::force_path_cut(state_.faults()));
   graph::fill(io.command, state_.header().seq(), o.force_n, o.fault);
   io.command.set_tactile_frame_seq(o.frame_due ? io.frame_pub.last_seq() + 1 : 0);  // published just after
   io.command.set_run_over(simulated_ && o.event.kind == task::TaskEventKind::completed);
   io.force_pub.publish(io.command);
   io.stats.latency.record(rt::now_ns() - received_ns);
-  io.params.stepped(simulator_.steps(), state_.header().seq(), state_.header().stamp_ns());
+  io.params.stepped(simulator_.steps(), state_.header().seq(), sample_ns);
   ++steps_;
-  io.task_state.step(step_ns, o);
+  io.task_state.step(sample_ns, o);
   publish_outputs(o, received_ns);
 }
 
@@ -155,9 +151,7 @@ void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
     if (simulated_) io.frame.mutable_header()->set_stamp_ns(state_.header().stamp_ns());
     io.frame_pub.publish(io.frame);
   }
-  task::TaskEvent when = o.event;
-  when.time_ns += first_ns_;  // back on the device's clock
-  if (graph::fill(io.event, when, simulator_.computer_model().name)) io.event_pub.publish(io.event);
+  if (graph::fill(io.event, o.event, simulator_.computer_model().name)) io.event_pub.publish(io.event);
   if (received_ns >= next_scene_) {
     next_scene_ = received_ns + scene_period_ns_;
     graph::snapshot(simulator_, o.pins, o.force_n, io.snap);
@@ -168,9 +162,6 @@ void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
     // after this step's outputs: replay continues from here with the next state
     next_keyframe_ = received_ns + graph::kKeyframePeriod_ns;
     simulator_.save(io.keyframe);
-    io.keyframe.sample_ns = state_.header().stamp_ns();
-    io.keyframe.origin_ns = first_ns_;
-    io.keyframe.reengage = reengage_;
     graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
     io.keyframe_pub.publish(io.keyframe_msg);
   }
@@ -215,11 +206,11 @@ void Sim::restart_begins() {
 }
 
 std::string Sim::summary() const {
-  const task::Metrics m = simulator_.metrics();
-  return std::to_string(steps_) + " steps; receive-to-answer " + rt::format(rt::summarize(io_->stats, simulator_.model().rate_hz)) +
-         " Task: falls " + std::to_string(m.falls) + ", progress " + std::to_string(m.progress) + (m.completed ? " (completed)" : "") +
-         "; device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + "; re-synchronised with the device " +
-         std::to_string(reengage_.count()) + " times (largest offset " + std::to_string(reengage_.largest_offset_m() * 1e3) + " mm).";
+  const rt::LoopSummary s = rt::summarize(io_->stats, simulator_.model().rate_hz);
+  char latency[160];
+  std::snprintf(latency, sizeof latency, "receive-to-answer p50 %.2f us, p99 %.2f us, p99.9 %.2f us, max %.2f us", s.latency_p50_ns * 1e-3,
+                s.latency_p99_ns * 1e-3, s.latency_p999_ns * 1e-3, s.latency_max_ns * 1e-3);
+  return std::to_string(steps_) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + "; " + latency + ".";
 }
 
 void Sim::open_ports() {
@@ -230,8 +221,7 @@ void Sim::open_ports() {
 void Sim::activate() {
   restart_begins();
   simulator_.activate(0);
-  simulator_.save(io_->keyframe);
-  reengage_.interrupt();
+  simulator_.save(io_->keyframe);  // sized before the loop
 }
 
 void Sim::run() {
@@ -268,6 +258,7 @@ void Sim::run() {
 int Sim::deactivate() {
   simulator_.deactivate();
   graph::say(host_.name(), summary());
+  graph::say(host_.name(), simulator_.summary());
   return 0;
 }
 

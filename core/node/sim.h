@@ -10,7 +10,6 @@
 
 #include "core/node/host.h"
 #include "core/params/device_config.h"
-#include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
 
@@ -40,12 +39,11 @@ class Sim {
   Host& host_;
   sim::Simulator simulator_;
   graph::SimNodeConfig config_;
-  sim::Reengagement reengage_;
   bool local_hop_;
   bool simulated_;  // the graph's clock: the frames carry the sample's time
   std::unique_ptr<Io> io_;
   msgs::DeviceState state_;
-  std::int64_t first_ns_ = -1, next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
+  std::int64_t next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
   std::int64_t scene_period_ns_ = 0, restart_ns_ = 0;
   std::uint64_t steps_ = 0;
   int respawn_ = 0;

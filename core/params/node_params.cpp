@@ -162,7 +162,7 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
         .field([](S& s) -> double& { return s.task.min_recovery_s; },
                {.name = "min_recovery_s", .min = 0, .doc = "contact regained for less than this does not end a fall"})
         .field([](S& s) -> double& { return s.task.end_progress; }, {.name = "end_progress", .min = 0, .max = 1, .doc = "progress that completes the bridge"})
-        .declared({.name = "reengage_s", .fallback = number(sim::kReengageDefault_s), .min = 0,
+        .field(&S::reengage_s, {.name = "reengage_s", .min = 0,
                    .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"})
         .field(&S::change_ramp_s, {.name = "change_ramp_s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true})
         .field(&S::reentry_speed_m_per_s, {.name = "reentry_speed_m_per_s", .min = 0, .above_min = true, .doc = "after a live change of the force law, the body comes back out of the objects at most this fast"})

@@ -16,7 +16,6 @@
 #include "core/record/logger.h"
 #include "core/graph/temp_folder.h"
 #include "core/graph/topics.h"
-#include "core/sim/reengage.h"
 #include "core/sim/simulator.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/force_command.pb.h"
@@ -221,14 +220,11 @@ std::vector<RecordedStage> recorded_stages(record::Reader& r, const std::string&
 
 // one replay in progress: the simulator stepped on the recorded states, compared as it goes
 struct Replay {
-  Replay(Traffic& t, sim::Simulator& s, sim::Reengagement& re, sim::ParamPlanner& pl, ResimResult& o)
-      : traffic(t), sim(s), reengage(re), planner(pl), out(o), t0(t.states.front().stamp_ns) {}
+  Replay(Traffic& t, sim::Simulator& s, sim::ParamPlanner& pl, ResimResult& o) : traffic(t), sim(s), planner(pl), out(o) {}
   Traffic& traffic;
-  sim::Simulator& sim;
-  sim::Reengagement& reengage;
+  sim::Simulator& sim;  // its clock starts at the first state's stamp, or the keyframe's origin
   sim::ParamPlanner& planner;
   ResimResult& out;
-  std::int64_t t0;  // the simulator's clock starts here: the first state's stamp, or the keyframe's
   std::size_t first = 0, next_change = 0, next_frame = 0;
   msgs::TactileFrame frame;
   StageStep stages;  // the recorded loop's stages, if it had any
@@ -248,9 +244,7 @@ struct Replay {
                                      "  fix: replay it with the enact that recorded it");
     }
     sim.restore(k);
-    reengage = k.reengage;
     planner.follow(sim);
-    t0 = k.origin_ns;
     const std::vector<State>& states = traffic.states;
     while (first < states.size() && states[first].stamp_ns != start.keyframe_stamp_ns) ++first;
     ++first;
@@ -306,9 +300,8 @@ struct Replay {
         return;
       }
     }
-    if (s.cut) reengage.interrupt();
-    const std::int64_t t_ns = s.stamp_ns - t0;
-    const sim::StepOutput* o = &sim.step(t_ns, reengage.position(sim, t_ns, s.position_m));
+    const sim::StepOutput* o = &sim.step_sample(s.stamp_ns, s.position_m, s.cut);
+    const std::int64_t t_ns = s.stamp_ns - sim.origin_ns();
     if (stages) {
       staged = *o;
       stages(s.stamp_ns, t_ns, devices::ForceSample{s.stamp_ns, s.position_m, s.velocity_m_per_s, s.buttons, 0}, staged);
@@ -336,15 +329,11 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   sim::Simulator sim;
   p.declare(*node_table("enact-sim"));
   sim.configure(sim_params(p));
-  sim.activate(0);
-  // as enact-sim and enact-rt: the body re-synchronises with the device at the first step
-  // and whenever the force path was cut
-  sim::Reengagement reengage(p.number("reengage_s"));
-  reengage.interrupt();
+  sim.activate(0);  // as enact-sim and enact-rt: step_sample on each recorded state
   out.rate_hz = sim.model().rate_hz;
   out.start = start;
   sim::ParamPlanner planner(sim);
-  Replay replay(traffic, sim, reengage, planner, out);
+  Replay replay(traffic, sim, planner, out);
   // the stages a user wrote for the recorded loop, made again, each tick after the model
   out.stages = recorded_stages(r, traffic.sim_publisher);
   if (!out.stages.empty()) {

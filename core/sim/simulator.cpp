@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -45,6 +46,7 @@ int Simulator::grid_masses() const {
 
 void Simulator::configure(const SimParams& params) {
   params_ = params;
+  reengage_ = Reengagement(params.reengage_s);
   model_ = physics::load_scene(params.scene);
   if (params.rate_hz != 0.0) {
     if (params.rate_hz < 1.0 || params.rate_hz > 44000.0) throw config::Error("rate " + std::to_string(params.rate_hz) + " Hz is out of range\n  fix: use a rate from 1 to 44000 Hz");
@@ -105,6 +107,8 @@ void Simulator::activate(std::int64_t start_ns) {
   reentering_ = capture_ = settling_ = false;
   offset_left_ = offset_total_ = 0;
   out_ = {};
+  origin_ns_ = -1;
+  reengage_.interrupt();  // the force path starts here
   lifecycle_ = Lifecycle::active;
 }
 
@@ -134,6 +138,9 @@ void Simulator::pair_fields(S& s, K& k, F&& pair) {
   pair(s.reentry_step_m_, k.reentry_step_m);
   pair(s.felt_depth_m_, k.felt_depth_m);
   pair(s.felt_normal_, k.felt_normal);
+  pair(s.reengage_, k.reengage);
+  pair(s.origin_ns_, k.origin_ns);
+  pair(s.sample_ns_, k.sample_ns);
 }
 
 void Simulator::save(Keyframe& k) const {
@@ -349,6 +356,25 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const math::Vec3& device
   if (trial_change_ == TrialChange::stop) trial_running_ = false;
   trial_change_ = TrialChange::none;
   return out_;
+}
+
+const StepOutput& Simulator::step_sample(std::int64_t sample_ns, const math::Vec3& device_position_m, bool cut) {
+  if (origin_ns_ < 0) origin_ns_ = sample_ns;
+  sample_ns_ = sample_ns;
+  if (cut) reengage_.interrupt();
+  const std::int64_t t_ns = sample_ns - origin_ns_;
+  step(t_ns, reengage_.position(*this, t_ns, device_position_m));
+  if (out_.event.kind != task::TaskEventKind::none) out_.event.time_ns += origin_ns_;  // on the device's clock
+  return out_;
+}
+
+std::string Simulator::summary() const {
+  const task::Metrics m = metrics();
+  char line[256];
+  std::snprintf(line, sizeof line, "task: falls %d, progress %.2f%s; re-synchronised with the device %llu time%s (largest offset %.1f mm)", m.falls,
+                m.progress, m.completed ? " (completed)" : "", static_cast<unsigned long long>(reengage_.count()), reengage_.count() == 1 ? "" : "s",
+                reengage_.largest_offset_m() * 1e3);
+  return line;
 }
 
 }  // namespace enact::sim

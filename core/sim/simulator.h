@@ -35,6 +35,9 @@ struct SimParams {
   // launched the scripted hand off the top in a hostile burst, and it fell back hard); the
   // device profile's force step limit may make it slower still
   double reentry_speed_m_per_s = 0.01;
+  // after a cut of the force path (its start, a watchdog episode, a late tick), the body
+  // returns from out of the objects to the device over this time (Reengagement)
+  double reengage_s = kReengageDefault_s;
 };
 
 struct StepOutput {
@@ -58,7 +61,15 @@ class Simulator {
   void configure(const SimParams& params);
   void activate(std::int64_t start_ns = 0);
   void deactivate();
+  // one step at time_ns on the model's clock, the body's proxy at device_position_m
   const StepOutput& step(std::int64_t time_ns, const math::Vec3& device_position_m);
+  // one sample of the device at sample_ns on the device's clock, as every host runs the
+  // simulator (enact-sim, the co-located loop, a replay): the first sample after activate()
+  // is the model's time 0 (origin_ns); when the force path was cut (`cut`: the device's
+  // watchdog or an error) and at the first sample, the body is first re-synchronised with the
+  // device (Reengagement), so the force comes back from zero. The task event's time is on the
+  // device's clock. Allocates nothing, never throws.
+  const StepOutput& step_sample(std::int64_t sample_ns, const math::Vec3& device_position_m, bool cut);
 
   // between steps: switch the computer model
   void set_computer_model(const haptics::ComputerModel& cm);
@@ -70,9 +81,9 @@ class Simulator {
   // rest blends away over change_ramp_s. Allocates nothing, never throws.
   ParamApplied apply(const ParamChange& change, std::int64_t now_ns);
 
-  // everything it needs to continue from here (keyframe.h), into `out`: allocates nothing once
-  // `out` was filled before by this simulator. The caller sets the keyframe's sample, origin
-  // and re-synchronisation, which the simulator does not hold
+  // everything it needs to continue from here (keyframe.h: the last sample, the origin and
+  // the re-synchronisation too), into `out`: allocates nothing once `out` was filled before
+  // by this simulator
   void save(Keyframe& out) const;
   // continue from a keyframe saved by a simulator configured alike (the same scene at the same
   // rate): the next step is the one after the keyframe's
@@ -92,6 +103,11 @@ class Simulator {
   const StepOutput& output() const { return out_; }
   // steps since activate (ParamApplied::step counts the same way)
   std::uint64_t steps() const { return steps_; }
+  // the device's clock at the model's time 0 (step_sample; -1 before the first sample)
+  std::int64_t origin_ns() const { return origin_ns_; }
+  const Reengagement& reengagement() const { return reengage_; }
+  // the task's line of a host's summary: falls and progress, and the re-synchronisations
+  std::string summary() const;
 
  private:
   SimParams params_;
@@ -117,6 +133,8 @@ class Simulator {
   // a trial a change started (or reset) begins at the next step; one it stopped ends with it
   TrialChange trial_change_ = TrialChange::none;
   std::uint64_t steps_ = 0;     // steps since activate
+  Reengagement reengage_;
+  std::int64_t origin_ns_ = -1, sample_ns_ = 0;  // step_sample's first and last sample
   StepOutput out_;
   // no jolt: the body's points and contact pairs, each point's elastic force as the device
   // felt it before a change, whether some point counts its force from a re-entry depth, and

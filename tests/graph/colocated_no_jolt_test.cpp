@@ -228,7 +228,7 @@ AroundCut around(Cut cut) {
   }
   r.last_n = last;
   r.device_step_n_per_ms = device.largest_step_n_per_ms;
-  r.resyncs = loop.reengagement().count();
+  r.resyncs = simulator.reengagement().count();
   return r;
 }
 
@@ -265,7 +265,7 @@ TEST(ColocatedNoJolt, ACutAllocatesNothing) {
     allocations = guard.allocations();
   }
   EXPECT_EQ(allocations, 0u);
-  EXPECT_EQ(rig.loop->reengagement().count(), 2u);
+  EXPECT_EQ(rig.simulator.reengagement().count(), 2u);
 }
 
 TEST(ColocatedNoJolt, ARestoreInOneTickAfterASinkingModelNeverMakesTheHandFeelMore) {

@@ -38,6 +38,17 @@ TEST(BothHosts, EachComponentEndsTheSameWayAndSaysSoInTheSameWords) {
   const long frames_distributed = frames_applied(distributed), frames_colocated = frames_applied(colocated);
   EXPECT_GT(frames_colocated, 10) << colocated;
   EXPECT_LE(std::labs(frames_distributed - frames_colocated), 1L) << distributed << "\n---\n" << colocated;
+  // the simulator: the task as it ended and the body's re-synchronisations with the device (the
+  // start's), in the same words; the same model second, so the same falls and progress
+  const std::regex sim_line("(^|\\n)sim: task: falls ([0-9]+), progress ([0-9.]+)[^;\\n]*; re-synchronised with the device ([0-9]+) times? "
+                            "\\(largest offset [0-9.]+ mm\\)");
+  std::smatch d, c;
+  ASSERT_TRUE(std::regex_search(distributed, d, sim_line)) << distributed;
+  ASSERT_TRUE(std::regex_search(colocated, c, sim_line)) << colocated;
+  EXPECT_EQ(d[2], c[2]) << d[0] << "\n" << c[0];
+  EXPECT_NEAR(std::stod(d[3]), std::stod(c[3]), 0.011) << d[0] << "\n" << c[0];
+  EXPECT_EQ(d[4], "1") << d[0];
+  EXPECT_EQ(c[4], "1") << c[0];
 }
 
 // in simulated time nobody is there once the task is completed: either host ends its run at
