@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"
@@ -30,7 +31,7 @@ Loaded& loaded() {
 
 void load_plugin_library(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "there is no plugin library here", "build it (docs/components.md), or correct the path");
+  if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "there is no plugin library here", "build it (" + config::shipped("docs/components.md") + "), or correct the path");
   const std::string canonical = std::filesystem::canonical(path, ec).string();
   if (!loaded().libraries.insert(canonical).second) return;
   // never closed: its stages' code runs until the process ends

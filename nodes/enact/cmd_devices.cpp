@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/devices/device_profile.h"
 #include "core/devices/inverse3/probe.h"
 #include "core/devices/inverse3/protocol.h"
@@ -49,7 +50,7 @@ std::string profiles() {
                   p.max_stiffness_n_per_m > 0.0 ? (config::number(p.max_stiffness_n_per_m) + " N/m").c_str() : "not published");
     out += line;
   }
-  return out + "(sources, and the figures still to check: core/devices/device_profile.cpp)\n";
+  return out + "(sources, and the figures still to check: " + config::shipped("docs/devices.md") + ", \"Profiles\"; in the code: core/devices/device_profile.cpp)\n";
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/experiment/discrimination.h"
 #include "core/experiment/experiment.h"
@@ -274,7 +275,7 @@ int discrimination_run(const Args& a, FILE* term) {
   ui.note(std::to_string(r.trials_run) + " trials run" + (r.blocks_done_before ? ", " + std::to_string(r.blocks_done_before) + " blocks done before" : "") +
           (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") + "; trials: " + r.trials +
           (r.interrupted ? "\nstopped before the end: run the same command again to resume"
-                         : "\nsummary: " + r.summary + "\nfigures: scripts/psychophysics.py plot " + r.trials + " --out " + out + "/figures"));
+                         : "\nsummary: " + r.summary + "\nfigures: /usr/bin/python3 " + config::shipped("scripts/psychophysics.py") + " plot " + r.trials + " --out " + out + "/figures"));
   if (r.interrupted) return r.failed ? 1 : 130;
   return 0;
 }
@@ -359,8 +360,8 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
     running.erase(it);
   }
   if (stopping) return 130;
-  std::fprintf(stderr, "enact experiment: %d replicates done%s; power: /usr/bin/python3 scripts/power.py %s\n", done,
-               failed ? (", " + std::to_string(failed) + " did not finish (run again to resume them)").c_str() : "", out.c_str());
+  std::fprintf(stderr, "enact experiment: %d replicates done%s; power: /usr/bin/python3 %s %s\n", done,
+               failed ? (", " + std::to_string(failed) + " did not finish (run again to resume them)").c_str() : "", config::shipped("scripts/power.py").c_str(), out.c_str());
   return failed ? 1 : 0;
 }
 
@@ -412,7 +413,7 @@ int experiment_run(int argc, char** argv) {
   const experiment::RunSummary s = experiment::run_experiment(spec, out, ui);
   ui.note(std::to_string(s.run) + " trials run" + (s.skipped ? ", " + std::to_string(s.skipped) + " done before" : "") +
           (s.failed ? ", " + std::to_string(s.failed) + " failed" : "") + "; results: " + s.results +
-          (s.interrupted ? "\nstopped before the end: run the same command again to resume" : "\nanalysis: scripts/analyze.py " + s.results + " --out " + out + "/analysis"));
+          (s.interrupted ? "\nstopped before the end: run the same command again to resume" : "\nanalysis: /usr/bin/python3 " + config::shipped("scripts/analyze.py") + " " + s.results + " --out " + out + "/analysis"));
   std::fclose(term);
   if (s.interrupted) return 130;
   return s.failed ? 1 : 0;
