@@ -30,7 +30,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kExperimentHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
+constexpr const char* kExperimentHelp = R"help(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
                         [--seed S] [--replicates N [--jobs J]]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
@@ -49,7 +49,7 @@ start, q: stop here and resume later); during a trial, r + Enter records that th
 was put back at the start, a + Enter aborts the trial (it runs again); after a subject's
 last trial the subject's ranking of the conditions is asked (DIR/ranking.csv).
 
-Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
+Then: /usr/bin/python3 "$(enact share scripts/analyze.py)" DIR/results.csv --out DIR/analysis
 
 A file with `kind: discrimination` (docs/experiments.md, "Discrimination experiments") runs two-interval
 discrimination trials about a live parameter (e.g. stiffness_n_per_m) under constant
@@ -62,7 +62,7 @@ device's button 1 or 2. graph: false runs virtual observers without a graph. Res
 DIR/trials.csv (one row per trial, at once, with the response time) and DIR/summary.csv
 (per subject and condition: the fitted JND, its profile-likelihood and bootstrap 95 %
 intervals, the Weber fraction). Run again to resume.
-Then: scripts/psychophysics.py plot DIR/trials.csv --out DIR/figures
+Then: /usr/bin/python3 "$(enact share scripts/psychophysics.py)" plot DIR/trials.csv --out DIR/figures
 
 options:
   --subjects N          N subjects (ids 1..N) instead of the file's
@@ -80,11 +80,11 @@ options:
   --replicates N        virtual subjects, simulated time: N independent replicates of the whole
                         experiment (replicate k: fresh subjects and noise from a seed derived
                         from the file's and k), into DIR/replicate_001 ... each resumable, J at
-                        once (--jobs, default: one per CPU); then scripts/power.py DIR gives the
+                        once (--jobs, default: one per CPU); then scripts/power.py DIR (enact share) gives the
                         virtual baseline's power against the number of subjects
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
-)";
+)help";
 
 std::string clock_text(double s) {
   const long total = static_cast<long>(s + 0.5);
