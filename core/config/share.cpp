@@ -25,10 +25,12 @@ bool below(const fs::path& inside, const fs::path& folder) {
   return !b.empty() && end == b.end();
 }
 
-// the candidate of `path` under a root: docs/NAME in its docs folder, the rest in its data
+// the candidate of `path` under a root: docs/NAME in its docs folder, core/... in its headers,
+// the rest in its data
 fs::path under(const ShareRoot& root, const fs::path& path) {
   const auto first = path.begin();
   if (first != path.end() && *first == "docs") return fs::path(root.docs) / path.lexically_relative("docs");
+  if (first != path.end() && *first == "core") return fs::path(root.headers) / path;
   return fs::path(root.data) / path;
 }
 
@@ -55,12 +57,13 @@ std::vector<ShareRoot> share_roots() {
   std::error_code ec;
   const fs::path prefix = self.parent_path();
   if (fs::is_directory(prefix / kShareDir, ec)) {
-    roots.push_back({(prefix / kShareDir).lexically_normal().string(), (prefix / kDocDir).lexically_normal().string(), "the installed share"});
+    roots.push_back({(prefix / kShareDir).lexically_normal().string(), (prefix / kDocDir).lexically_normal().string(),
+                     (prefix / kIncludeDir).lexically_normal().string(), "the installed share"});
   }
 #if defined(ENACT_SOURCE_DIR) && defined(ENACT_BINARY_DIR)
   // an executable of the build this library was compiled for: its source tree
   if (below(self, ENACT_BINARY_DIR) && fs::is_directory(ENACT_SOURCE_DIR, ec)) {
-    roots.push_back({ENACT_SOURCE_DIR, (fs::path(ENACT_SOURCE_DIR) / "docs").string(), "the source tree of this build"});
+    roots.push_back({ENACT_SOURCE_DIR, (fs::path(ENACT_SOURCE_DIR) / "docs").string(), ENACT_SOURCE_DIR, "the source tree of this build"});
   }
 #endif
   return roots;

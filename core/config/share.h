@@ -6,7 +6,8 @@
 // A path is taken as written (absolute, or relative to where the user stands), else beside the
 // file that names it, else in enact's share: the installed one (<prefix>/share/enact, found from
 // the running executable, <prefix>/bin/...) and, for an executable of a build, the source tree
-// it was built from. `docs/NAME` is <prefix>/share/doc/enact/NAME when installed.
+// it was built from. Installed, `docs/NAME` is <prefix>/share/doc/enact/NAME and a header
+// `core/...` is <prefix>/include/enact/core/... (what a plugin includes).
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,11 +17,14 @@ namespace enact::config {
 // where an installed enact's data is, relative to the prefix (CMakeLists.txt installs it there)
 inline constexpr const char* kShareDir = "share/enact";
 inline constexpr const char* kDocDir = "share/doc/enact";
+inline constexpr const char* kIncludeDir = "include/enact";
 
-// one place enact's files may be: `data` holds launch/, scripts/, examples/, `docs` the docs
+// one place enact's files may be: `data` holds launch/, scripts/, examples/, `docs` the docs,
+// `headers` core/'s headers
 struct ShareRoot {
   std::string data;
   std::string docs;
+  std::string headers;
   const char* what;  // "the installed share", "the source tree (this is a build's enact)"
 };
 

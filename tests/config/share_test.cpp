@@ -41,6 +41,7 @@ TEST(Share, AShippedFileIsFoundFromAnotherFolderInTheSourceTreeOfThisBuild) {
   EXPECT_EQ(config::find_file("launch/scenes/bridge.yaml"), source("launch/scenes/bridge.yaml"));
   EXPECT_EQ(config::shipped("scripts/power.py"), source("scripts/power.py"));
   EXPECT_EQ(config::shipped("docs/scenes-and-models.md"), source("docs/scenes-and-models.md"));
+  EXPECT_EQ(config::shipped("core/node/loop_component.h"), source("core/node/loop_component.h"));
   EXPECT_EQ(config::shipped("scripts/nothing.py"), "scripts/nothing.py") << "a hint keeps what no root has as written";
 }
 

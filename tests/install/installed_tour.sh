@@ -124,6 +124,8 @@ holds "$out" "$prefix/share/doc/enact/scenes-and-models.md"
 [ -f "$prefix/share/doc/enact/scenes-and-models.md" ] || fail "the docs are not installed"
 out=$(enact devices --profiles)
 holds "$out" "$prefix/share/doc/enact/devices.md"
+[ "$(enact share core/node/loop_component.h)" = "$prefix/include/enact/core/node/loop_component.h" ] || fail "the plugin header is not installed"
+[ "$(enact share docs/components.md)" = "$prefix/share/doc/enact/components.md" ] || fail "the docs are not installed"
 for script in analyze psychophysics power agreement graph_deadlines make_ridge plot_bench attach_example; do
   out=$(enact share "scripts/$script.py")
   [ -x "$out" ] || fail "scripts/$script.py: $out is not an installed program"
