@@ -14,6 +14,7 @@ report. Arguments after `--` go to enact launch.
 import argparse
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -29,9 +30,16 @@ PROFILE = re.compile(r"^enact launch: (real-time profile: .*)$", re.M)
 FLOOR = re.compile(r"^enact launch: (this machine wakes .*?): enact doctor", re.M)
 
 
+def default_enact():
+    """the build's enact beside this script's tree, else (installed) the enact on PATH"""
+    built = os.path.join(os.environ.get("ENACT_BUILD_DIR", os.path.join(ROOT, "build")), "nodes/enact/enact")
+    return built if os.path.exists(built) else shutil.which("enact") or built
+
+
 def one_run(enact, launch_file, duration, extra):
     cmd = [enact, "launch", launch_file, "--duration", str(duration)] + extra
-    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    # from where the user stands: enact finds the shipped launch files itself (enact share)
+    done = subprocess.run(cmd, capture_output=True, text=True)
     out = done.stderr + done.stdout
     lat, verdict = LATENCY.search(out), VERDICT.search(out)
     if done.returncode != 0 or not lat or not verdict:
@@ -63,7 +71,7 @@ def main():
     p.add_argument("launch_file", nargs="?", default="launch/bridge.yaml")
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--duration", type=float, default=10.0)
-    p.add_argument("--enact", default=os.path.join(os.environ.get("ENACT_BUILD_DIR", os.path.join(ROOT, "build")), "nodes/enact/enact"))
+    p.add_argument("--enact", default=default_enact())
     a = p.parse_args(argv)
     if a.runs < 1 or a.duration <= 0:
         p.error("--runs must be >= 1 and --duration > 0")

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Run the shell examples of README.md and docs/*.md that are marked runnable.
 
-Usage: scripts/run_doc_examples.py [--list] [--only FILE[:LINE]] [--build DIR] [--root DIR] [--keep] [FILE.md...]
+Usage: scripts/run_doc_examples.py [--list] [--only FILE[:LINE]] [--build DIR | --installed PREFIX] [--root DIR] [--keep] [FILE.md...]
 
 A block is runnable when the line right before its ```sh fence is a marker, an HTML comment
 GitHub does not show:
@@ -30,6 +30,11 @@ one file share that folder in order (a later block may use an earlier block's re
 each file starts in a fresh one. A file stops at its first failing block. Without a display
 option, DISPLAY is unset (a snapshot renders offscreen). A block running enact-viewer is
 skipped when the build has none (ENACT_VIEWER=OFF).
+
+--installed PREFIX runs the blocks as a user of an installed enact does (cmake --install
+build --prefix PREFIX): each file's folder is an empty folder of one's own (nothing of the
+repository in it), PATH is PREFIX/bin then /usr/bin:/bin, so every file a block names is
+found as the installed tool finds it (tests/install/installed_tour.sh).
 
 --list lists every sh block, marked or not, and the count per file; --only FILE runs one
 file's blocks, FILE:LINE the blocks of FILE up to the one at LINE (the ones before it make
@@ -226,20 +231,25 @@ def stop_group(process, first=signal.SIGTERM):
 class Folder:
     """a file's temporary folder: a view of the repository's top, a HOME, a registry"""
 
-    def __init__(self, root, build, keep):
+    def __init__(self, root, build, keep, installed=None):
         self.base = pathlib.Path(tempfile.mkdtemp(prefix='enact-docs-'))
         self.keep = keep
         self.top = self.base / 'top'
         self.top.mkdir()
-        for entry in root.iterdir():
-            if entry.name not in ('.git', 'build'):
-                (self.top / entry.name).symlink_to(entry)
-        (self.top / 'build').symlink_to(build)
         for name in ('home', 'registry'):
             (self.base / name).mkdir()
-        nodes = sorted(str(d) for d in (build / 'nodes').glob('*') if d.is_dir())
-        self.env = dict(os.environ, HOME=str(self.base / 'home'), ENACT_REGISTRY=str(self.base / 'registry'),
-                        PATH=os.pathsep.join(nodes + [os.environ.get('PATH', '')]))
+        if installed:
+            # a folder of one's own, the installed tool only
+            self.viewer = installed / 'bin' / 'enact-viewer'
+            path = [str(installed / 'bin'), '/usr/bin', '/bin']
+        else:
+            for entry in root.iterdir():
+                if entry.name not in ('.git', 'build'):
+                    (self.top / entry.name).symlink_to(entry)
+            (self.top / 'build').symlink_to(build)
+            self.viewer = build / 'nodes/enact-viewer/enact-viewer'
+            path = sorted(str(d) for d in (build / 'nodes').glob('*') if d.is_dir()) + [os.environ.get('PATH', '')]
+        self.env = dict(os.environ, HOME=str(self.base / 'home'), ENACT_REGISTRY=str(self.base / 'registry'), PATH=os.pathsep.join(path))
         for name in ('DISPLAY', 'WAYLAND_DISPLAY', 'SDL_VIDEODRIVER'):
             self.env.pop(name, None)
 
@@ -276,7 +286,7 @@ def start_beside(block, log, folder):
 
 def run_block(block, folder):
     """None when the block ran as documented, else what went wrong"""
-    if 'enact-viewer' in '\n'.join(block.code) and not (folder.top / 'build/nodes/enact-viewer/enact-viewer').exists():
+    if 'enact-viewer' in '\n'.join(block.code) and not folder.viewer.exists():
         print(f'{block.where}: skipped: this build has no enact-viewer (ENACT_VIEWER=OFF)')
         return None
     files = {kind: folder.base / f'block-{block.line}.{kind}' for kind in ('sh', 'lines', 'log', 'beside')}
@@ -322,9 +332,9 @@ def describe(block, problem, trace, output):
             f'  the block as run (bash -e -o pipefail):\n{as_run}  its output:\n{said}')
 
 
-def run_file(blocks, root, build, keep):
+def run_file(blocks, root, build, keep, installed=None):
     """runs a file's blocks in order in one folder; the number that failed (0 or 1)"""
-    folder = Folder(root, build, keep)
+    folder = Folder(root, build, keep, installed)
     try:
         for block in blocks:
             print(f'{block.where}: running', flush=True)
@@ -378,6 +388,7 @@ def main():
     parser.add_argument('files', nargs='*', help='markdown files (default: README.md and docs/*.md)')
     parser.add_argument('--root', default=str(ROOT), help='the repository (default: this script\'s ..)')
     parser.add_argument('--build', default=os.environ.get('ENACT_BUILD_DIR'), help='the build folder (default $ENACT_BUILD_DIR, else ROOT/build)')
+    parser.add_argument('--installed', metavar='PREFIX', help='run the blocks with the enact installed in PREFIX, from a folder of their own')
     parser.add_argument('--list', action='store_true', help='list the sh blocks, runnable or not, and the counts')
     parser.add_argument('--only', metavar='FILE[:LINE]', help='one file, or its blocks up to the one at LINE')
     parser.add_argument('--keep', action='store_true', help='keep the temporary folders (their path is printed)')
@@ -398,10 +409,14 @@ def main():
     if args.list:
         list_blocks(files)
         return 0
-    if not build.is_dir():
+    installed = pathlib.Path(args.installed).resolve() if args.installed else None
+    if installed and not (installed / 'bin' / 'enact').is_file():
+        print(f'{installed}: no installed enact (bin/enact)\n  fix: cmake --install build --prefix {installed}', file=sys.stderr)
+        return 2
+    if not installed and not build.is_dir():
         print(f'{build}: no build folder\n  fix: build first (scripts/build.sh), or give --build DIR', file=sys.stderr)
         return 2
-    failed = sum(run_file([b for b in blocks if b.runnable], root, build, args.keep) for blocks in files.values() if any(b.runnable for b in blocks))
+    failed = sum(run_file([b for b in blocks if b.runnable], root, build, args.keep, installed) for blocks in files.values() if any(b.runnable for b in blocks))
     print(f'{failed} file(s) with a failing example' if failed else 'every runnable example ran as documented')
     return 1 if failed else 0
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::devices {
@@ -100,7 +101,8 @@ double trait(math::Random& r, double spread) { return std::clamp(std::exp(spread
 
 }  // namespace
 
-SubjectParams load_subject(const std::string& path) {
+SubjectParams load_subject(const std::string& given) {
+  const std::string path = config::find_file(given);
   const YAML::Node root = config::load_file(path);
   const config::Map m(root, path, "subject",
                       {"name", "route", "speed_m_per_s", "press_n", "descend_m_per_s", "search_m_per_s", "climb_m_per_s", "push_n",

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/experiment/discrimination_graph.h"
 #include "core/experiment/trial_graph.h"
@@ -138,11 +139,12 @@ const char* const kDiscriminationSummaryHeader =
     "subject,condition,order,trials,jnd,jnd_low,jnd_high,bootstrap_low,bootstrap_high,weber_fraction,lapse,spread,true_jnd";
 
 bool is_discrimination(const std::string& path) {
-  const YAML::Node root = config::load_file(path);
+  const YAML::Node root = config::load_file(config::find_file(path));
   return root.IsMap() && root["kind"] && root["kind"].IsScalar() && root["kind"].Scalar() == "discrimination";
 }
 
-DiscriminationSpec load_discrimination(const std::string& path) {
+DiscriminationSpec load_discrimination(const std::string& given) {
+  const std::string path = config::find_file(given);
   const YAML::Node root = config::load_file(path);
   const config::Map m(root, path, "discrimination experiment",
                       {"name", "description", "kind", "seed", "subjects", "conditions", "order", "parameter", "reference", "procedures",

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "core/config/number.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/math/random.h"
 #include "core/devices/virtual_subject.h"
@@ -23,10 +24,23 @@ namespace fs = std::filesystem;
 // seeds are below this: a node parameter carries whole numbers up to 1e9
 constexpr std::uint64_t kSeedRange = 1'000'000'000;
 
-// a path written in the experiment file, relative to it
-std::string beside(const std::string& file, const std::string& path) {
+// a value of the experiment file with $(dirname) (the file's folder, as in launch files: files
+// beside the experiment) and $(share) (enact's shipped files, config/share.h) substituted
+std::string substitute(const std::string& file, std::string value) {
+  for (const std::string_view name : {"$(dirname)", "$(share)"}) {
+    if (value.find(name) == std::string::npos) continue;
+    const std::string folder = name == "$(share)" ? config::share_dir() : fs::absolute(file).parent_path().lexically_normal().string();
+    for (std::size_t at = value.find(name); at != std::string::npos; at = value.find(name, at + folder.size())) value.replace(at, name.size(), folder);
+  }
+  return value;
+}
+
+// a path written in the experiment file, relative to it (else in enact's share, config/share.h)
+std::string beside(const std::string& file, const std::string& written_path) {
+  const std::string path = substitute(file, written_path);
   const fs::path p(path);
-  return (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
+  const std::string written = (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
+  return config::locate(path, file).value_or(written);
 }
 
 // a preset, or a computer-model file relative to the experiment file; errors at its line
@@ -96,12 +110,13 @@ const char* to_string(TrialKind kind) {
   return "measured";
 }
 
-ExperimentSpec load_experiment(const std::string& path) {
+ExperimentSpec load_experiment(const std::string& given) {
+  const std::string path = config::find_file(given);
   const YAML::Node root = config::load_file(path);
   const config::Map m(root, path, "experiment",
                       {"name", "description", "kind", "seed", "subjects", "virtual_subject", "conditions", "order", "limit_s",
                        "familiarisation_s", "practice_s", "graph", "launch_args"});
-  if (m.text("kind", "bridge") != "bridge") m.fail("kind", "a bridge experiment's kind is bridge", "write kind: bridge, or kind: discrimination with its own keys (docs/experiments.md, \"Discrimination experiments\")");
+  if (m.text("kind", "bridge") != "bridge") m.fail("kind", "a bridge experiment's kind is bridge", "write kind: bridge, or kind: discrimination with its own keys (" + config::shipped("docs/experiments.md") + ", \"Discrimination experiments\")");
   ExperimentSpec s;
   s.file = fs::absolute(path).lexically_normal().string();
   s.name = m.text("name", fs::path(path).stem().string());
@@ -136,11 +151,8 @@ void read_trial_graph(const config::Map& m, const std::vector<std::string>& need
     if (!given.IsMap()) m.fail("launch_args", "launch_args must be a mapping", "write launch_args: {rate_hz: 5000}");
     for (const auto& kv : given) {
       if (!kv.second.IsScalar()) config::fail(path, kv.second, "launch argument '" + kv.first.Scalar() + "' must be a single value", "write NAME: VALUE");
-      // $(dirname): the experiment file's folder, as in launch files (files beside the experiment)
-      std::string value = kv.second.Scalar();
-      const std::string folder = fs::absolute(path).parent_path().lexically_normal().string();
-      constexpr std::string_view kDirname = "$(dirname)";
-      for (std::size_t at = value.find(kDirname); at != std::string::npos; at = value.find(kDirname, at + folder.size())) value.replace(at, kDirname.size(), folder);
+      // files beside the experiment, or shipped ones
+      const std::string value = substitute(path, kv.second.Scalar());
       args.emplace_back(kv.first.Scalar(), value);
     }
   }

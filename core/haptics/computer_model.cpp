@@ -1,6 +1,7 @@
 #include "core/haptics/computer_model.h"
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 
@@ -66,8 +67,9 @@ ComputerModel resolve_computer_model(const std::string& name_or_path, int masses
     throw config::Error("unknown preset " + name_or_path + config::did_you_mean(name_or_path, preset_names()) + "\n  fix: use a preset (" + names +
                         ") or a YAML file defining a computer model");
   }
-  const YAML::Node root = config::load_file(name_or_path);
-  const config::Map m(root, name_or_path, "computer model", {"name", "description", "force", "pins", "pin_masses", "threshold_m"});
+  const std::string path = config::find_file(name_or_path);
+  const YAML::Node root = config::load_file(path);
+  const config::Map m(root, path, "computer model", {"name", "description", "force", "pins", "pin_masses", "threshold_m"});
   ComputerModel cm;
   cm.name = m.text("name");
   parse_force(m, masses, cm);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::launch {
@@ -32,7 +33,7 @@ std::string source_of(const Scope& scope, const YAML::Node& at) {
   return line;
 }
 
-// $(var NAME), $(env NAME [DEFAULT]) and $(dirname) in a scalar
+// $(var NAME), $(env NAME [DEFAULT]), $(dirname) and $(share) in a scalar
 std::string substitute(const Scope& scope, const YAML::Node& at, const std::string& text) {
   std::string out;
   std::size_t pos = 0;
@@ -40,7 +41,7 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
     const std::size_t open = text.find("$(", pos);
     if (open == std::string::npos) return out + text.substr(pos);
     const std::size_t close = text.find(')', open);
-    if (close == std::string::npos) config::fail(scope.file, at, "unclosed substitution in '" + text + "'", "write $(var NAME), $(env NAME) or $(dirname)");
+    if (close == std::string::npos) config::fail(scope.file, at, "unclosed substitution in '" + text + "'", "write $(var NAME), $(env NAME), $(dirname) or $(share)");
     out += text.substr(pos, open - pos);
     std::string expr = text.substr(open + 2, close - open - 2);
     const std::size_t space = expr.find(' ');
@@ -48,6 +49,13 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
     const std::string rest = space == std::string::npos ? "" : expr.substr(space + 1);
     if (kind == "dirname") {
       out += fs::absolute(scope.file).parent_path().string();
+    } else if (kind == "share") {
+      // enact's shipped files: <prefix>/share/enact, or the source tree of a build (config/share.h)
+      try {
+        out += config::share_dir();
+      } catch (const config::Error& e) {
+        throw config::Error(scope.file + ":" + std::to_string(at.Mark().line + 1) + ": " + e.what());
+      }
     } else if (kind == "var") {
       const auto it = scope.vars.find(rest);
       if (it == scope.vars.end()) config::fail(scope.file, at, "unknown launch argument '" + rest + "'", "declare it first: - arg: {name: " + rest + ", default: ...}");
@@ -59,7 +67,7 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
       if (!value && sep == std::string::npos) config::fail(scope.file, at, "environment variable '" + name + "' is not set", "set it, or give a default: $(env " + name + " DEFAULT)");
       out += value ? value : rest.substr(sep + 1);
     } else {
-      config::fail(scope.file, at, "unknown substitution '$(" + expr + ")'", "use $(var NAME), $(env NAME [DEFAULT]) or $(dirname)");
+      config::fail(scope.file, at, "unknown substitution '$(" + expr + ")'", "use $(var NAME), $(env NAME [DEFAULT]), $(dirname) or $(share)");
     }
     pos = close + 1;
   }
@@ -83,7 +91,7 @@ std::vector<Param> pairs(const Scope& scope, const Map& m, const char* key) {
 // a YAML file of `name: value` lines
 std::vector<Param> param_file(const Scope& scope, const Map& m) {
   const std::string path = scalar(scope, m.get("param_file"), "param_file");
-  const fs::path full = fs::path(path).is_absolute() ? fs::path(path) : fs::absolute(scope.file).parent_path() / path;
+  const fs::path full = config::find_file(path, scope.file);
   const YAML::Node root = config::load_file(full.string());
   std::vector<Param> out;
   for (const auto& kv : root) {
@@ -241,8 +249,7 @@ struct Loader {
   void include(const Scope& scope, const YAML::Node& y) {
     const Map m(y, scope.file, "include", {"file", "arg"});
     const std::string file = scalar(scope, m.get("file"), "file");
-    const fs::path full = fs::path(file).is_absolute() ? fs::path(file) : fs::absolute(scope.file).parent_path() / file;
-    const std::string path = full.lexically_normal().string();
+    const std::string path = fs::absolute(config::find_file(file, scope.file)).lexically_normal().string();
     for (const std::string& open : stack) {
       if (open == path) m.fail("file", "include cycle: " + path + " includes itself (directly or through others)", "remove the include that leads back to it");
     }
@@ -351,7 +358,7 @@ ExecResolver default_resolver() {
 
 LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args, const ExecResolver& resolve) {
   Loader loader{resolve, {}, {}, {}, {}};
-  loader.file_(path, args, true);
+  loader.file_(config::find_file(path), args, true);
   loader.check_realtime();
   if (loader.out.nodes.empty()) throw config::Error(path + ": the launch file starts no node\n  fix: add - node: or - container: entries");
   return loader.out;

@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"
@@ -30,7 +31,7 @@ Loaded& loaded() {
 
 void load_plugin_library(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "there is no plugin library here", "build it (docs/components.md), or correct the path");
+  if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "there is no plugin library here", "build it (" + config::shipped("docs/components.md") + "), or correct the path");
   const std::string canonical = std::filesystem::canonical(path, ec).string();
   if (!loaded().libraries.insert(canonical).second) return;
   // never closed: its stages' code runs until the process ends
@@ -46,11 +47,11 @@ void load_plugin_library(const std::string& path) {
   const auto add = reinterpret_cast<Register>(dlsym(lib, "enact_register_plugins"));
   if (!abi || !add) {
     refuse(path, "is not an enact plugin library (it exports no enact_plugin_abi or enact_register_plugins)",
-           "export both as extern \"C\" (core/node/loop_component.h, examples/plugins/guide_spring.cpp)");
+           "export both as extern \"C\" (" + config::shipped("core/node/loop_component.h") + ", " + config::shipped("examples/plugins/guide_spring.cpp") + ")");
   }
   if (abi() != kPluginAbi) {
     refuse(path, "was built against plugin ABI " + std::to_string(abi()) + ", this enact has " + std::to_string(kPluginAbi),
-           "rebuild it against this enact's core/node/loop_component.h");
+           "rebuild it against this enact's " + config::shipped("core/node/loop_component.h"));
   }
   PluginRegistry registry;
   add(registry);

@@ -6,6 +6,7 @@
 #include "core/launch/check.h"
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/devices/falcon/falcon_device.h"
 #include "core/devices/inverse3/inverse3_device.h"
 #include "core/devices/metec/metec_device.h"
@@ -125,7 +126,7 @@ void check_components(const launch::NodeSpec& n, std::vector<std::string>& probl
   for (const launch::ComponentSpec& c : n.components) {
     if (!c.library.empty() && !std::filesystem::is_regular_file(c.library)) {
       problems.push_back(line_of(c) + ": node '" + n.name + "': component '" + c.name + "': there is no plugin library '" + c.library +
-                         "'\n  fix: build it (docs/components.md), or correct the path (relative to where enact runs; $(dirname) is the launch file's folder)");
+                         "'\n  fix: build it (" + config::shipped("docs/components.md") + "), or correct the path (relative to where enact runs; $(dirname) is the launch file's folder)");
     }
     if (!c.library.empty() && !find_component_kind(c.plugin)) continue;
     list.emplace_back(c.name, c.plugin);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "core/config/share.h"
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/physics/mesh_file.h"
@@ -442,7 +443,8 @@ std::vector<std::string> files_beside_scene(const std::string& path) {
   return files;
 }
 
-Model load_scene(const std::string& path) {
+Model load_scene(const std::string& given) {
+  const std::string path = config::find_file(given);
   const YAML::Node root = config::load_file(path);
   Loader loader{path, {}};
   const Map scene(root, path, "scene",

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/config/env.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::rt {
@@ -183,7 +184,7 @@ LauncherProfile::LauncherProfile(const GraphProfile& profile, ProfileSystem syst
     else {
       latency_fd_ = -1;
       notes_.push_back(refused_going_on("CPU latency request (" + std::string(kLatencyDevice) + ")", err,
-                               "run as root, or let your user write it (scripts/udev/99-enact-cpu-latency.rules)"));
+                               "run as root, or let your user write it (" + config::shipped("scripts/udev/99-enact-cpu-latency.rules") + ")"));
     }
   }
   // SCHED_FIFO: try it here and go back, so that a refusal is said once, not once per node

@@ -14,6 +14,8 @@
 #include <fstream>
 #include <thread>
 
+#include "core/config/share.h"
+
 namespace enact::rt {
 namespace {
 
@@ -120,7 +122,7 @@ Check udev_rules() {
     if (std::filesystem::exists(std::string(dir) + "/99-enact.rules")) return {"usb_udev", Level::ok, std::string(dir) + "/99-enact.rules installed (Novint Falcon, Metec cells)"};
   }
   return {"usb_udev", Level::warn, "no udev rules for the Novint Falcon and Metec cells: only root can open them; "
-                                   "fix: sudo cp scripts/udev/99-enact.rules /etc/udev/rules.d/ && sudo udevadm control --reload, then replug"};
+                                   "fix: sudo cp " + config::shipped("scripts/udev/99-enact.rules") + " /etc/udev/rules.d/ && sudo udevadm control --reload, then replug"};
 }
 
 Check brltty() {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::sim {
@@ -30,7 +31,7 @@ struct Key {
 }  // namespace
 
 task::Trajectory scripted_path(const Simulator& sim, double press) {
-  if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <object>} (docs/scenes-and-models.md, \"The task\") or give --input");
+  if (!sim.has_task()) throw config::Error(sim.model().source + ": the scene has no task path\n  fix: add task: {surface: <object>} (" + config::shipped("docs/scenes-and-models.md") + ", \"The task\") or give --input");
   const physics::PathGeometry& along = sim.model().task_path;
   const task::Polyline& path = sim.path();
   const double length = path.length_m();

@@ -9,6 +9,7 @@
 
 #include "core/config/format.h"
 #include "core/config/number.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::task {
@@ -32,7 +33,8 @@ math::Vec3 Trajectory::at(double t) const {
   return position_m[i - 1] + (position_m[i] - position_m[i - 1]) * a;
 }
 
-Trajectory load_trajectory(const std::string& path) {
+Trajectory load_trajectory(const std::string& given) {
+  const std::string path = config::find_file(given);
   std::ifstream in(path);
   if (!in) throw config::Error(path + ": cannot open the trajectory\n  fix: check the path");
   Trajectory tr;

@@ -4,8 +4,9 @@
 // first virtual fixture of a training study. Spring and damper are passive; the cap bounds
 // what it adds, and the device's safety layer still limits the sum.
 //
-// Built with enact (examples/CMakeLists.txt) into libenact_guide_spring.so; a launch file
-// names it in the container's component list:
+// Built in enact's tree, or on its own against an installed enact (find_package(enact):
+// CMakeLists.txt beside it), into libenact_guide_spring.so; a launch file names it in the
+// container's component list:
 //   - {name: guide, plugin: guide_spring, library: PATH/libenact_guide_spring.so,
 //      param: [{name: anchor_m, value: "0,0,0.05"}, {name: stiffness_n_per_m, value: "40"}]}
 #include <memory>

@@ -138,7 +138,7 @@ errors (deterministic, no damping added):
   samples around them; zero crossings are interpolated linearly.
 
 options:
-  --json FILE   also write the results as JSON (plot: scripts/plot_bench.py FILE)
+  --json FILE   also write the results as JSON (plot: scripts/plot_bench.py FILE, enact share)
   --quick       3 repetitions of at least 0.05 s, 10^5 bounce steps
   --scene PATH  bridge scene (default launch/scenes/bridge.yaml, from the current
                 directory, else from the source tree above the executable)

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 
 #include "core/config/number.h"
 #include "core/config/suggest.h"
@@ -91,21 +90,6 @@ std::vector<std::string> take_repeated(int& argc, char** argv, const std::string
   }
   argc = kept;
   return out;
-}
-
-std::string find_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(path, ec) || fs::path(path).is_absolute()) return path;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec).parent_path();
-  if (ec) return path;
-  // a build's (<build>/nodes/enact/enact: the source tree above), an installed one's
-  // (<prefix>/bin/enact: <prefix>/share/enact)
-  for (const fs::path& root : {self / "../../..", self / ".." / kDataDir}) {
-    const fs::path candidate = (root / path).lexically_normal();
-    if (fs::exists(candidate, ec)) return candidate.string();
-  }
-  return path;
 }
 
 std::optional<rt::GraphClock> clock_option(const Args& a) {

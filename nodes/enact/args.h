@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/config/lists.h"
+#include "core/config/share.h"
 #include "core/rt/clock.h"
 
 namespace enact::cli {
@@ -46,14 +47,9 @@ std::vector<std::string> take_repeated(int& argc, char** argv, const std::string
 // --clock real|simulated, when given (UsageError for another value)
 std::optional<rt::GraphClock> clock_option(const Args& a);
 
-// where an installed enact's launch files, scenes, paths, experiments and scripts are,
-// relative to the prefix (CMakeLists.txt installs them there)
-inline constexpr const char* kDataDir = "share/enact";
-
-// a file as given, else relative to the source tree above the executable (a build's:
-// build/nodes/enact/enact) or to the installed data beside it (<prefix>/bin/enact:
-// <prefix>/share/enact): so that `enact launch launch/bridge_rt.yaml` and the benchmarks find
-// launch/... from anywhere
-std::string find_file(const std::string& path);
+// a file as given, else in enact's share (the installed <prefix>/share/enact, or the source tree
+// of a build): `enact launch launch/bridge_rt.yaml` finds launch/... from anywhere
+// (core/config/share.h); config::Error listing where it looked when none has it
+using config::find_file;
 
 }  // namespace enact::cli

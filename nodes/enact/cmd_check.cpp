@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/haptics/computer_model.h"
 #include "core/sim/params.h"
@@ -133,8 +134,8 @@ void write_json(const physics::Model& m, const physics::StabilityReport& r, cons
 // refusal give): every body point feeding, whatever the computer model
 void print_live_envelope(const physics::Model& m) {
   std::printf("\nlive changes  enact param set keeps K T/2 + B with every body point feeding (any computer model may be switched to)\n"
-              "              at most %.2f N s/m (the device damping b, or this scene as loaded if larger; docs/parameters.md)\n",
-              sim::passivity_envelope(m));
+              "              at most %.2f N s/m (the device damping b, or this scene as loaded if larger; %s)\n",
+              sim::passivity_envelope(m), config::shipped("docs/parameters.md").c_str());
 }
 
 void print_deformable(const physics::Proxy& p) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/devices/device_profile.h"
 #include "core/devices/inverse3/probe.h"
 #include "core/devices/inverse3/protocol.h"
@@ -20,7 +21,7 @@ List the supported devices on this machine, and say what is missing for those ab
 - on the USB bus: a Novint Falcon (device: falcon) and Metec Braille cells (device: metec),
   with their USB id, device file, serial, and whether enact may open them. When one may not
   (permission denied), prints the udev rules that give the logged-in user access, and how to
-  install them (scripts/udev/99-enact.rules);
+  install them (the file: enact share scripts/udev/99-enact.rules);
 - Force Dimension devices (device: dhd) through the Force Dimension SDK's libdhd, loaded now;
 - OpenHaptics devices such as a 3D Systems Touch (device: hd) through libHD, loaded now;
 - a Haply Inverse3 (device: inverse3) through the Haply Inverse Service on this machine.
@@ -49,7 +50,7 @@ std::string profiles() {
                   p.max_stiffness_n_per_m > 0.0 ? (config::number(p.max_stiffness_n_per_m) + " N/m").c_str() : "not published");
     out += line;
   }
-  return out + "(sources, and the figures still to check: core/devices/device_profile.cpp)\n";
+  return out + "(sources, and the figures still to check: " + config::shipped("docs/devices.md") + ", \"Profiles\"; in the code: core/devices/device_profile.cpp)\n";
 }
 
 }  // namespace

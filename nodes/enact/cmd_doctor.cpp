@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/config/share.h"
 #include "core/rt/clock.h"
 #include "core/rt/histogram.h"
 #include "core/rt/probe.h"
@@ -93,8 +94,8 @@ void machine_section(bool fresh) {
   if (p.fifo_permitted && p.sleep_late_fifo.p99_ns * 10 >= late_p99 * 9) {
     ++tips;
     std::printf("  - SCHED_FIFO wakes no sooner here (%.1f against %.1f us p99, the machine quiet); it still keeps other threads off the "
-                "loop's CPU: scripts/graph_deadlines.py compares the shipped fifo_priority 80 with -- --arg fifo_priority=0 on this machine\n",
-                rt::to_us(p.sleep_late_fifo.p99_ns), rt::to_us(late_p99));
+                "loop's CPU: /usr/bin/python3 %s compares the shipped fifo_priority 80 with -- --arg fifo_priority=0 on this machine\n",
+                rt::to_us(p.sleep_late_fifo.p99_ns), rt::to_us(late_p99), config::shipped("scripts/graph_deadlines.py").c_str());
   }
   if (p.cpus < 2) {
     ++tips;

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/experiment/discrimination.h"
 #include "core/experiment/experiment.h"
@@ -29,7 +30,7 @@
 namespace enact::cli {
 namespace {
 
-constexpr const char* kExperimentHelp = R"(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
+constexpr const char* kExperimentHelp = R"help(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
                         [--seed S] [--replicates N [--jobs J]]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
@@ -48,7 +49,7 @@ start, q: stop here and resume later); during a trial, r + Enter records that th
 was put back at the start, a + Enter aborts the trial (it runs again); after a subject's
 last trial the subject's ranking of the conditions is asked (DIR/ranking.csv).
 
-Then: scripts/analyze.py DIR/results.csv --out DIR/analysis
+Then: /usr/bin/python3 "$(enact share scripts/analyze.py)" DIR/results.csv --out DIR/analysis
 
 A file with `kind: discrimination` (docs/experiments.md, "Discrimination experiments") runs two-interval
 discrimination trials about a live parameter (e.g. stiffness_n_per_m) under constant
@@ -61,7 +62,7 @@ device's button 1 or 2. graph: false runs virtual observers without a graph. Res
 DIR/trials.csv (one row per trial, at once, with the response time) and DIR/summary.csv
 (per subject and condition: the fitted JND, its profile-likelihood and bootstrap 95 %
 intervals, the Weber fraction). Run again to resume.
-Then: scripts/psychophysics.py plot DIR/trials.csv --out DIR/figures
+Then: /usr/bin/python3 "$(enact share scripts/psychophysics.py)" plot DIR/trials.csv --out DIR/figures
 
 options:
   --subjects N          N subjects (ids 1..N) instead of the file's
@@ -79,11 +80,11 @@ options:
   --replicates N        virtual subjects, simulated time: N independent replicates of the whole
                         experiment (replicate k: fresh subjects and noise from a seed derived
                         from the file's and k), into DIR/replicate_001 ... each resumable, J at
-                        once (--jobs, default: one per CPU); then scripts/power.py DIR gives the
+                        once (--jobs, default: one per CPU); then scripts/power.py DIR (enact share) gives the
                         virtual baseline's power against the number of subjects
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
-)";
+)help";
 
 std::string clock_text(double s) {
   const long total = static_cast<long>(s + 0.5);
@@ -274,7 +275,7 @@ int discrimination_run(const Args& a, FILE* term) {
   ui.note(std::to_string(r.trials_run) + " trials run" + (r.blocks_done_before ? ", " + std::to_string(r.blocks_done_before) + " blocks done before" : "") +
           (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") + "; trials: " + r.trials +
           (r.interrupted ? "\nstopped before the end: run the same command again to resume"
-                         : "\nsummary: " + r.summary + "\nfigures: scripts/psychophysics.py plot " + r.trials + " --out " + out + "/figures"));
+                         : "\nsummary: " + r.summary + "\nfigures: /usr/bin/python3 " + config::shipped("scripts/psychophysics.py") + " plot " + r.trials + " --out " + out + "/figures"));
   if (r.interrupted) return r.failed ? 1 : 130;
   return 0;
 }
@@ -359,8 +360,8 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
     running.erase(it);
   }
   if (stopping) return 130;
-  std::fprintf(stderr, "enact experiment: %d replicates done%s; power: /usr/bin/python3 scripts/power.py %s\n", done,
-               failed ? (", " + std::to_string(failed) + " did not finish (run again to resume them)").c_str() : "", out.c_str());
+  std::fprintf(stderr, "enact experiment: %d replicates done%s; power: /usr/bin/python3 %s %s\n", done,
+               failed ? (", " + std::to_string(failed) + " did not finish (run again to resume them)").c_str() : "", config::shipped("scripts/power.py").c_str(), out.c_str());
   return failed ? 1 : 0;
 }
 
@@ -412,7 +413,7 @@ int experiment_run(int argc, char** argv) {
   const experiment::RunSummary s = experiment::run_experiment(spec, out, ui);
   ui.note(std::to_string(s.run) + " trials run" + (s.skipped ? ", " + std::to_string(s.skipped) + " done before" : "") +
           (s.failed ? ", " + std::to_string(s.failed) + " failed" : "") + "; results: " + s.results +
-          (s.interrupted ? "\nstopped before the end: run the same command again to resume" : "\nanalysis: scripts/analyze.py " + s.results + " --out " + out + "/analysis"));
+          (s.interrupted ? "\nstopped before the end: run the same command again to resume" : "\nanalysis: /usr/bin/python3 " + config::shipped("scripts/analyze.py") + " " + s.results + " --out " + out + "/analysis"));
   std::fclose(term);
   if (s.interrupted) return 130;
   return s.failed ? 1 : 0;

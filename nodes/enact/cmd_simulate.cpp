@@ -3,6 +3,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 #include "core/sim/offline.h"
 #include "nodes/enact/commands.h"
@@ -125,7 +126,7 @@ int simulate(int argc, char** argv) {
   if (!task) std::printf("(no task in this scene: no falls, time out or completion to count)\n");
   if (a.has("input")) {
     std::printf("(the device followed the path exactly; live, a simulated hand tracks it behind a spring and presses far less:\n"
-                " docs/scenes-and-models.md, \"Offline and live forces differ\")\n");
+                " %s, \"Offline and live forces differ\")\n", config::shipped("docs/scenes-and-models.md").c_str());
   }
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <exception>
 #include <vector>
 
+#include "core/config/share.h"
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/params/node_params.h"
@@ -46,11 +47,19 @@ constexpr Command kCommands[] = {
     {"keys", "keys new|show", "CURVE keys for remote access (graphs launched with --access)", keys},
     {"experiment", "experiment FILE", "run an experiment's trials (virtual subjects or people), resumable", experiment_run},
     {"metrics", "metrics FILE", "a trial's metrics recomputed from its recording", metrics},
+    {"share", "share [--all] [FILE...]", "where enact's shipped files are (launch files, scenes, scripts, docs): paths that work from any folder", share},
     {"help", "help [--markdown]", "this list; --markdown: the command and parameter reference (docs/cli.md)", help},
 };
 
 constexpr const char* kHead = "enact - integrated tactile + force-feedback haptics\n\nusage: enact <command> [options]      (enact <command> --help for its options)\n\ncommands:\n";
-constexpr const char* kFoot = "\nFiles: scenes and computer models are YAML, paths are CSV (docs/scenes-and-models.md).\n";
+// where the docs the commands' --help name (docs/NAME.md) and the shipped files are: installed,
+// or the source tree of a build
+std::string foot() {
+  std::string out = "\nFiles: scenes and computer models are YAML, paths are CSV (" + config::shipped("docs/scenes-and-models.md") + ").\n";
+  const std::vector<config::ShareRoot> roots = config::share_roots();
+  if (!roots.empty()) out += "Docs (docs/NAME.md in --help): " + roots.front().docs + "; launch files, scenes, scripts: " + roots.front().data + " (enact share)\n";
+  return out;
+}
 
 // the nodes of a launch file, whose parameters the reference lists
 constexpr const char* kNodes[] = {"enact-sim", "enact-ffd", "enact-tactile", "enact-rt", "enact-logger", "enact-foxglove"};
@@ -89,7 +98,7 @@ std::string usage() {
     const std::string syn = c.synopsis;
     out += "  " + syn + std::string(syn.size() + 2 < 18 ? 18 - syn.size() : 2, ' ') + c.text + "\n";
   }
-  return out + kFoot;
+  return out + foot();
 }
 
 std::string reference_markdown() {

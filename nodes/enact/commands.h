@@ -49,5 +49,6 @@ int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, c
 int export_foxglove(const Args& a);
 int experiment_run(int argc, char** argv);
 int metrics(int argc, char** argv);
+int share(int argc, char** argv);
 
 }  // namespace enact::cli

@@ -51,8 +51,9 @@ TEST(Install, TheInstalledEnactRunsTheBridgeGraphFromAnywhere) {
   EXPECT_EQ(launched.out.find(ENACT_BUILD_DIR), std::string::npos) << launched.out;
 }
 
-// the Debian package of this build: what it installs where, the runtime libraries it needs
-// declared (dpkg-shlibdeps), the scripts' Python recommended
+// the Debian package of this build: what it installs where (the tools, the data, the scripts,
+// the docs, a plugin's headers and CMake package), the runtime libraries it needs declared
+// (dpkg-shlibdeps), the scripts' Python recommended
 TEST(Install, TheDebianPackageDeclaresItsRuntimeDependencies) {
   if (run("command -v dpkg-deb && command -v dpkg-shlibdeps").exit_code != 0) GTEST_SKIP() << "not a Debian machine (dpkg-dev absent)";
   TempDir out;
@@ -68,7 +69,10 @@ TEST(Install, TheDebianPackageDeclaresItsRuntimeDependencies) {
   for (const char* lib : {"libzmq5", "libprotobuf", "libyaml-cpp", "libusb-1.0-0"}) EXPECT_NE(depends.out.find(lib), std::string::npos) << lib << ": " << depends.out;
   EXPECT_NE(depends.out.find("python3-scipy"), std::string::npos) << depends.out;
   const RunResult files = run("dpkg-deb -c '" + deb + "'");
-  for (const char* file : {"./usr/bin/enact\n", "./usr/bin/enact-rt\n", "./usr/share/enact/launch/bridge_rt.yaml\n", "./usr/lib/udev/rules.d/99-enact.rules\n"}) {
+  for (const char* file : {"./usr/bin/enact\n", "./usr/bin/enact-rt\n", "./usr/share/enact/launch/bridge_rt.yaml\n", "./usr/lib/udev/rules.d/99-enact.rules\n",
+                           "./usr/share/enact/scripts/power.py\n", "./usr/share/doc/enact/getting-started.md\n",
+                           "./usr/include/enact/core/node/loop_component.h\n", "./usr/lib/cmake/enact/enactConfig.cmake\n",
+                           "./usr/share/enact/examples/plugins/guide_spring.cpp\n"}) {
     EXPECT_NE(files.out.find(file), std::string::npos) << file;
   }
 }

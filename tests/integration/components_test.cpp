@@ -300,7 +300,7 @@ TEST(ContainerStages, ABadPluginLibraryOrStageIsRefusedWithTheFix) {
   };
   const std::vector<Case> cases{
       {guided(rec, "", "guide_spring", dir.file("none.so")), file + ":9: node 'rt': component 'guide': there is no plugin library '" + dir.file("none.so") + "'",
-       "fix: build it (docs/components.md)"},
+       "fix: build it (" + source_path("docs/components.md") + ")"},  // the docs where they are (enact run from the build)
       {guided(rec, "", "guide_spring", junk), junk + ": cannot load the plugin library", "fix: build it against this enact"},
       {guided(rec, "", "guide_sprung"), "component 'guide': unknown plugin 'guide_sprung'", "guide_spring (guiding spring toward anchor_m"},
       {guided(rec, "{name: stiffness_n_per_m, value: \"-1\"}"), "stiffness_n_per_m", "fix:"},

@@ -4,6 +4,7 @@
 
 #include <utility>
 
+#include "core/config/share.h"
 #include "core/devices/params_error.h"
 
 namespace enact::devices::vendor {
@@ -38,7 +39,7 @@ void* SharedLibrary::address(const char* name) const {
   void* p = handle_ ? dlsym(handle_, name) : nullptr;
   if (p == nullptr) {
     refuse(device_, path_ + " has no function " + name + " (not the vendor's library, or an SDK too old)",
-           "install the vendor's SDK (see docs/devices.md) and name its library file");
+           "install the vendor's SDK (see " + config::shipped("docs/devices.md") + ") and name its library file");
   }
   return p;
 }
