@@ -24,8 +24,19 @@ namespace fs = std::filesystem;
 using psychophysics::Placement;
 using psychophysics::StepType;
 
-// the live parameters a discrimination may compare: the simulator's numeric ones
-const std::vector<std::string> kComparable{"stiffness_n_per_m", "damping_n_s_per_m", "threshold_m"};
+// the live parameters a discrimination may compare: the simulator's live numbers that change
+// what the hand feels (its force law), in the words of a refusal's fix
+const sim::LiveNumber* comparable(const std::string& name) {
+  const sim::LiveNumber* n = sim::find_live_number(name);
+  return n && n->law != sim::LawChange::none ? n : nullptr;
+}
+std::string comparable_names() {
+  std::string out;
+  for (const sim::LiveNumber& n : sim::live_numbers()) {
+    if (n.law != sim::LawChange::none) out += std::string(out.empty() ? "" : ", ") + n.name;
+  }
+  return out;
+}
 
 std::vector<double> numbers_of(const config::Map& m, const char* key) {
   const YAML::Node node = m.get(key);
@@ -158,10 +169,8 @@ DiscriminationSpec load_discrimination(const std::string& given) {
   s.order = read_order(m);
   // the compared parameter: a numeric live parameter of the simulator
   s.parameter = m.text("parameter");
-  const auto& live = sim::param_names();
-  if (std::find(kComparable.begin(), kComparable.end(), s.parameter) == kComparable.end() ||
-      std::find(live.begin(), live.end(), s.parameter) == live.end()) {
-    m.fail("parameter", "'" + s.parameter + "' is not a numeric live parameter of the simulator", "write parameter: stiffness_n_per_m, damping_n_s_per_m or threshold_m");
+  if (!comparable(s.parameter)) {
+    m.fail("parameter", "'" + s.parameter + "' is not a numeric live parameter of the simulator", "write parameter: one of " + comparable_names());
   }
   s.reference = m.positive("reference");
   // the procedures, interleaved; labels unique

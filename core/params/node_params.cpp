@@ -165,14 +165,16 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
         .field([](S& s) -> double& { return s.task.end_progress; }, {.name = "end_progress", .min = 0, .max = 1, .doc = "progress that completes the bridge"})
         .field(&S::reengage_s, {.name = "reengage_s", .min = 0,
                    .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"})
-        .field(&S::change_ramp_s, {.name = "change_ramp_s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time", .live = true})
         .field(&S::reentry_speed_m_per_s, {.name = "reentry_speed_m_per_s", .min = 0, .above_min = true, .doc = "after a live change of the force law, the body comes back out of the objects at most this fast"})
-        .declared({.name = "threshold_m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)", .live = true, .at_start = false})
-        .declared({.name = "stiffness_n_per_m", .min = 0, .doc = "contact stiffness of the body (checked against the stability analysis)", .live = true, .at_start = false})
-        .declared({.name = "damping_n_s_per_m", .min = 0, .doc = "contact damping of the body (checked against the stability analysis)", .live = true, .at_start = false})
         .declared({.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false})
         .declared({.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false})
         .declared({.name = "trial", .type = ParamType::command, .choices = {"start", "stop"}, .doc = "start: a new trial from now; stop: the trial ends", .live = true, .at_start = false});
+    // the live numbers, each declared once with its range, planning and application (sim/params.h)
+    for (const sim::LiveNumber& n : sim::live_numbers()) {
+      const ParamSpec spec{.name = n.name, .min = n.min, .max = n.max, .doc = n.doc, .live = true, .at_start = n.at_start != nullptr};
+      if (n.at_start) t.field(n.at_start, spec);
+      else t.declared(spec);
+    }
     return t;
   }();
   return b;

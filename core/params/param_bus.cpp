@@ -59,9 +59,7 @@ ParamPort::ParamPort(const sim::Simulator& simulator, std::string prefix, bus::B
   in_bytes_.connect(node_endpoint(kInboundNode));
   // the live-only parameters as the scene and model set them
   if (board_) {
-    board_->set(prefix_ + "threshold_m", config::number(planner_.computer_model().threshold_m));
-    board_->set(prefix_ + "stiffness_n_per_m", config::number(planner_.stiffness_n_per_m()));
-    board_->set(prefix_ + "damping_n_s_per_m", config::number(planner_.damping_n_s_per_m()));
+    for (const sim::LiveNumber& n : sim::live_numbers()) board_->set(prefix_ + n.name, config::number(planner_.value(n)));
   }
   planning_ = std::thread([this] { plan_all(); });
 }
@@ -143,10 +141,7 @@ std::optional<sim::ParamChange> ParamPort::take(const Plan& plan) {
   f.ack.set_applied(true);
   f.ack.set_name(f.request.name());
   switch (plan.change.kind) {
-    case sim::ParamKind::threshold:
-    case sim::ParamKind::stiffness:
-    case sim::ParamKind::damping:
-    case sim::ParamKind::change_ramp: f.ack.set_number(plan.change.value); break;
+    case sim::ParamKind::number: f.ack.set_number(plan.change.value); break;
     case sim::ParamKind::model: f.ack.set_text(f.request.text()); break;
     case sim::ParamKind::trial_start: f.ack.set_text("start"); break;
     case sim::ParamKind::trial_stop: f.ack.set_text("stop"); break;
@@ -188,10 +183,7 @@ void ParamPort::applied(const sim::ParamApplied& a) {
       f.event.set_kind(msgs::TaskEvent::TRIAL_END);
       f.event.set_detail("stopped");
       break;
-    case sim::ParamKind::threshold:
-    case sim::ParamKind::stiffness:
-    case sim::ParamKind::damping:
-    case sim::ParamKind::change_ramp: return;
+    case sim::ParamKind::number: return;
   }
   f.event.set_condition(model_name());
 }

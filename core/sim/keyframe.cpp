@@ -9,7 +9,7 @@ namespace {
 
 // the bytes begin with this build's layout: a keyframe only restores into the same one
 struct Format {
-  char magic[8] = {'k', 'e', 'y', 'f', 'r', 'm', '0', '1'};
+  char magic[8] = {'k', 'e', 'y', 'f', 'r', 'm', '0', '2'};
   std::uint32_t sizes[6] = {sizeof(Keyframe), sizeof(physics::ContactState), sizeof(task::BridgeTask), sizeof(haptics::TactileDownsampler),
                             sizeof(Reengagement), sizeof(ModelChange)};
 };
@@ -25,7 +25,7 @@ void visit(K& k, F&& f) {
   f(s.group_apart), f(s.steps), f(s.time_s), f(s.faults), f(s.last_fault), f(s.last_fault_point);
   f(k.task), f(k.trial_running), f(k.trial_change), f(k.tactile);
   f(k.force_n), f(k.from_n), f(k.reentering), f(k.capture), f(k.settling), f(k.offset_left), f(k.offset_total), f(k.reentry_step_m);
-  f(k.felt_depth_m), f(k.felt_normal), f(k.reengage);
+  f(k.felt_depth_m), f(k.felt_normal), f(k.reengage), f(k.live_values), f(k.live_changed);
 }
 
 template <class T>

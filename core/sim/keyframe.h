@@ -8,6 +8,7 @@
 //
 // Simulator::save fills one without allocating once it is sized (a first save sizes it), so
 // a real-time thread takes it; pack/unpack turn it into bytes and back off that thread.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct Keyframe {
   std::vector<double> felt_depth_m;
   std::vector<math::Vec3> felt_normal;
   Reengagement reengage;
+  // live numbers changed since the simulator was configured (bit n: live_numbers()[n]) and their values
+  std::array<double, kMaxLiveNumbers> live_values{};
+  std::uint32_t live_changed = 0;
 };
 
 // the bytes of a keyframe (its format names this build's layout); `out` is reused

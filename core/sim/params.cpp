@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "core/config/format.h"
@@ -56,7 +57,12 @@ bool is_body_point(const physics::Model& m, int point) {
 }
 
 const std::vector<std::string>& param_names() {
-  static const std::vector<std::string> names{"model", "threshold_m", "stiffness_n_per_m", "damping_n_s_per_m", "change_ramp_s", "reset", "reposition", "trial"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n{"model"};
+    for (const LiveNumber& number : live_numbers()) n.emplace_back(number.name);
+    for (const char* command : {"reset", "reposition", "trial"}) n.emplace_back(command);
+    return n;
+  }();
   return names;
 }
 
@@ -66,6 +72,53 @@ void set_body_contacts(physics::Model& model, std::optional<double> stiffness, s
     if (stiffness) c.stiffness_n_per_m = *stiffness;
     if (damping) c.damping_n_s_per_m = *damping;
   }
+}
+
+namespace {
+
+// the body's first contact pair's (0 without one)
+const physics::ContactPair* body_contact(const physics::Model& m) {
+  const int pair = first_body_contact(m);
+  return pair < 0 ? nullptr : &m.contacts[pair];
+}
+
+}  // namespace
+
+const std::vector<LiveNumber>& live_numbers() {
+  using M = physics::Model;
+  using CM = haptics::ComputerModel;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  static const std::vector<LiveNumber> rows{
+      {.name = "threshold_m", .unit = "m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)",
+       .example = "0.003", .law = LawChange::if_new, .at_start = nullptr,
+       .get = [](const M&, const CM& cm, const SimParams&) { return cm.threshold_m; },
+       .set = [](LiveTarget& t, double v) {
+         t.cm.threshold_m = v;
+         haptics::apply(t.cm, t.model);
+       }},
+      {.name = "stiffness_n_per_m", .unit = "N/m", .min = 0, .max = kNone, .doc = "contact stiffness of the body (checked against the stability analysis)",
+       .example = "2000", .law = LawChange::always, .at_start = nullptr,
+       .get = [](const M& m, const CM&, const SimParams&) { return body_contact(m) ? body_contact(m)->stiffness_n_per_m : 0.0; },
+       .set = [](LiveTarget& t, double v) { set_body_contacts(t.model, v, std::nullopt); },
+       .check = [](const ParamPlanner& p, double v) { return p.contact_refusal(true, v); }},
+      {.name = "damping_n_s_per_m", .unit = "N s/m", .min = 0, .max = kNone, .doc = "contact damping of the body (checked against the stability analysis)",
+       .example = "0.5", .law = LawChange::always, .at_start = nullptr,
+       .get = [](const M& m, const CM&, const SimParams&) { return body_contact(m) ? body_contact(m)->damping_n_s_per_m : 0.0; },
+       .set = [](LiveTarget& t, double v) { set_body_contacts(t.model, std::nullopt, v); },
+       .check = [](const ParamPlanner& p, double v) { return p.contact_refusal(false, v); }},
+      {.name = "change_ramp_s", .unit = "s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time",
+       .example = "0.05", .law = LawChange::none, .at_start = &SimParams::change_ramp_s,
+       .get = [](const M&, const CM&, const SimParams& p) { return p.change_ramp_s; },
+       .set = [](LiveTarget& t, double v) { t.params.change_ramp_s = v; }},
+  };
+  return rows;
+}
+
+const LiveNumber* find_live_number(const std::string& name) {
+  for (const LiveNumber& n : live_numbers()) {
+    if (name == n.name) return &n;
+  }
+  return nullptr;
 }
 
 namespace {
@@ -122,13 +175,18 @@ double passivity_envelope(const physics::Model& model) {
 }
 
 ParamPlanner::ParamPlanner(const Simulator& simulator)
-    : model_(simulator.model()), cm_(simulator.computer_model()), grid_masses_(simulator.grid_masses()), envelope_(passivity_envelope(model_)) {
+    : model_(simulator.model()),
+      cm_(simulator.computer_model()),
+      params_(simulator.params()),
+      grid_masses_(simulator.grid_masses()),
+      envelope_(passivity_envelope(model_)) {
   if (const auto profile = devices::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
 }
 
 void ParamPlanner::follow(const Simulator& simulator) {
   model_ = simulator.model();
   cm_ = simulator.computer_model();
+  params_ = simulator.params();
 }
 
 double ParamPlanner::stiffness_n_per_m() const {
@@ -141,12 +199,10 @@ double ParamPlanner::damping_n_s_per_m() const {
   return pair < 0 ? 0.0 : model_.contacts[pair].damping_n_s_per_m;
 }
 
-ParamPlan ParamPlanner::check_contact(ParamKind kind, double value, std::uint64_t request_id) {
-  const bool stiffness = kind == ParamKind::stiffness;
+std::string ParamPlanner::contact_refusal(bool stiffness, double value) const {
   const char* name = stiffness ? "stiffness_n_per_m" : "damping_n_s_per_m";
   const char* unit = stiffness ? "N/m" : "N s/m";
-  if (!std::isfinite(value) || value < 0.0) return refuse(std::string(name) + " must be a finite number >= 0\n  fix: give a value in " + unit);
-  if (first_body_contact(model_) < 0) return refuse(std::string(name) + ": the scene's body has no contacts\n  fix: add a contacts: entry for the body");
+  if (first_body_contact(model_) < 0) return std::string(name) + ": the scene's body has no contacts\n  fix: add a contacts: entry for the body";
   // the passivity demand is linear in the changed parameter, the other one held
   const double k = stiffness_n_per_m(), z = damping_n_s_per_m();
   auto demand = [&](double v) { return body_passivity_demand(model_, stiffness ? v : k, stiffness ? z : v); };
@@ -155,17 +211,18 @@ ParamPlan ParamPlanner::check_contact(ParamKind kind, double value, std::uint64_
     const double at0 = demand(0.0), slope = demand(1.0) - at0;
     const double largest = slope > 0.0 ? std::max(0.0, (envelope_ - at0) / slope) : 0.0;
     const std::string device = model_.device_profile.empty() ? "a device without a profile (b = 0)" : model_.device_profile;
-    return refuse(std::string(name) + " = " + num(value, 6) + " " + unit + ": the loop would not stay stable on " + device + " at " +
-                  num(model_.rate_hz, 6) + " Hz: the passivity bound (Colgate & Schenkel) needs K T/2 + B = " + num(asked) +
-                  " N s/m with every body point in contact, past " + num(envelope_) + " N s/m (the device damping b = " + num(device_damping_) +
-                  " N s/m, or the scene as loaded if larger)\n  fix: at most " + num(largest, 6) + " " + unit);
+    return std::string(name) + " = " + num(value, 6) + " " + unit + ": the loop would not stay stable on " + device + " at " + num(model_.rate_hz, 6) +
+           " Hz: the passivity bound (Colgate & Schenkel) needs K T/2 + B = " + num(asked) + " N s/m with every body point in contact, past " +
+           num(envelope_) + " N s/m (the device damping b = " + num(device_damping_) + " N s/m, or the scene as loaded if larger)\n  fix: at most " +
+           num(largest, 6) + " " + unit;
   }
   const std::optional<double> new_k = stiffness ? std::optional(value) : std::nullopt, new_z = stiffness ? std::nullopt : std::optional(value);
   const std::string unstable = deformable_refusal(model_, new_k, new_z);
-  if (!unstable.empty()) return refuse(std::string(name) + " = " + num(value, 6) + " " + unit + ": the deformable body would not stay stable: " + unstable);
-  set_body_contacts(model_, new_k, new_z);
-  return accept(kind, request_id, value);
+  if (!unstable.empty()) return std::string(name) + " = " + num(value, 6) + " " + unit + ": the deformable body would not stay stable: " + unstable;
+  return {};
 }
+
+double ParamPlanner::value(const LiveNumber& number) const { return number.get(model_, cm_, params_); }
 
 ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, std::uint64_t request_id) {
   if (name == "model") {
@@ -182,22 +239,22 @@ ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, s
     p.change.model = to_change(cm);
     return p;
   }
-  if (name == "threshold_m") {
-    const std::optional<double> t = number_of(value);
-    if (!t || !std::isfinite(*t) || *t < 0.0 || *t > haptics::kMaxThreshold_m) {
-      return refuse("threshold_m must be from 0 to " + config::number(haptics::kMaxThreshold_m) + " m\n  fix: give a penetration in m, e.g. 0.003");
-    }
-    cm_.threshold_m = *t;
-    return accept(ParamKind::threshold, request_id, *t);
-  }
-  if (name == "stiffness_n_per_m" || name == "damping_n_s_per_m") {
+  if (const LiveNumber* number = find_live_number(name)) {
     const std::optional<double> v = number_of(value);
-    return check_contact(name[0] == 's' ? ParamKind::stiffness : ParamKind::damping, v ? *v : NAN, request_id);
-  }
-  if (name == "change_ramp_s") {
-    const std::optional<double> t = number_of(value);
-    if (!t || !std::isfinite(*t) || *t < 0.0 || *t > 10.0) return refuse("change_ramp_s must be a time from 0 to 10 s\n  fix: e.g. 0.05");
-    return accept(ParamKind::change_ramp, request_id, *t);
+    const std::string unit = *number->unit ? std::string(" ") + number->unit : "";
+    if (!v || !std::isfinite(*v) || *v < number->min || *v > number->max) {
+      const std::string range = std::isfinite(number->max) ? "from " + config::number(number->min) + " to " + config::number(number->max) + unit
+                                                           : ">= " + config::number(number->min) + unit;
+      return refuse(name + " must be a number " + range + "\n  fix: e.g. " + number->example + unit);
+    }
+    if (number->check) {
+      if (std::string problem = number->check(*this, *v); !problem.empty()) return refuse(std::move(problem));
+    }
+    LiveTarget target = mirror();
+    number->set(target, *v);
+    ParamPlan p = accept(ParamKind::number, request_id, *v);
+    p.change.number = static_cast<std::uint8_t>(number - live_numbers().data());
+    return p;
   }
   if (name == "reset") return accept(ParamKind::reset, request_id);
   if (name == "reposition") return accept(ParamKind::reposition, request_id);

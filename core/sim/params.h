@@ -8,10 +8,8 @@
 //
 // Names (after the simulator's node or component name, e.g. "sim.stiffness_n_per_m"):
 //   model               text: a computer model preset (CM0..CM3, P, T, PT) or a YAML file
-//   threshold_m         number >= 0: penetration before force is felt (the current model's)
-//   stiffness_n_per_m   number >= 0: every contact pair of the exploratory body
-//   damping_n_s_per_m   number >= 0: every contact pair of the exploratory body
-//   change_ramp_s       number 0..10: the blend time of the next changes (SimParams)
+//   each live number    a row of live_numbers() (threshold_m, stiffness_n_per_m, ...): its
+//                       range, unit, help, planning and application declared there once
 //   reset               command: model, pins and task back to their start (a new trial)
 //   reposition          command: the subject is put back at the start; contact memory is
 //                       cleared, the trial goes on
@@ -23,11 +21,75 @@
 #include <vector>
 
 #include "core/haptics/computer_model.h"
+#include "core/haptics/tactile.h"
 #include "core/physics/model.h"
+#include "core/sim/reengage.h"
+#include "core/task/bridge_task.h"
 
 namespace enact::sim {
 
 class Simulator;
+class ParamPlanner;
+
+struct SimParams {
+  std::string scene;               // scene file (YAML)
+  double rate_hz = 0.0;            // 0: the scene's rate_hz
+  std::string model = "CM1";       // computer model: preset name or YAML file
+  haptics::TactileParams tactile;  // pin frame down-sampling
+  task::TaskParams task;           // fall rule and completion
+  bool force = false;              // run a scene that fails the stability check anyway
+  // live changes never jolt: the force felt before a change blends into the new setting's over
+  // this long (longer when the device profile's max_force_step_n_per_ms needs it)
+  double change_ramp_s = 0.05;
+  // after a live change of the force law (a model, threshold or stiffness, a reset), the body's
+  // points come back out of what they sank into at most this fast (the bridge: 17 points at 6000 N/m, about 1 N/ms; 50 mm/s
+  // launched the scripted hand off the top in a hostile burst, and it fell back hard); the
+  // device profile's force step limit may make it slower still
+  double reentry_speed_m_per_s = 0.01;
+  // after a cut of the force path (its start, a watchdog episode, a late tick), the body
+  // returns from out of the objects to the device over this time (Reengagement)
+  double reengage_s = kReengageDefault_s;
+};
+
+
+// what a live number acts on: the simulator's model, computer model and parameters, or the
+// planner's mirror of them
+struct LiveTarget {
+  physics::Model& model;
+  haptics::ComputerModel& cm;
+  SimParams& params;
+};
+
+// how a live number's change meets the force law (Simulator::apply: no jolt)
+enum class LawChange : std::uint8_t {
+  none,    // the force law stays (a blend time)
+  always,  // it changes: the felt forces are kept and blend into the new law's
+  if_new,  // it re-applies the computer model: a change when the value is new or a change still settles
+};
+
+// a numeric live parameter of the simulator, declared once: the parameter table's row
+// (graph::sim_bindings), the planner's check, the ack, the parameter board's mirror, the
+// viewer's field and the choices of a discrimination experiment all come from it. Adding one
+// is a row here (and its line in docs/parameters.md)
+struct LiveNumber {
+  const char* name;  // with its unit (the table's rules: _m, _n_per_m, _s ...)
+  const char* unit;  // that unit as people write it ("N/m"; "" for none)
+  double min, max;   // accepted range, inclusive (max: infinity for none)
+  const char* doc;   // one line, for the table and docs
+  const char* example;  // a value for the fix of a refusal
+  LawChange law;
+  double SimParams::*at_start;  // also given at start, into this field of SimParams (nullptr: live only)
+  double (*get)(const physics::Model&, const haptics::ComputerModel&, const SimParams&);  // the value in force
+  void (*set)(LiveTarget&, double);  // between two steps on the loop: allocates nothing
+  // beyond the range, off the loop: "" accepts, else the problem and its fix
+  std::string (*check)(const ParamPlanner&, double) = nullptr;
+};
+
+// the live numbers, at most kMaxLiveNumbers
+inline constexpr std::size_t kMaxLiveNumbers = 16;
+const std::vector<LiveNumber>& live_numbers();
+// the row named `name` (nullptr: none)
+const LiveNumber* find_live_number(const std::string& name);
 
 // the most changes planned but not applied yet at any time (the capacity of a loop's queues)
 inline constexpr std::size_t kMaxParamsInFlight = 16;
@@ -39,7 +101,8 @@ struct ParamValue {
   std::optional<bool> flag;
 };
 
-enum class ParamKind : std::uint8_t { model, threshold, stiffness, damping, reset, reposition, trial_start, trial_stop, change_ramp };
+// a number: a row of live_numbers(), ParamChange::number
+enum class ParamKind : std::uint8_t { model, number, reset, reposition, trial_start, trial_stop };
 
 // the longest computer model name a change carries (the loop cannot allocate a longer one)
 inline constexpr std::size_t kMaxModelName = 63;
@@ -58,8 +121,9 @@ struct ModelChange {
 struct ParamChange {
   std::uint64_t request_id = 0;
   ParamKind kind = ParamKind::reset;
-  double value = 0.0;  // threshold_m, stiffness_n_per_m, damping_n_s_per_m or change_ramp_s
-  ModelChange model;   // kind == model
+  std::uint8_t number = 0;  // kind == number: its row of live_numbers()
+  double value = 0.0;       // kind == number: the value
+  ModelChange model;        // kind == model
 };
 
 // what the loop applied, back to the node for its ack and task event (trivially copyable)
@@ -97,18 +161,24 @@ class ParamPlanner {
   // simulator will be once it applies the change. Never throws on bad input.
   ParamPlan plan(const std::string& name, const ParamValue& value, std::uint64_t request_id);
 
-  // the mirror's computer model, and the body's contact stiffness and damping (its first pair)
+  // the mirror's computer model, and the value in force of a live number
   const haptics::ComputerModel& computer_model() const { return cm_; }
+  const physics::Model& model() const { return model_; }
+  double value(const LiveNumber& number) const;
   double stiffness_n_per_m() const;
   double damping_n_s_per_m() const;
+  // the refusal of a body contact's stiffness or damping at `value` ("" when the loop stays
+  // stable: the passivity envelope, a deformable body's integrator bound)
+  std::string contact_refusal(bool stiffness, double value) const;
   // the largest K T/2 + B live changes may reach (N s/m)
   double passivity_envelope_n_s_per_m() const { return envelope_; }
 
  private:
-  ParamPlan check_contact(ParamKind kind, double value, std::uint64_t request_id);
+  LiveTarget mirror() { return {model_, cm_, params_}; }
 
   physics::Model model_;
   haptics::ComputerModel cm_;
+  SimParams params_;
   int grid_masses_ = 0;
   double device_damping_ = 0.0;
   double envelope_ = 0.0;

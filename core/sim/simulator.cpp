@@ -22,18 +22,24 @@ constexpr double kSameFaceCos = 0.999;
 // whether a change alters the force law of the body (pins-only and trial changes do not).
 // A model or threshold change re-applies the computer model to every point, which would wipe
 // the re-entry depths of a change still settling: while `reentering`, it is one
-bool changes_force_law(const ParamChange& c, const haptics::ComputerModel& cm, bool reentering) {
+bool changes_force_law(const ParamChange& c, const LiveTarget& now, bool reentering) {
   switch (c.kind) {
     case ParamKind::model:
-      return reentering || c.model.force_grid_mask != cm.force_grid_mask || c.model.force_center != cm.force_center || c.model.threshold_m != cm.threshold_m;
-    case ParamKind::threshold: return reentering || c.value != cm.threshold_m;
-    case ParamKind::stiffness:
-    case ParamKind::damping:
+      return reentering || c.model.force_grid_mask != now.cm.force_grid_mask || c.model.force_center != now.cm.force_center ||
+             c.model.threshold_m != now.cm.threshold_m;
+    case ParamKind::number: {
+      const LiveNumber& n = live_numbers()[c.number];
+      switch (n.law) {
+        case LawChange::none: return false;
+        case LawChange::always: return true;
+        case LawChange::if_new: return reentering || c.value != n.get(now.model, now.cm, now.params);
+      }
+      return true;
+    }
     case ParamKind::reset:
     case ParamKind::reposition: return true;
     case ParamKind::trial_start:
-    case ParamKind::trial_stop:
-    case ParamKind::change_ramp: return false;
+    case ParamKind::trial_stop: return false;
   }
   return true;
 }
@@ -47,6 +53,7 @@ int Simulator::grid_masses() const {
 void Simulator::configure(const SimParams& params) {
   params_ = params;
   reengage_ = Reengagement(params.reengage_s);
+  live_changed_ = 0;
   model_ = physics::load_scene(params.scene);
   if (params.rate_hz != 0.0) {
     if (params.rate_hz < 1.0 || params.rate_hz > 44000.0) throw config::Error("rate " + std::to_string(params.rate_hz) + " Hz is out of range\n  fix: use a rate from 1 to 44000 Hz");
@@ -141,6 +148,8 @@ void Simulator::pair_fields(S& s, K& k, F&& pair) {
   pair(s.reengage_, k.reengage);
   pair(s.origin_ns_, k.origin_ns);
   pair(s.sample_ns_, k.sample_ns);
+  pair(s.live_values_, k.live_values);
+  pair(s.live_changed_, k.live_changed);
 }
 
 void Simulator::save(Keyframe& k) const {
@@ -166,6 +175,11 @@ void Simulator::restore(const Keyframe& k) {
   out_ = {};
   pair_fields(*this, k, [](auto& to, const auto& from) { to = from; });
   assign(cm_, k.model);
+  // the live numbers changed before it, then each contact's and point's values exactly
+  LiveTarget live{model_, cm_, params_};
+  for (std::size_t n = 0; n < live_numbers().size(); ++n) {
+    if (live_changed_ & (1u << n)) live_numbers()[n].set(live, live_values_[n]);
+  }
   for (std::size_t c = 0; c < model_.contacts.size(); ++c) {
     model_.contacts[c].stiffness_n_per_m = k.stiffness_n_per_m[c];
     model_.contacts[c].damping_n_s_per_m = k.damping_n_s_per_m[c];
@@ -183,19 +197,19 @@ void Simulator::set_computer_model(const haptics::ComputerModel& cm) {
 }
 
 ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
-  const bool law = changes_force_law(c, cm_, reentering_);
+  LiveTarget live{model_, cm_, params_};
+  const bool law = changes_force_law(c, live, reentering_);
   if (law) keep_felt_forces();
   switch (c.kind) {
     case ParamKind::model:
       assign(cm_, c.model);
       haptics::apply(cm_, model_);
       break;
-    case ParamKind::threshold:
-      cm_.threshold_m = c.value;
-      haptics::apply(cm_, model_);
+    case ParamKind::number:
+      live_numbers()[c.number].set(live, c.value);
+      live_values_[c.number] = c.value;
+      live_changed_ |= 1u << c.number;
       break;
-    case ParamKind::stiffness: set_body_contacts(model_, c.value, std::nullopt); break;
-    case ParamKind::damping: set_body_contacts(model_, std::nullopt, c.value); break;
     case ParamKind::reset:
       // model, pins and task from the start: a new trial
       physics::reset(model_, state_);
@@ -208,7 +222,6 @@ ParamApplied Simulator::apply(const ParamChange& c, std::int64_t now_ns) {
       break;
     case ParamKind::trial_start: trial_change_ = TrialChange::start; break;
     case ParamKind::trial_stop: trial_change_ = TrialChange::stop; break;
-    case ParamKind::change_ramp: params_.change_ramp_s = c.value; break;
   }
   if (law) {
     reenter_contacts(c.kind == ParamKind::reset || c.kind == ParamKind::reposition);

@@ -4,6 +4,7 @@
 // bridge task's state. Lifecycle: configure (load, validate, allocate) -> activate ->
 // step ... -> deactivate. The same class runs in its own process or in a real-time
 // container; step() allocates nothing, locks nothing and never throws.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,26 +20,6 @@
 #include "core/task/polyline.h"
 
 namespace enact::sim {
-
-struct SimParams {
-  std::string scene;               // scene file (YAML)
-  double rate_hz = 0.0;            // 0: the scene's rate_hz
-  std::string model = "CM1";       // computer model: preset name or YAML file
-  haptics::TactileParams tactile;  // pin frame down-sampling
-  task::TaskParams task;           // fall rule and completion
-  bool force = false;              // run a scene that fails the stability check anyway
-  // live changes never jolt: the force felt before a change blends into the new setting's over
-  // this long (longer when the device profile's max_force_step_n_per_ms needs it)
-  double change_ramp_s = 0.05;
-  // after a live change of the force law (a model, threshold or stiffness, a reset), the body's
-  // points come back out of what they sank into at most this fast (the bridge: 17 points at 6000 N/m, about 1 N/ms; 50 mm/s
-  // launched the scripted hand off the top in a hostile burst, and it fell back hard); the
-  // device profile's force step limit may make it slower still
-  double reentry_speed_m_per_s = 0.01;
-  // after a cut of the force path (its start, a watchdog episode, a late tick), the body
-  // returns from out of the objects to the device over this time (Reengagement)
-  double reengage_s = kReengageDefault_s;
-};
 
 struct StepOutput {
   math::Vec3 force_n;           // force for the device (N)
@@ -90,6 +71,7 @@ class Simulator {
   void restore(const Keyframe& keyframe);
 
   Lifecycle lifecycle() const { return lifecycle_; }
+  const SimParams& params() const { return params_; }
   const physics::Model& model() const { return model_; }
   const physics::State& state() const { return state_; }
   const haptics::ComputerModel& computer_model() const { return cm_; }
@@ -135,6 +117,9 @@ class Simulator {
   std::uint64_t steps_ = 0;     // steps since activate
   Reengagement reengage_;
   std::int64_t origin_ns_ = -1, sample_ns_ = 0;  // step_sample's first and last sample
+  // the live numbers changed since configure (bit n: row n of live_numbers()), their values
+  std::array<double, kMaxLiveNumbers> live_values_{};
+  std::uint32_t live_changed_ = 0;
   StepOutput out_;
   // no jolt: the body's points and contact pairs, each point's elastic force as the device
   // felt it before a change, whether some point counts its force from a re-entry depth, and

@@ -29,8 +29,8 @@ sim::ParamValue number(double v) { return {v, std::nullopt, std::nullopt}; }
 sim::ParamValue text(const std::string& v) { return {std::nullopt, v, std::nullopt}; }
 sim::ParamValue flag(bool v) { return {std::nullopt, std::nullopt, v}; }
 
-// the parameters the pre-check looks at
-bool prechecked(const std::string& param) { return param == "threshold_m" || param == "stiffness_n_per_m" || param == "damping_n_s_per_m"; }
+// the parameters the pre-check looks at: the live numbers
+bool prechecked(const std::string& param) { return sim::find_live_number(param) != nullptr; }
 
 }  // namespace
 
@@ -173,9 +173,7 @@ void Controls::rebuild() {
     planner_.reset();
     status_ = std::string("no stability pre-check (the simulator decides): ") + e.what();
   }
-  stiffness_ = stiffness_n_per_m();
-  damping_ = damping_n_s_per_m();
-  threshold_mm_ = threshold_m() * 1e3;
+  for (std::size_t n = 0; n < sim::live_numbers().size(); ++n) numbers_[n] = planner_ ? planner_->value(sim::live_numbers()[n]) : 0.0;
 }
 
 double Controls::stiffness_n_per_m() const { return planner_ ? planner_->stiffness_n_per_m() : 0.0; }
@@ -262,18 +260,16 @@ std::vector<msgs::ParamUpdate> Controls::draw(const Rect& r, const ViewModel& mo
   ImGui::SameLine();
   if (ImGui::Button("load") && model_file_[0]) add(request("model", text(model_file_)));
   ImGui::Separator();
-  ImGui::SetNextItemWidth(150);
-  ImGui::InputDouble("##threshold", &threshold_mm_, 0.5, 1.0, "%.2f");
-  ImGui::SameLine();
-  if (ImGui::Button("set threshold (mm)")) add(request("threshold_m", number(threshold_mm_ * 1e-3)));
-  ImGui::SetNextItemWidth(150);
-  ImGui::InputDouble("##stiffness", &stiffness_, 500.0, 1000.0, "%.0f");
-  ImGui::SameLine();
-  if (ImGui::Button("set stiffness (N/m)")) add(request("stiffness_n_per_m", number(stiffness_)));
-  ImGui::SetNextItemWidth(150);
-  ImGui::InputDouble("##damping", &damping_, 0.005, 0.01, "%.3f");
-  ImGui::SameLine();
-  if (ImGui::Button("set damping (N s/m)")) add(request("damping_n_s_per_m", number(damping_)));
+  // a field for each live number, from its declaration
+  for (std::size_t n = 0; n < sim::live_numbers().size(); ++n) {
+    const sim::LiveNumber& live = sim::live_numbers()[n];
+    ImGui::PushID(live.name);
+    ImGui::SetNextItemWidth(150);
+    ImGui::InputDouble("##value", &numbers_[n], 0.0, 0.0, "%.6g");
+    ImGui::SameLine();
+    if (ImGui::Button((std::string("set ") + live.name).c_str())) add(request(live.name, number(numbers_[n])));
+    ImGui::PopID();
+  }
   if (planner_) {
     char now[160];
     std::snprintf(now, sizeof now, "now %.0f N/m, %.3f N s/m, threshold %.2f mm; stable while K T/2 + B <= %.2f N s/m", stiffness_n_per_m(),

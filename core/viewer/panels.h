@@ -3,6 +3,7 @@
 // status, the scrolling plot of force and contacts, and the experimenter's controls (their
 // requests checked against the stability analysis before they are sent).
 #include <cstdint>
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -76,7 +77,7 @@ class Controls {
   // the widgets' values
   int model_ = 1;
   char model_file_[256] = {};
-  double threshold_mm_ = 0.0, stiffness_ = 0.0, damping_ = 0.0;
+  std::array<double, sim::kMaxLiveNumbers> numbers_{};  // each live number's field (sim::live_numbers())
 };
 
 }  // namespace enact::viewer
