@@ -4,6 +4,7 @@
 // everywhere (not a number, or not a finite one). Callers say what was wrong, where, and
 // the fix.
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace enact::config {
@@ -15,5 +16,9 @@ std::optional<double> parse_number(std::string_view text, bool allow_nonfinite =
 // `text` as a whole number when all of it is one (an optional '-' and digits) and it fits a
 // long long; nullopt otherwise
 std::optional<long long> parse_integer(std::string_view text);
+
+// the unit a name ends with, as people write it ("Hz" for rate_hz, "N/m" for
+// stiffness_n_per_m; "" for none): names carry their unit (docs/parameters.md)
+std::string unit_of(std::string_view name);
 
 }  // namespace enact::config

@@ -57,18 +57,6 @@ const ParamSpec* find_spec(const ParamTable& table, const std::string& name) {
   return nullptr;
 }
 
-std::string unit_of(const std::string& name) {
-  // longest suffix first
-  static const std::pair<const char*, const char*> kUnits[] = {
-      {"_n_s_per_m", "N s/m"}, {"_n_per_m", "N/m"}, {"_m_per_s", "m/s"}, {"_n_per_ms", "N/ms"}, {"_hz", "Hz"}, {"_us", "us"}, {"_ms", "ms"},
-      {"_mb", "MB"}, {"_kg", "kg"}, {"_s", "s"}, {"_m", "m"}, {"_n", "N"},
-  };
-  for (const auto& [suffix, unit] : kUnits) {
-    if (name.ends_with(suffix)) return unit;
-  }
-  return "";
-}
-
 const char* type_name(ParamType type) {
   switch (type) {
     case ParamType::number: return "number";

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/config/number.h"
+
 namespace enact::graph {
 
 enum class ParamType : std::uint8_t {
@@ -45,7 +47,7 @@ ParamTable join(std::initializer_list<const ParamTable*> tables);
 const ParamSpec* find_spec(const ParamTable& table, const std::string& name);
 
 // the unit its name ends with ("Hz" for rate_hz, "N/m" for stiffness_n_per_m; "" for none)
-std::string unit_of(const std::string& name);
+using config::unit_of;
 
 // its type as a word (number, integer, flag, text, choice, x,y,z, command)
 const char* type_name(ParamType type);

@@ -89,24 +89,24 @@ const std::vector<LiveNumber>& live_numbers() {
   using CM = haptics::ComputerModel;
   constexpr double kNone = std::numeric_limits<double>::infinity();
   static const std::vector<LiveNumber> rows{
-      {.name = "threshold_m", .unit = "m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)",
+      {.name = "threshold_m", .min = 0, .max = haptics::kMaxThreshold_m, .doc = "penetration before force is felt (the computer model's)",
        .example = "0.003", .law = LawChange::if_new, .at_start = nullptr,
        .get = [](const M&, const CM& cm, const SimParams&) { return cm.threshold_m; },
        .set = [](LiveTarget& t, double v) {
          t.cm.threshold_m = v;
          haptics::apply(t.cm, t.model);
        }},
-      {.name = "stiffness_n_per_m", .unit = "N/m", .min = 0, .max = kNone, .doc = "contact stiffness of the body (checked against the stability analysis)",
+      {.name = "stiffness_n_per_m", .min = 0, .max = kNone, .doc = "contact stiffness of the body (checked against the stability analysis)",
        .example = "2000", .law = LawChange::always, .at_start = nullptr,
        .get = [](const M& m, const CM&, const SimParams&) { return body_contact(m) ? body_contact(m)->stiffness_n_per_m : 0.0; },
        .set = [](LiveTarget& t, double v) { set_body_contacts(t.model, v, std::nullopt); },
        .check = [](const ParamPlanner& p, double v) { return p.contact_refusal(true, v); }},
-      {.name = "damping_n_s_per_m", .unit = "N s/m", .min = 0, .max = kNone, .doc = "contact damping of the body (checked against the stability analysis)",
+      {.name = "damping_n_s_per_m", .min = 0, .max = kNone, .doc = "contact damping of the body (checked against the stability analysis)",
        .example = "0.5", .law = LawChange::always, .at_start = nullptr,
        .get = [](const M& m, const CM&, const SimParams&) { return body_contact(m) ? body_contact(m)->damping_n_s_per_m : 0.0; },
        .set = [](LiveTarget& t, double v) { set_body_contacts(t.model, std::nullopt, v); },
        .check = [](const ParamPlanner& p, double v) { return p.contact_refusal(false, v); }},
-      {.name = "change_ramp_s", .unit = "s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time",
+      {.name = "change_ramp_s", .min = 0, .max = 10, .doc = "a live change's force blends from the old to the new law over this time",
        .example = "0.05", .law = LawChange::none, .at_start = &SimParams::change_ramp_s,
        .get = [](const M&, const CM&, const SimParams& p) { return p.change_ramp_s; },
        .set = [](LiveTarget& t, double v) { t.params.change_ramp_s = v; }},
@@ -241,7 +241,7 @@ ParamPlan ParamPlanner::plan(const std::string& name, const ParamValue& value, s
   }
   if (const LiveNumber* number = find_live_number(name)) {
     const std::optional<double> v = number_of(value);
-    const std::string unit = *number->unit ? std::string(" ") + number->unit : "";
+    const std::string unit = config::unit_of(number->name).empty() ? "" : " " + config::unit_of(number->name);
     if (!v || !std::isfinite(*v) || *v < number->min || *v > number->max) {
       const std::string range = std::isfinite(number->max) ? "from " + config::number(number->min) + " to " + config::number(number->max) + unit
                                                            : ">= " + config::number(number->min) + unit;

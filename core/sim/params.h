@@ -73,7 +73,6 @@ enum class LawChange : std::uint8_t {
 // is a row here (and its line in docs/parameters.md)
 struct LiveNumber {
   const char* name;  // with its unit (the table's rules: _m, _n_per_m, _s ...)
-  const char* unit;  // that unit as people write it ("N/m"; "" for none)
   double min, max;   // accepted range, inclusive (max: infinity for none)
   const char* doc;   // one line, for the table and docs
   const char* example;  // a value for the fix of a refusal
