@@ -110,6 +110,27 @@ const std::vector<LiveNumber>& live_numbers() {
        .example = "0.05", .law = LawChange::none, .at_start = &SimParams::change_ramp_s,
        .get = [](const M&, const CM&, const SimParams& p) { return p.change_ramp_s; },
        .set = [](LiveTarget& t, double v) { t.params.change_ramp_s = v; }},
+      {.name = "friction_dynamic", .min = 0, .max = kNone, .doc = "the coefficient the body's contacts with friction slide with (their friction.dynamic; at most friction.static)",
+       .example = "0.3", .law = LawChange::always, .at_start = nullptr,
+       .get = [](const M& m, const CM&, const SimParams&) {
+         for (const physics::ContactPair& c : m.contacts) {
+           if (is_body_point(m, c.point) && c.friction.enabled()) return c.friction.dynamic_coeff;
+         }
+         return 0.0;
+       },
+       .set = [](LiveTarget& t, double v) {
+         for (physics::ContactPair& c : t.model.contacts) {
+           if (is_body_point(t.model, c.point) && c.friction.enabled()) c.friction.dynamic_coeff = std::min(v, c.friction.static_coeff);
+         }
+       },
+       .check = [](const ParamPlanner& p, double v) -> std::string {
+         for (const physics::ContactPair& c : p.model().contacts) {
+           if (!is_body_point(p.model(), c.point) || !c.friction.enabled()) continue;
+           if (v <= c.friction.static_coeff) return {};
+           return "friction_dynamic = " + config::number(v) + " is above friction.static " + config::number(c.friction.static_coeff) + "\n  fix: at most " + config::number(c.friction.static_coeff);
+         }
+         return "friction_dynamic: no contact of the scene's body has friction\n  fix: give its contacts friction: {static: 0.6, dynamic: 0.4, stiffness_n_per_m: 2000}";
+       }},
   };
   return rows;
 }

@@ -4,11 +4,13 @@
 #include <map>
 #include <string>
 
+#include "core/config/format.h"
 #include "core/config/yaml.h"
 #include "core/devices/simulated_tactile.h"
 #include "core/node/components.h"
 #include "core/params/node_params.h"
 #include "core/params/params.h"
+#include "core/sim/simulator.h"
 #include "tests/support/refusal.h"
 #include "tests/support/test_util.h"
 
@@ -149,6 +151,38 @@ TEST(NodeTables, UnitsComeFromTheNames) {
   EXPECT_EQ(unit_of("max_force_step_n_per_ms"), "N/ms");
   EXPECT_EQ(unit_of("mass_kg"), "kg");
   EXPECT_EQ(unit_of("model"), "");
+}
+
+// each live number of the simulator is one declaration: its row of the simulator's table (the
+// --help, launch files' checks, enact param list) and the planner's range check are the same
+// range; outside it a change is refused naming the parameter, its range and unit
+TEST(LiveNumbers, EachIsARowOfTheSimulatorsTableWithTheRangeThePlannerChecks) {
+  sim::Simulator simulator;
+  sim::SimParams p;
+  p.scene = test::source_path("launch/scenes/bridge.yaml");
+  simulator.configure(p);
+  sim::ParamPlanner planner(simulator);
+  ASSERT_GE(sim::live_numbers().size(), 5u);
+  for (const sim::LiveNumber& n : sim::live_numbers()) {
+    const ParamSpec* spec = find_spec(sim_table(), n.name);
+    ASSERT_NE(spec, nullptr) << n.name;
+    EXPECT_TRUE(spec->live) << n.name;
+    EXPECT_EQ(spec->type, ParamType::number) << n.name;
+    EXPECT_EQ(spec->min, n.min) << n.name;
+    EXPECT_EQ(spec->max, n.max) << n.name;
+    EXPECT_EQ(spec->at_start, n.at_start != nullptr) << n.name;
+    const std::string unit = unit_of(n.name).empty() ? "" : " " + unit_of(n.name);
+    const sim::ParamPlan below = planner.plan(n.name, {n.min - 1.0, std::nullopt, std::nullopt}, 1);
+    EXPECT_FALSE(below.accepted) << n.name;
+    EXPECT_NE(below.reason.find(std::string(n.name) + " must be a number "), std::string::npos) << below.reason;
+    const std::string range = std::isfinite(n.max) ? "from " + config::number(n.min) + " to " + config::number(n.max) + unit : ">= " + config::number(n.min) + unit;
+    EXPECT_NE(below.reason.find(range), std::string::npos) << below.reason;
+    if (std::isfinite(n.max)) {
+      const sim::ParamPlan above = planner.plan(n.name, {n.max * 2.0 + 1.0, std::nullopt, std::nullopt}, 2);
+      EXPECT_FALSE(above.accepted) << n.name;
+      EXPECT_NE(above.reason.find(range), std::string::npos) << above.reason;
+    }
+  }
 }
 
 }  // namespace

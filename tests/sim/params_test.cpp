@@ -57,6 +57,19 @@ struct Rig {
   }
 };
 
+// the two-boxes scene with friction on the body's contacts (static 0.6, dynamic 0.4), in `dir`
+std::string boxes_with_friction(const test::TempDir& dir) {
+  std::string scene = test::read_file(test::source_path("launch/scenes/two_boxes.yaml"));
+  scene = std::regex_replace(scene, std::regex("damping_n_s_per_m: 0\\.01\\}"),
+                             "damping_n_s_per_m: 0.01, friction: {static: 0.6, dynamic: 0.4, stiffness_n_per_m: 2000}}");
+  const std::string path = dir.file("boxes.yaml");
+  test::write_file(path, scene);
+  return path;
+}
+
+// the body pressed 0.5 mm into the left box's top and dragged along x at 10 mm/s, at step n
+math::Vec3 dragged(std::int64_t n) { return {-0.012 + 0.010 * static_cast<double>(n) * kPeriod_ns * 1e-9, 0.003, 0.0095}; }
+
 TEST(ParamPlanner, BridgeStiffnessCanGoDownButNotPastTheSceneAsLoaded) {
   // the bridge as shipped is past the ERGOS passivity bound (`enact check` warns): with all
   // 17 body points in contact (bridge and floor are disjoint: one contact each),
@@ -329,6 +342,74 @@ TEST(SimulatorApply, AppliesEveryKindOfChangeWithoutAllocating) {
   EXPECT_EQ(allocations, 0u);
   EXPECT_EQ(rig.sim.computer_model().name, "CM2");
   EXPECT_EQ(rig.sim.computer_model().threshold_m, 0.001);
+}
+
+}  // namespace
+}  // namespace enact::sim
+
+namespace enact::sim {
+namespace {
+
+TEST(LiveNumbers, SlidingFrictionIsRefusedWithoutFrictionAndAboveTheStaticCoefficient) {
+  const LiveNumber* friction = find_live_number("friction_dynamic");
+  ASSERT_NE(friction, nullptr);
+  Rig bridge;
+  ParamPlanner on_bridge(bridge.sim);
+  const ParamPlan none = on_bridge.plan("friction_dynamic", number(0.3), 1);
+  EXPECT_FALSE(none.accepted);
+  EXPECT_NE(none.reason.find("no contact of the scene's body has friction"), std::string::npos) << none.reason;
+  EXPECT_NE(none.reason.find("fix: give its contacts friction:"), std::string::npos) << none.reason;
+  test::TempDir dir;
+  Rig boxes(on_scene(boxes_with_friction(dir)));
+  ParamPlanner planner(boxes.sim);
+  EXPECT_EQ(planner.value(*friction), 0.4);
+  const ParamPlan above = planner.plan("friction_dynamic", number(0.7), 2);
+  EXPECT_FALSE(above.accepted);
+  EXPECT_NE(above.reason.find("above friction.static 0.6"), std::string::npos) << above.reason;
+  const ParamPlan negative = planner.plan("friction_dynamic", number(-0.1), 3);
+  EXPECT_FALSE(negative.accepted);
+  EXPECT_NE(negative.reason.find("friction_dynamic must be a number >= 0"), std::string::npos) << negative.reason;
+  EXPECT_EQ(planner.value(*friction), 0.4) << "a refusal leaves the mirror";
+  EXPECT_TRUE(planner.plan("friction_dynamic", number(0.1), 4).accepted);
+  EXPECT_EQ(planner.value(*friction), 0.1);
+}
+
+// a body dragged along a box's top slides, held back by the sliding friction: a live change
+// to a quarter of it holds the body back less once the change has blended in, and a keyframe
+// saved after the change restores it (a simulator restored without it would slide at 0.4)
+TEST(LiveNumbers, ALowerSlidingFrictionHoldsTheDraggedBodyBackLessAndAKeyframeKeepsIt) {
+  test::TempDir dir;
+  const SimParams scene = on_scene(boxes_with_friction(dir));
+  Rig changed(scene), kept(scene);
+  ParamPlanner planner(changed.sim);
+  double held_before = 0.0, held_changed = 0.0, held_kept = 0.0;
+  for (std::int64_t n = 0; n < 1500; ++n) {
+    if (n == 500) changed.apply(planner, "friction_dynamic", number(0.1));
+    const double a = changed.sim.step(n * kPeriod_ns, dragged(n)).force_n.x, b = kept.sim.step(n * kPeriod_ns, dragged(n)).force_n.x;
+    if (n >= 300 && n < 500) held_before += a;
+    if (n >= 1000) {
+      held_changed += a;
+      held_kept += b;
+    }
+  }
+  ASSERT_LT(held_kept, 0.0) << "the dragged body should be held back (force against +x)";
+  EXPECT_NEAR(held_before / 200.0, held_kept / 500.0, 0.2 * std::abs(held_kept / 500.0)) << "sliding at 0.4 before the change";
+  EXPECT_LT(std::abs(held_changed), 0.5 * std::abs(held_kept)) << held_changed / 500.0 << " N against " << held_kept / 500.0 << " N";
+
+  Keyframe saved;
+  changed.sim.save(saved);
+  std::string bytes;
+  pack(saved, bytes);
+  Simulator restored;
+  restored.configure(scene);
+  Keyframe k;
+  restored.save(k);
+  ASSERT_TRUE(unpack(bytes, k));
+  restored.restore(k);
+  for (std::int64_t n = 1500; n < 1700; ++n) {
+    const double a = changed.sim.step(n * kPeriod_ns, dragged(n)).force_n.x, b = restored.step(n * kPeriod_ns, dragged(n)).force_n.x;
+    ASSERT_EQ(a, b) << "step " << n;
+  }
 }
 
 }  // namespace
