@@ -48,6 +48,7 @@ int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, c
 // enact export FILE --foxglove OUT.mcap (from export_csv)
 int export_foxglove(const Args& a);
 int experiment_run(int argc, char** argv);
+int sweep_run(int argc, char** argv);
 int metrics(int argc, char** argv);
 int share(int argc, char** argv);
 
