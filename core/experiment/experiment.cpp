@@ -24,25 +24,6 @@ namespace fs = std::filesystem;
 // seeds are below this: a node parameter carries whole numbers up to 1e9
 constexpr std::uint64_t kSeedRange = 1'000'000'000;
 
-// a value of the experiment file with $(dirname) (the file's folder, as in launch files: files
-// beside the experiment) and $(share) (enact's shipped files, config/share.h) substituted
-std::string substitute(const std::string& file, std::string value) {
-  for (const std::string_view name : {"$(dirname)", "$(share)"}) {
-    if (value.find(name) == std::string::npos) continue;
-    const std::string folder = name == "$(share)" ? config::share_dir() : fs::absolute(file).parent_path().lexically_normal().string();
-    for (std::size_t at = value.find(name); at != std::string::npos; at = value.find(name, at + folder.size())) value.replace(at, name.size(), folder);
-  }
-  return value;
-}
-
-// a path written in the experiment file, relative to it (else in enact's share, config/share.h)
-std::string beside(const std::string& file, const std::string& written_path) {
-  const std::string path = substitute(file, written_path);
-  const fs::path p(path);
-  const std::string written = (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
-  return config::locate(path, file).value_or(written);
-}
-
 // a preset, or a computer-model file relative to the experiment file; errors at its line
 Condition condition(const std::string& file, const YAML::Node& at, const std::string& written) {
   const bool preset = haptics::preset(written).has_value();
@@ -63,6 +44,22 @@ std::vector<std::string> numbered(int count) {
 }
 
 }  // namespace
+
+std::string substitute(const std::string& file, std::string value) {
+  for (const std::string_view name : {"$(dirname)", "$(share)"}) {
+    if (value.find(name) == std::string::npos) continue;
+    const std::string folder = name == "$(share)" ? config::share_dir() : fs::absolute(file).parent_path().lexically_normal().string();
+    for (std::size_t at = value.find(name); at != std::string::npos; at = value.find(name, at + folder.size())) value.replace(at, name.size(), folder);
+  }
+  return value;
+}
+
+std::string beside(const std::string& file, const std::string& written_path) {
+  const std::string path = substitute(file, written_path);
+  const fs::path p(path);
+  const std::string written = (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
+  return config::locate(path, file).value_or(written);
+}
 
 std::vector<std::string> read_subjects(const config::Map& m) {
   const std::string& path = m.file();
@@ -207,7 +204,7 @@ void override_launch_args(ExperimentSpec& spec, const std::vector<std::pair<std:
       throw config::Error("'" + name + "' is set by the experiment runner for each trial\n  fix: give another launch argument (for the model: the conditions)");
     }
     const bool has = std::any_of(declared.args.begin(), declared.args.end(), [&](const launch::ArgSpec& a) { return a.name == name; });
-    if (!has) throw config::Error("the trial graph " + spec.launch + " declares no launch argument '" + name + "'\n  fix: give one it declares (`enact launch " + spec.launch + " --print` lists them)");
+    if (!has) throw config::Error("the trial graph " + spec.launch + " declares no launch argument '" + name + "'\n  fix: give one it declares (`enact launch " + spec.launch + " --check` lists them)");
     std::erase_if(spec.launch_args, [&](const auto& kv) { return kv.first == name; });
     spec.launch_args.emplace_back(name, value);
   }

@@ -86,8 +86,7 @@ SweepSpec load_sweep(const std::string& path) {
   s.file = fs::absolute(path).lexically_normal().string();
   s.sha256 = sha256_file(path);
   s.name = m.text("name", fs::path(path).stem().string());
-  const std::string written = m.text("experiment");
-  s.experiment = (fs::path(written).is_absolute() ? fs::path(written) : fs::absolute(fs::path(path).parent_path() / written)).lexically_normal().string();
+  s.experiment = beside(path, m.text("experiment"));
   if (!fs::is_regular_file(s.experiment)) m.fail("experiment", "no experiment file " + s.experiment, "give the experiment file, relative to the sweep file");
   s.seed = static_cast<std::uint64_t>(m.integer("seed", 1, 0, 2147483647));
   s.replicates = m.integer("replicates", 1, 1, 100000);
@@ -117,7 +116,9 @@ SweepSpec load_sweep(const std::string& path) {
     }
     if (!kv.second.IsSequence() || kv.second.size() == 0) config::fail(path, kv.second, "grid parameter '" + axis.name + "' needs a list of values", "write " + axis.name + ": [A, B]");
     for (const auto& v : kv.second) {
-      const std::string value = config::scalar(path, v, "a value of " + axis.name);
+      // $(dirname): the sweep file's folder, $(share): enact's shipped files
+      std::string value = substitute(path, config::scalar(path, v, "a value of " + axis.name));
+      if (value.find('/') != std::string::npos) value = fs::path(value).lexically_normal().string();
       if (value.find_first_of(",\n\r\"") != std::string::npos) config::fail(path, v, "a grid value cannot hold a comma, a quote or a line break", "write the value without them");
       for (std::size_t i = 0; i < axis.values.size(); ++i) {
         if (value_name(axis.values[i]) == value_name(value)) {

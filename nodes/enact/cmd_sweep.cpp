@@ -37,8 +37,6 @@ using experiment::JobState;
 using experiment::SweepJob;
 using experiment::SweepSpec;
 
-constexpr const char* kVersion = "enact 0.1.0";
-
 constexpr const char* kSweepHelp = R"(usage: enact sweep FILE [--out DIR] [--executor local|slurm|dask://HOST:PORT] [--jobs J]
                    [--slurm-opt NAME=VALUE]... [--dry-run]
 

@@ -127,7 +127,7 @@ int run_command(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   if (!std::strcmp(argv[1], "--version")) {
-    std::puts("enact 0.1.0");
+    std::puts(kVersion);
     return 0;
   }
   const std::string command = argv[1];

@@ -9,6 +9,9 @@
 
 namespace enact::cli {
 
+// what `enact --version` prints (and a sweep's manifest records)
+inline constexpr const char* kVersion = "enact 0.1.0";
+
 int check(int argc, char** argv);
 int simulate(int argc, char** argv);
 int path(int argc, char** argv);
