@@ -44,7 +44,6 @@ def main():
     p.add_argument("--scheduler", required=True, help="HOST:PORT of a running Dask scheduler")
     p.add_argument("--logs", required=True, help="the sweep's logs folder (DIR/logs)")
     p.add_argument("--jobs", required=True, help="the jobs to run, comma-separated numbers")
-    p.add_argument("--retries", type=int, default=1, help="a task whose job failed runs again this many times (default 1)")
     p.add_argument("command", nargs=argparse.REMAINDER, help="-- enact sweep FILE --out DIR")
     a = p.parse_args()
     command = a.command[1:] if a.command[:1] == ["--"] else a.command
@@ -64,10 +63,8 @@ def main():
     print(f"enact sweep: Dask scheduler {a.scheduler}, {len(client.scheduler_info()['workers'])} workers, dashboard {client.dashboard_link}", file=sys.stderr, flush=True)
     os.makedirs(a.logs, exist_ok=True)
     futures = [client.submit(run_job, command, k, key=f"enact-sweep-{os.getpid()}-{k}", pure=False) for k in jobs]
-    attempts = {k: 0 for k in jobs}
     lost = 0
-    pending = as_completed(futures)
-    for f in pending:
+    for f in as_completed(futures):
         try:
             k, code, host, output = f.result()
         except Exception as e:  # the task could not run (e.g. KilledWorker: its workers kept dying)
@@ -76,11 +73,7 @@ def main():
             continue
         with open(os.path.join(a.logs, f"job_{k}.log"), "a") as log:
             log.write(output)
-        if code != 0 and code != 75 and attempts[k] < a.retries:
-            attempts[k] += 1
-            print(f"enact sweep: job {k} failed on {host} (exit {code}); trying again", file=sys.stderr, flush=True)
-            pending.add(client.submit(run_job, command, k, key=f"enact-sweep-{os.getpid()}-{k}-{attempts[k]}", pure=False))
-        elif code != 0:
+        if code != 0:
             print(f"enact sweep: job {k} failed on {host} (exit {code}); log {a.logs}/job_{k}.log", file=sys.stderr, flush=True)
     client.close()
     return 1 if lost else 0
