@@ -46,7 +46,7 @@ constexpr Command kCommands[] = {
     {"doctor", "doctor", "is this machine ready for real-time haptics? one line per check, with the fix", doctor},
     {"keys", "keys new|show", "CURVE keys for remote access (graphs launched with --access)", keys},
     {"experiment", "experiment FILE", "run an experiment's trials (virtual subjects or people), resumable", experiment_run},
-    {"sweep", "sweep FILE --out DIR", "an experiment over a grid of parameters x replicates, here, on Slurm or on Dask; resumable", sweep_run},
+    {"sweep", "sweep FILE", "an experiment over a grid of parameters x replicates (here, Slurm, Dask), resumable", sweep_run},
     {"metrics", "metrics FILE", "a trial's metrics recomputed from its recording", metrics},
     {"share", "share [--all] [FILE...]", "where enact's shipped files are (launch files, scenes, scripts, docs): paths that work from any folder", share},
     {"help", "help [--markdown]", "this list; --markdown: the command and parameter reference (docs/cli.md)", help},
