@@ -27,11 +27,21 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 BUILD = os.path.abspath(sys.argv[1])
 MODE = sys.argv[2]
 ENACT = os.path.join(BUILD, "nodes", "enact", "enact")
-EXPERIMENT = os.path.join(ROOT, "launch", "experiments", "bridge_quick.yaml")
+EXPERIMENTS = os.path.join(ROOT, "launch", "experiments")
 
-# 4 jobs of about 1.5 s: 2 loop rates x 2 replicates, one subject, one condition
-SWEEP = f"""name: sweep_test
-experiment: {EXPERIMENT}
+# the quick bridge experiment, its trials cut to 2 s (few messages: quick jobs)
+EXPERIMENT = f"""name: sweep_test_experiment
+seed: 1
+subjects: 1
+virtual_subject: {EXPERIMENTS}/subjects/quick.yaml
+conditions: [CM1]
+limit_s: 2
+graph: {EXPERIMENTS}/trial_rt.yaml
+"""
+
+# 4 jobs of about a second each: 2 loop rates x 2 replicates
+SWEEP = """name: sweep_test
+experiment: experiment.yaml
 seed: 5
 replicates: 2
 subjects: 1
@@ -252,6 +262,8 @@ def main():
         fail(f"no enact at {ENACT}: build it first")
     tmp = tempfile.mkdtemp(prefix="enact_sweep_")
     try:
+        with open(os.path.join(tmp, "experiment.yaml"), "w") as f:
+            f.write(EXPERIMENT)
         sweep_file = os.path.join(tmp, "sweep.yaml")
         with open(sweep_file, "w") as f:
             f.write(SWEEP)
