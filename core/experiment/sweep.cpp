@@ -218,11 +218,10 @@ std::vector<std::string> experiment_command(const SweepSpec& spec, const SweepJo
   return c;
 }
 
-std::string jobs_text(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
-  std::string t = "experiment " + spec.experiment + "\n";
+std::string sweep_identity(const SweepSpec& spec) {
+  std::string t = "experiment " + spec.experiment + "\nexperiment_sha256 " + sha256_file(spec.experiment) + "\nseed " + std::to_string(spec.seed) + "\n";
   if (spec.subjects > 0) t += "subjects " + std::to_string(spec.subjects) + "\n";
   for (const std::string& c : spec.conditions) t += "condition " + c + "\n";
-  for (const SweepJob& j : jobs) t += std::to_string(j.index) + " " + j.name + " seed " + std::to_string(j.seed) + "\n";
   return t;
 }
 

@@ -9,7 +9,7 @@
 // merged table.
 //
 // The folder of a sweep (--out DIR):
-//   DIR/sweep.txt            the jobs (coordinates and seeds): a resumed run must list the same
+//   DIR/sweep.txt            what the jobs' results depend on besides their coordinates
 //   DIR/jobs/<name>.partial/ a job running, failed or killed: never merged, run again
 //   DIR/jobs/<name>/         a job done: the experiment's results.csv, trials/, experiment.log
 //                            and job.json (exit code, duration, host, sha256 of results.csv);
@@ -76,8 +76,10 @@ std::vector<std::string> check_sweep(const SweepSpec& spec, const std::string& o
 // --out DIR [--subjects N] [--conditions ...] --arg NAME=VALUE ...
 std::vector<std::string> experiment_command(const SweepSpec& spec, const SweepJob& job, const std::string& dir);
 
-// the jobs' list, kept in DIR/sweep.txt (a resumed run must list the same)
-std::string jobs_text(const SweepSpec& spec, const std::vector<SweepJob>& jobs);
+// what makes a job's result besides its coordinates: the experiment file (its path and
+// sha256), the sweep's seed, subjects and conditions; kept in DIR/sweep.txt, a resumed run
+// must have the same (its grid and replicates may grow or shrink: the jobs keep their seeds)
+std::string sweep_identity(const SweepSpec& spec);
 
 // where a job's folders are
 std::string job_dir(const std::string& out, const SweepJob& job);

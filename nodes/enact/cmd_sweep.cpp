@@ -479,7 +479,7 @@ int sweep_run(int argc, char** argv) {
   const std::vector<std::string> problems = experiment::check_sweep(spec, out + "/jobs");
   for (const std::string& p : problems) std::fprintf(stderr, "enact sweep: %s\n", p.c_str());
   if (!problems.empty()) throw config::Error(spec.file + ": the grid has values the trial graphs refuse (above); no job ran");
-  experiment::keep_or_check(out + "/sweep.txt", experiment::jobs_text(spec, jobs), "its jobs differ: another sweep file, grid, seed or experiment");
+  experiment::keep_or_check(out + "/sweep.txt", experiment::sweep_identity(spec), "another experiment, or the experiment file changed, or another seed, subjects or conditions");
   SweepRun run{spec, jobs, {}, out, self_exe()};
   for (const SweepJob& j : jobs) {
     if (experiment::job_state(out, j) != JobState::done) run.pending.push_back(j.index);
@@ -515,17 +515,22 @@ int sweep_run(int argc, char** argv) {
   if (tty) std::fputs("\n", stderr);
   // the merged table and the manifest, from the jobs done (earlier runs' included)
   const std::size_t merged = experiment::merge_sweep(spec, jobs, out, kVersion);
-  std::size_t not_done = 0;
+  // the jobs not done: those that started named with their logs, the others counted
+  std::size_t not_done = 0, not_started = 0;
+  std::string unstarted;  // their numbers, the first 20
   for (const SweepJob& j : jobs) {
     const JobState s = experiment::job_state(out, j);
     if (s == JobState::done) continue;
     ++not_done;
-    if (not_done <= 20) {
-      std::fprintf(stderr, "enact sweep: job %zu (%s) %s; logs: %s/logs/job_%zu.log, %s/experiment.log\n", j.index, j.name.c_str(),
-                   s == JobState::failed ? "failed" : s == JobState::running ? "is still running elsewhere" : "did not finish", out.c_str(), j.index,
-                   experiment::partial_dir(out, j).c_str());
+    if (s == JobState::missing && !fs::exists(experiment::partial_dir(out, j))) {
+      if (++not_started <= 20) unstarted += (unstarted.empty() ? "" : ", ") + std::to_string(j.index);
+      continue;
     }
+    std::fprintf(stderr, "enact sweep: job %zu (%s) %s; logs: %s/logs/job_%zu.log, %s/experiment.log\n", j.index, j.name.c_str(),
+                 s == JobState::failed ? "failed" : s == JobState::running ? "is still running elsewhere" : "did not finish", out.c_str(), j.index,
+                 experiment::partial_dir(out, j).c_str());
   }
+  if (not_started) std::fprintf(stderr, "enact sweep: %zu jobs did not start (%s%s)\n", not_started, unstarted.c_str(), not_started > 20 ? ", ..." : "");
   std::fprintf(stderr, "enact sweep: %zu of %zu jobs done; results: %s/results.csv, manifest: %s/manifest.json%s\n", merged, jobs.size(), out.c_str(), out.c_str(),
                not_done ? "\n  run the same command again to run the jobs not done" : "");
   if (!finished) return 130;

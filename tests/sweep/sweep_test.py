@@ -145,6 +145,24 @@ def test_local(tmp, sweep_file):
     if "0 jobs to run (4 done before)" not in err:
         fail("a finished sweep run again ran jobs:\n" + err)
 
+    # more replicates: only the new jobs run, the others keep their rows
+    grown = os.path.join(tmp, "grown.yaml")
+    with open(grown, "w") as f:
+        f.write(SWEEP.replace("replicates: 2", "replicates: 3"))
+    _, err = sweep(grown, "--out", again, check=0)
+    if "2 jobs to run (4 done before)" not in err:
+        fail("more replicates: not only the new jobs ran:\n" + err)
+    before = read(os.path.join(reference, "results.csv")).decode().splitlines()
+    after = read(os.path.join(again, "results.csv")).decode().splitlines()
+    if len(after) != 7 or [r for r in after if r.split(",")[1] != "3"] != before:
+        fail(f"more replicates: the table {after} does not hold the earlier rows {before} and 2 more")
+    # the experiment edited: its folder refused, nothing run
+    with open(os.path.join(tmp, "experiment.yaml"), "a") as f:
+        f.write("practice_s: 1\n")
+    code, err = sweep(sweep_file, "--out", again)
+    if code != 1 or "sweep.txt" not in err or "jobs to run" in err:
+        fail(f"an edited experiment: exit {code}, expected 1 naming sweep.txt, nothing run:\n{err}")
+
     # a shared file missing where the job runs: the host and the path
     code, err = sweep(os.path.join(tmp, "nowhere", "sweep.yaml"), "--out", again, "--job", "0")
     host = socket.gethostname()
@@ -187,8 +205,8 @@ def test_slurm(tmp, sweep_file):
         _, err = run.communicate(timeout=180)
         if array is None:
             fail("no array task ever ran:\n" + err)
-        if run.returncode != 1 or "job 3 (" not in err or "did not finish" not in err:
-            fail(f"a cancelled task: exit {run.returncode}, expected 1 naming job 3 and its logs:\n{err}")
+        if run.returncode != 1 or not re.search(r"jobs did not start \((\d+, )*3[,)]", err):
+            fail(f"a cancelled task: exit {run.returncode}, expected 1 naming job 3 (cancelled before it started):\n{err}")
         rows = read(os.path.join(out, "results.csv")).decode().splitlines()[1:]
         done = [n for n in os.listdir(os.path.join(out, "jobs")) if not n.endswith((".lock", ".partial"))]
         if len(rows) != len(done) or len(done) >= 4 or any(r.startswith("2000,2,") for r in rows):
