@@ -156,9 +156,10 @@ int run_job(const std::string& file, const std::string& out, long index) {
   if (index < 0 || index >= static_cast<long>(jobs.size())) throw UsageError("--job " + std::to_string(index) + ": the sweep has jobs 0 to " + std::to_string(jobs.size() - 1));
   const SweepJob& job = jobs[static_cast<std::size_t>(index)];
   const std::string done = experiment::job_dir(out, job), partial = experiment::partial_dir(out, job);
-  // one process per job: another one's (a killed worker's still stopping) is waited for
+  // one process per job: another one's (a killed worker's still stopping) is waited for. The
+  // experiment and its graph inherit the lock: it is held until the last of them is gone
   const std::string lock = out + "/jobs/" + job.name + ".lock";
-  const int fd = open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  const int fd = open(lock.c_str(), O_RDWR | O_CREAT, 0644);
   if (fd < 0) throw config::Error(lock + ": cannot be created (" + std::strerror(errno) + ")\n  fix: the sweep's folder must be writable here (host " + host + ")");
   const std::int64_t wait_until = rt::now_ns() + 60'000'000'000;
   while (flock(fd, LOCK_EX | LOCK_NB) != 0) {
