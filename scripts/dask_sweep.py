@@ -74,7 +74,8 @@ def main():
         with open(os.path.join(a.logs, f"job_{k}.log"), "a") as log:
             log.write(output)
         if code != 0:
-            print(f"enact sweep: job {k} failed on {host} (exit {code}); log {a.logs}/job_{k}.log", file=sys.stderr, flush=True)
+            said = "".join("\n  " + line for line in output.strip().splitlines()[-3:])
+            print(f"enact sweep: job {k} failed on {host} (exit {code}); log {a.logs}/job_{k}.log:{said}", file=sys.stderr, flush=True)
     client.close()
     return 1 if lost else 0
 

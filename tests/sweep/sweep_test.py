@@ -9,7 +9,9 @@
                               table byte-identical to the local run's, the per-job hashes
                               equal; a cancelled (scancel) array task run again on the re-run
   sweep_test.py BUILD dask    a real Dask scheduler and two workers on 127.0.0.1: the same;
-                              a worker killed mid-sweep, its job run again, counted once
+                              a worker killed mid-sweep, its job run again, counted once; a
+                              worker that does not see the shared folder (a tmpfs over it in
+                              its own mount namespace): the host and the missing path said
 Exit 77 (skipped, with the reason) when not root or the packages are missing (scripts/setup.sh).
 """
 import json
@@ -264,6 +266,22 @@ def test_dask(tmp, sweep_file):
         worker("w3")
         code, err = sweep(sweep_file, "--out", out, "--executor", "dask://" + address, check=0)
         same_as(reference, out, "dask, a worker killed")
+
+        # a worker that does not see the shared folder (a tmpfs over it in its own mount
+        # namespace), alone on its scheduler: each job's error names the host and the path
+        if os.geteuid() != 0 or shutil.which("unshare") is None:
+            print("sweep dask: the worker without the shared folder needs root and unshare: not tried")
+            return
+        blind = free_port()
+        procs.append(subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(blind), "--dashboard-address", f"127.0.0.1:{free_port()}"],
+                                      stdout=logs, stderr=logs))
+        procs.append(subprocess.Popen(["unshare", "-m", "--propagation", "private", "sh", "-c",
+                                       f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://127.0.0.1:{blind} --nthreads 1 --no-nanny --name blind'],
+                                      stdout=logs, stderr=logs))
+        code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind"), "--executor", f"dask://127.0.0.1:{blind}")
+        host = socket.gethostname()
+        if code != 1 or f"on host {host}: the sweep file {sweep_file} is missing here" not in err:
+            fail(f"a worker without the shared folder: exit {code}, expected 1 and the host and the sweep file's path in:\n{err}")
     finally:
         for p in reversed(procs):
             p.terminate()
