@@ -25,6 +25,7 @@
 #include "core/launch/supervisor.h"
 #include "core/math/random.h"
 #include "core/rt/clock.h"
+#include "nodes/enact/child_process.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
@@ -294,25 +295,7 @@ pid_t start_replicate(const Args& a, const std::vector<std::pair<std::string, st
     if (a.has(o)) args.insert(args.end(), {std::string("--") + o, a.get(o)});
   }
   for (const auto& [name, value] : spec_args) args.insert(args.end(), {"--arg", name + "=" + value});
-  const std::string log = dir + "/run.log";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    sigset_t all;
-    sigfillset(&all);
-    sigprocmask(SIG_UNBLOCK, &all, nullptr);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-    }
-    std::vector<char*> argv;
-    for (auto& x : args) argv.push_back(x.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  if (pid < 0) throw std::runtime_error("cannot start a replicate: " + std::string(std::strerror(errno)));
-  return pid;
+  return start_logged(args, dir + "/run.log", false);
 }
 
 // --replicates N: the whole experiment N times with fresh seeds, J at once, each resumable in

@@ -27,6 +27,7 @@
 #include "core/experiment/sweep.h"
 #include "core/launch/supervisor.h"
 #include "core/rt/clock.h"
+#include "nodes/enact/child_process.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
@@ -97,37 +98,6 @@ std::string shell_word(const std::string& s) {
   return out + "'";
 }
 
-// starts argv with its output appended to `log` (signals unblocked); the pid
-pid_t start_process(const std::vector<std::string>& args, const std::string& log, bool die_with_parent) {
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (die_with_parent) {
-      prctl(PR_SET_PDEATHSIG, SIGTERM);
-      if (getppid() != parent) _exit(143);
-    }
-    sigset_t all;
-    sigfillset(&all);
-    sigprocmask(SIG_UNBLOCK, &all, nullptr);
-    if (!log.empty()) {
-      const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-      if (fd >= 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-      }
-    }
-    std::vector<std::string> copy = args;
-    std::vector<char*> argv;
-    for (auto& x : copy) argv.push_back(x.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    std::fprintf(stderr, "cannot run %s: %s\n", args[0].c_str(), std::strerror(errno));
-    _exit(127);
-  }
-  if (pid < 0) throw std::runtime_error("cannot start a process: " + std::string(std::strerror(errno)));
-  return pid;
-}
-
 // ---- one job (--job K): what every executor runs ----
 
 int run_job(const std::string& file, const std::string& out, long index) {
@@ -184,7 +154,7 @@ int run_job(const std::string& file, const std::string& out, long index) {
   std::fflush(stderr);
   const std::int64_t start_ns = rt::now_ns();
   launch::block_supervisor_signals();
-  const pid_t pid = start_process(args, partial + "/experiment.log", true);
+  const pid_t pid = start_logged(args, partial + "/experiment.log", true);
   int status = 0;
   bool stopped = false;
   while (true) {
@@ -268,7 +238,7 @@ class LocalExecutor final : public Executor {
     while ((next < run.pending.size() && !stopping) || !running.empty()) {
       while (!stopping && next < run.pending.size() && static_cast<int>(running.size()) < jobs_) {
         const std::size_t k = run.pending[next++];
-        running[start_process(run.job_command(k), run.log(k), true)] = k;
+        running[start_logged(run.job_command(k), run.log(k), true)] = k;
       }
       if (!stopping && experiment::take_stop_signal()) {
         stopping = true;
@@ -381,7 +351,7 @@ class DaskExecutor final : public Executor {
   }
 
   bool run(const SweepRun& run, const std::function<void()>& tick) override {
-    const pid_t pid = start_process(command(run), "", true);
+    const pid_t pid = start_logged(command(run), "", true);
     bool stopped = false;
     std::int64_t last_tick = 0;
     while (true) {
