@@ -68,6 +68,13 @@ void write_whole(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
+// a condition as written in the sweep file: a model file relative to it made absolute, a
+// preset (or anything else: refused later with its line) as it is
+std::string model_value(const std::string& written, const std::string& sweep_file) {
+  const fs::path beside = fs::absolute(fs::path(sweep_file).parent_path() / written);
+  return !fs::path(written).is_absolute() && fs::is_regular_file(beside) ? beside.lexically_normal().string() : written;
+}
+
 // true when a process holds the job's lock (a job running)
 bool lock_held(const std::string& path) {
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -94,16 +101,24 @@ SweepSpec load_sweep(const std::string& path) {
   if (m.has("conditions")) {
     const YAML::Node c = m.get("conditions");
     if (!c.IsSequence() || c.size() == 0) m.fail("conditions", "conditions must be a list", "write conditions: [CM0, CM1]");
-    for (const auto& v : c) s.conditions.push_back(config::scalar(path, v, "a condition"));
+    for (const auto& v : c) s.conditions.push_back(model_value(config::scalar(path, v, "a condition"), path));
   }
   // the experiment loads (its own file:line errors), and declares what the grid names
   const ExperimentSpec base = load_experiment(s.experiment);
+  if (!s.conditions.empty()) {
+    try {
+      ExperimentSpec e = base;
+      override_conditions(e, s.conditions);
+    } catch (const config::Error& e) {
+      const std::string what = e.what();
+      m.fail("conditions", what.substr(0, what.find('\n')), "use computer model presets (CM0, CM1, CM2, CM3, P, T, PT) or model files relative to the sweep file");
+    }
+  }
   const YAML::Node grid = m.get("grid");
   if (!grid.IsMap() || grid.size() == 0) m.fail("grid", "grid must be a mapping of parameters to lists of values", "write grid: {rate_hz: [1000, 5000], model: [CM0, CM1]}");
   for (const auto& kv : grid) {
     SweepAxis axis;
     axis.name = config::scalar(path, kv.first, "a grid parameter");
-    axis.line = kv.first.Mark().line + 1;
     if (axis.name != kModelAxis) {
       // a launch argument the trial graph declares, not one the runner sets
       try {
@@ -118,6 +133,7 @@ SweepSpec load_sweep(const std::string& path) {
     for (const auto& v : kv.second) {
       // $(dirname): the sweep file's folder, $(share): enact's shipped files
       std::string value = substitute(path, config::scalar(path, v, "a value of " + axis.name));
+      if (axis.name == kModelAxis) value = model_value(value, path);
       if (value.find('/') != std::string::npos) value = fs::path(value).lexically_normal().string();
       if (value.find_first_of(",\n\r\"") != std::string::npos) config::fail(path, v, "a grid value cannot hold a comma, a quote or a line break", "write the value without them");
       for (std::size_t i = 0; i < axis.values.size(); ++i) {

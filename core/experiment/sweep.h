@@ -30,7 +30,6 @@ struct SweepAxis {
   std::string name;
   std::vector<std::string> values;
   std::vector<int> lines;  // each value's line in the sweep file (1-based)
-  int line = 0;
 };
 
 struct SweepSpec {
@@ -40,7 +39,7 @@ struct SweepSpec {
   std::uint64_t seed = 1;
   int replicates = 1;
   int subjects = 0;        // > 0: --subjects over the experiment's
-  std::vector<std::string> conditions;  // not empty: --conditions over the experiment's
+  std::vector<std::string> conditions;  // not empty: --conditions over the experiment's (model files absolute)
   std::vector<SweepAxis> grid;          // in the file's order: the first varies slowest
   std::string sha256;      // of the sweep file's bytes
 };

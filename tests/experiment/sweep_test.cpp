@@ -125,6 +125,7 @@ TEST(Sweep, BadFilesAreRefusedAtTheirLine) {
   refused("grid:\n  rate_hz: []\n", "3", "needs a list");                                    // empty
   refused("grid:\n  rate_hz: [1000, 2000, 1000]\n", "3", "listed twice");                   // twice
   refused("grid:\n  rate_hz: [1000]\nreplicates: 0\n", "4", "replicates");                    // no replicate
+  refused("conditions: [CM1, CM9]\ngrid:\n  rate_hz: [1000]\n", "2", "CM9");                  // not a model
   const std::string e = test::error_of_file("bad.yaml", "experiment: nowhere.yaml\ngrid: {rate_hz: [1]}\n", [](const std::string& p) { load_sweep(p); });
   EXPECT_NE(e.find("bad.yaml:1:"), std::string::npos) << e;
   EXPECT_NE(e.find("nowhere.yaml"), std::string::npos) << e;
