@@ -322,8 +322,14 @@ class SlurmExecutor final : public Executor {
 
  private:
   std::string script(const SweepRun& run) const {
+    // the pending jobs as ranges: 0-11,14,20-23
     std::string tasks;
-    for (std::size_t k : run.pending) tasks += (tasks.empty() ? "" : ",") + std::to_string(k);
+    for (std::size_t i = 0; i < run.pending.size();) {
+      std::size_t last = i;
+      while (last + 1 < run.pending.size() && run.pending[last + 1] == run.pending[last] + 1) ++last;
+      tasks += (tasks.empty() ? "" : ",") + std::to_string(run.pending[i]) + (last > i ? "-" + std::to_string(run.pending[last]) : "");
+      i = last + 1;
+    }
     std::string s = "#!/bin/sh\n# enact sweep " + run.spec.file + ": one array task per job (" + std::to_string(run.pending.size()) + " jobs)\n";
     s += "#SBATCH --job-name=enact-" + run.spec.name + "\n";
     s += "#SBATCH --array=" + tasks + (jobs_ > 0 ? "%" + std::to_string(jobs_) : "") + "\n";
