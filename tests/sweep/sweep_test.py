@@ -236,10 +236,11 @@ def test_dask(tmp, sweep_file):
     address = f"127.0.0.1:{port}"
     logs = open(os.path.join(tmp, "dask.log"), "w")
     procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--dashboard-address", f"127.0.0.1:{free_port()}"],
-                              stdout=logs, stderr=logs)]
+                              stdout=logs, stderr=logs, cwd=tmp)]
 
     def worker(name):
-        procs.append(subprocess.Popen([dask, "worker", "tcp://" + address, "--nthreads", "1", "--no-nanny", "--name", name], stdout=logs, stderr=logs))
+        procs.append(subprocess.Popen([dask, "worker", "tcp://" + address, "--nthreads", "1", "--no-nanny", "--name", name,
+                                       "--local-directory", os.path.join(tmp, "dask_" + name)], stdout=logs, stderr=logs, cwd=tmp))
         return procs[-1]
 
     try:
@@ -274,10 +275,10 @@ def test_dask(tmp, sweep_file):
             return
         blind = free_port()
         procs.append(subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(blind), "--dashboard-address", f"127.0.0.1:{free_port()}"],
-                                      stdout=logs, stderr=logs))
+                                      stdout=logs, stderr=logs, cwd=tmp))
         procs.append(subprocess.Popen(["unshare", "-m", "--propagation", "private", "sh", "-c",
-                                       f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://127.0.0.1:{blind} --nthreads 1 --no-nanny --name blind'],
-                                      stdout=logs, stderr=logs))
+                                       f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://127.0.0.1:{blind} --nthreads 1 --no-nanny --name blind --local-directory "{tmp}"'],
+                                      stdout=logs, stderr=logs, cwd="/"))
         code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind"), "--executor", f"dask://127.0.0.1:{blind}")
         host = socket.gethostname()
         if code != 1 or f"on host {host}: the sweep file {sweep_file} is missing here" not in err:
