@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "core/config/format.h"
+#include "core/config/share.h"
 #include "core/config/number.h"
 #include "core/config/yaml.h"
 #include "core/experiment/results.h"
@@ -38,7 +39,7 @@ using experiment::JobState;
 using experiment::SweepJob;
 using experiment::SweepSpec;
 
-constexpr const char* kSweepHelp = R"(usage: enact sweep FILE [--out DIR] [--executor local|slurm|dask://HOST:PORT] [--jobs J]
+constexpr const char* kSweepHelp = R"help(usage: enact sweep FILE [--out DIR] [--executor local|slurm|dask://HOST:PORT] [--jobs J]
                    [--slurm-opt NAME=VALUE]... [--dry-run]
 
 Run the sweep of FILE (format: docs/experiments.md, "Sweeps"): an experiment with virtual
@@ -77,11 +78,11 @@ options:
   --dry-run           print what would run (the jobs' commands, the Slurm script, the Dask
                       call) after the checks, and run nothing
   --job K             run job K only, here (what each executor runs)
-Progress (done / running / failed, time left) goes to stderr. Then:
-  /usr/bin/python3 scripts/sweep_plot.py DIR      a measure per grid point with intervals
+Progress (done / running / failed, time left) goes to stderr. Then, a measure per grid point
+with intervals: /usr/bin/python3 "$(enact share scripts/sweep_plot.py)" DIR
 Exit status: 0 every job done, 1 jobs failed or did not finish (run again to resume them) or
 an error, 2 bad arguments, 130 stopped (Ctrl-C).
-)";
+)help";
 
 std::string host_name() {
   char buf[256] = {};
@@ -424,15 +425,16 @@ int sweep_run(int argc, char** argv) {
     return 0;
   }
   if (a.positional.size() != 1) throw UsageError("give exactly one sweep file");
-  const std::string file = fs::absolute(a.positional[0]).lexically_normal().string();
   if (a.has("job")) {
+    // as given: a job names a sweep file missing on its host itself
+    const std::string file = fs::absolute(a.positional[0]).lexically_normal().string();
     const double k = a.number("job", -1.0);
     if (!a.has("out")) throw UsageError("--job needs the sweep's --out");
     if (k < 0 || k != std::floor(k)) throw UsageError("--job needs a job's number (from 0)");
     return run_job(file, fs::absolute(a.get("out")).lexically_normal().string(), static_cast<long>(k));
   }
   launch::block_supervisor_signals();
-  const SweepSpec spec = experiment::load_sweep(a.positional[0]);
+  const SweepSpec spec = experiment::load_sweep(fs::absolute(find_file(a.positional[0])).lexically_normal().string());
   const std::vector<SweepJob> jobs = experiment::sweep_jobs(spec);
   const std::string out = fs::absolute(a.get("out", "results/" + spec.name)).lexically_normal().string();
   // the executor, from its options
@@ -508,8 +510,8 @@ int sweep_run(int argc, char** argv) {
                  experiment::partial_dir(out, j).c_str());
   }
   if (not_started) std::fprintf(stderr, "enact sweep: %zu jobs did not start (%s%s)\n", not_started, unstarted.c_str(), not_started > 20 ? ", ..." : "");
-  std::fprintf(stderr, "enact sweep: %zu of %zu jobs done; results: %s/results.csv, manifest: %s/manifest.json%s\n", merged, jobs.size(), out.c_str(), out.c_str(),
-               not_done ? "\n  run the same command again to run the jobs not done" : "");
+  std::fprintf(stderr, "enact sweep: %zu of %zu jobs done; results: %s/results.csv, manifest: %s/manifest.json%s\nplot: /usr/bin/python3 %s %s\n", merged, jobs.size(),
+               out.c_str(), out.c_str(), not_done ? "\n  run the same command again to run the jobs not done" : "", config::shipped("scripts/sweep_plot.py").c_str(), out.c_str());
   if (!finished) return 130;
   return not_done ? 1 : 0;
 }
