@@ -2,10 +2,12 @@
 """The virtual baseline's statistical power against the number of subjects.
 
 usage: power.py DIR [--subjects 6-24] [--step 2] [--draws 2000] [--alpha 0.05] [--seed 1]
-                    [--out DIR/power]
+                    [--point AXIS=VALUE,...] [--out DIR/power]
 
 DIR holds the replicates of `enact experiment FILE --clock simulated --replicates N --out
-DIR` (DIR/replicate_NNN/results.csv). Every replicate's subjects are fresh draws from the
+DIR` (DIR/replicate_NNN/results.csv), or is a sweep's folder (`enact sweep FILE --out DIR`:
+the replicates of one grid point, its done jobs DIR/jobs/<coordinates>/results.csv; --point
+chooses the point when the grid has several, e.g. --point rate_hz=1000). Every replicate's subjects are fresh draws from the
 same virtual population (their traits and noise from independent seeds), so they are pooled.
 For each number of subjects n, `draws` studies of n subjects are drawn from the pool without
 replacement and analysed as scripts/analyze.py does (Friedman's test across the conditions,
@@ -23,6 +25,7 @@ Writes OUT/power.csv (n, measure, power, se, draws) and OUT/power.png, and print
 import argparse
 import csv
 import glob
+import json
 import math
 import os
 import random
@@ -36,10 +39,27 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def pool(folder):
+def sweep_files(folder, point):
+    """a sweep's done jobs' results.csv at one grid point (`point`: "AXIS=VALUE,..." or "")"""
+    with open(os.path.join(folder, "manifest.json")) as f:
+        jobs = [j for j in json.load(f)["jobs"] if j.get("state") == "done"]
+    wanted = dict(kv.split("=", 1) for kv in point.split(",") if "=" in kv)
+    chosen = [j for j in jobs if all(j["coords"].get(k) == v for k, v in wanted.items())]
+    points = sorted({tuple(sorted(j["coords"].items())) for j in chosen})
+    if len(points) > 1:
+        names = "; ".join(",".join(f"{k}={v}" for k, v in p) for p in points)
+        raise analyze.InputError(folder, f"the sweep's jobs are at {len(points)} grid points ({names})",
+                                 "choose one with --point, e.g. --point " + ",".join(f"{k}={v}" for k, v in points[0]))
+    return [os.path.join(folder, "jobs", j["name"], "results.csv") for j in chosen]
+
+
+def pool(folder, point=""):
     """{measure: {subject: {condition: value}}}, {subject: {condition: censored}}, the
     conditions and the replicates read; subjects named REPLICATE/SUBJECT"""
-    files = sorted(glob.glob(os.path.join(folder, "replicate_*", "results.csv")))
+    if os.path.isfile(os.path.join(folder, "manifest.json")):
+        files = sweep_files(folder, point)
+    else:
+        files = sorted(glob.glob(os.path.join(folder, "replicate_*", "results.csv")))
     if not files:
         raise analyze.InputError(folder, "no replicate_*/results.csv",
                                  "run the replicates first: enact experiment FILE --clock simulated --replicates N --out " + folder)
@@ -127,11 +147,12 @@ def main():
     parser.add_argument("--draws", type=int, default=2000)
     parser.add_argument("--alpha", type=float, default=0.05)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--point", default="", help="a sweep's grid point: AXIS=VALUE,...")
     parser.add_argument("--out")
     a = parser.parse_args()
     try:
         sizes = sizes_of(a.subjects, a.step)
-        data, censored, conditions, replicates = pool(a.folder)
+        data, censored, conditions, replicates = pool(a.folder, a.point)
         pooled = len(next(iter(data.values())))
         if pooled < max(sizes):
             raise analyze.InputError(a.folder, f"{pooled} virtual subjects in {replicates} replicates, fewer than the {max(sizes)} asked for",

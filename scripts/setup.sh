@@ -41,6 +41,9 @@ packages=(
   libode-dev
   # analysis and plotting scripts (run under /usr/bin/python3)
   python3 python3-scipy python3-matplotlib python3-zmq python3-protobuf python3-yaml
+  # sweeps beyond one machine (enact sweep): a single-node Slurm for scripts/slurm_local.sh and
+  # the tests, and Dask distributed (scripts/dask_sweep.py)
+  slurm-wlm munge python3-distributed
   # fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
 )

@@ -286,13 +286,6 @@ std::map<std::string, std::vector<Told>> read_trials(const std::string& path, co
   return out;
 }
 
-// FNV-1a, 64 bits (Fowler, Noll, Vo): the experiment file's fingerprint in the manifest
-std::uint64_t fnv1a64(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
-  return h;
-}
-
 // the manifest: everything that decides the trials and their analysis, written before the
 // first trial (the study pre-registered by construction) and the same for a resumed run
 std::string manifest_text(const DiscriminationSpec& spec, const std::string& file_text, const std::vector<DiscriminationBlock>& blocks) {

@@ -24,25 +24,6 @@ namespace fs = std::filesystem;
 // seeds are below this: a node parameter carries whole numbers up to 1e9
 constexpr std::uint64_t kSeedRange = 1'000'000'000;
 
-// a value of the experiment file with $(dirname) (the file's folder, as in launch files: files
-// beside the experiment) and $(share) (enact's shipped files, config/share.h) substituted
-std::string substitute(const std::string& file, std::string value) {
-  for (const std::string_view name : {"$(dirname)", "$(share)"}) {
-    if (value.find(name) == std::string::npos) continue;
-    const std::string folder = name == "$(share)" ? config::share_dir() : fs::absolute(file).parent_path().lexically_normal().string();
-    for (std::size_t at = value.find(name); at != std::string::npos; at = value.find(name, at + folder.size())) value.replace(at, name.size(), folder);
-  }
-  return value;
-}
-
-// a path written in the experiment file, relative to it (else in enact's share, config/share.h)
-std::string beside(const std::string& file, const std::string& written_path) {
-  const std::string path = substitute(file, written_path);
-  const fs::path p(path);
-  const std::string written = (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
-  return config::locate(path, file).value_or(written);
-}
-
 // a preset, or a computer-model file relative to the experiment file; errors at its line
 Condition condition(const std::string& file, const YAML::Node& at, const std::string& written) {
   const bool preset = haptics::preset(written).has_value();
@@ -63,6 +44,22 @@ std::vector<std::string> numbered(int count) {
 }
 
 }  // namespace
+
+std::string substitute(const std::string& file, std::string value) {
+  for (const std::string_view name : {"$(dirname)", "$(share)"}) {
+    if (value.find(name) == std::string::npos) continue;
+    const std::string folder = name == "$(share)" ? config::share_dir() : fs::absolute(file).parent_path().lexically_normal().string();
+    for (std::size_t at = value.find(name); at != std::string::npos; at = value.find(name, at + folder.size())) value.replace(at, name.size(), folder);
+  }
+  return value;
+}
+
+std::string beside(const std::string& file, const std::string& written_path) {
+  const std::string path = substitute(file, written_path);
+  const fs::path p(path);
+  const std::string written = (p.is_absolute() ? p : fs::absolute(fs::path(file).parent_path() / p)).lexically_normal().string();
+  return config::locate(path, file).value_or(written);
+}
 
 std::vector<std::string> read_subjects(const config::Map& m) {
   const std::string& path = m.file();
@@ -173,6 +170,12 @@ void read_trial_graph(const config::Map& m, const std::vector<std::string>& need
   }
 }
 
+std::uint64_t fnv1a64(const std::string& bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
 std::string file_safe(const std::string& text) {
   std::string out;
   for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
@@ -185,6 +188,27 @@ std::vector<std::string> subjects_numbered(int count) {
 }
 
 void override_subjects(ExperimentSpec& spec, int count) { spec.subjects = subjects_numbered(count); }
+
+const std::vector<std::string>& runner_launch_args() {
+  static const std::vector<std::string> names{"model", "recording", "limit_s", "subject", "subject_seed", "noise_seed"};
+  return names;
+}
+
+void override_launch_args(ExperimentSpec& spec, const std::vector<std::pair<std::string, std::string>>& args) {
+  if (args.empty()) return;
+  // the arguments only: the executables are found when a trial starts
+  const launch::LaunchDescription declared = launch::load_launch(spec.launch, {}, [](const std::string& exec) { return exec; });
+  for (const auto& [name, value] : args) {
+    const auto& runner = runner_launch_args();
+    if (std::find(runner.begin(), runner.end(), name) != runner.end()) {
+      throw config::Error("'" + name + "' is set by the experiment runner for each trial\n  fix: give another launch argument (for the model: the conditions)");
+    }
+    const bool has = std::any_of(declared.args.begin(), declared.args.end(), [&](const launch::ArgSpec& a) { return a.name == name; });
+    if (!has) throw config::Error("the trial graph " + spec.launch + " declares no launch argument '" + name + "'\n  fix: give one it declares (`enact launch " + spec.launch + " --check` lists them)");
+    std::erase_if(spec.launch_args, [&](const auto& kv) { return kv.first == name; });
+    spec.launch_args.emplace_back(name, value);
+  }
+}
 
 void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& conditions) {
   if (conditions.empty()) throw config::Error("--conditions is empty\n  fix: give e.g. --conditions CM0,CM1");

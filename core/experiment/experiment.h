@@ -53,6 +53,11 @@ ExperimentSpec load_experiment(const std::string& path);
 std::vector<std::string> subjects_numbered(int count);
 void override_subjects(ExperimentSpec& spec, int count);
 void override_conditions(ExperimentSpec& spec, const std::vector<std::string>& conditions);
+// the trial graph's launch arguments the runner sets for each trial (model, recording, ...)
+const std::vector<std::string>& runner_launch_args();
+// --arg NAME=VALUE over the file's launch_args: NAME must be an argument the trial graph
+// declares and not one the runner sets (model, recording, ...); throws config::Error
+void override_launch_args(ExperimentSpec& spec, const std::vector<std::pair<std::string, std::string>>& args);
 
 // one trial of the plan
 struct Trial {

@@ -1,6 +1,7 @@
 #pragma once
 // The keys bridge and discrimination experiment files share, read the same way (private to
 // core/experiment): file:line errors with the fix.
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,14 @@ std::vector<std::string> read_subjects(const config::Map& m);
 std::vector<Condition> read_conditions(const config::Map& m);
 // `order`: random (default) or balanced
 Order read_order(const config::Map& m);
+// a value written in `file` (an experiment or sweep file) with $(dirname) (the file's folder, as
+// in launch files: files beside it) and $(share) (enact's shipped files, config/share.h)
+// substituted
+std::string substitute(const std::string& file, std::string value);
+// a path written in `file`, relative to it (else in enact's share, config/share.h), absolute
+std::string beside(const std::string& file, const std::string& written_path);
+// FNV-1a, 64 bits (Fowler, Noll, Vo): a file's fingerprint, a sweep job's seed stream
+std::uint64_t fnv1a64(const std::string& bytes);
 // `text` with letters, digits, '-' and '_' only (others become '_'): safe in a file name
 std::string file_safe(const std::string& text);
 // `graph` (the trial's launch file, relative to the file, absolute in `launch`) and

@@ -1,6 +1,7 @@
 #include "nodes/enact/args.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "core/config/number.h"
@@ -90,6 +91,14 @@ std::vector<std::string> take_repeated(int& argc, char** argv, const std::string
   }
   argc = kept;
   return out;
+}
+
+std::string clock_text(double s) {
+  const long total = static_cast<long>(s + 0.5);
+  char buf[32];
+  if (total >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
+  else std::snprintf(buf, sizeof buf, "%ld:%02ld", total / 60, total % 60);
+  return buf;
 }
 
 std::optional<rt::GraphClock> clock_option(const Args& a) {

@@ -52,4 +52,7 @@ std::optional<rt::GraphClock> clock_option(const Args& a);
 // (core/config/share.h); config::Error listing where it looked when none has it
 using config::find_file;
 
+// a duration as m:ss, or h:mm:ss from an hour (progress lines)
+std::string clock_text(double s);
+
 }  // namespace enact::cli

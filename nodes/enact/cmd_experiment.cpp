@@ -25,13 +25,14 @@
 #include "core/launch/supervisor.h"
 #include "core/math/random.h"
 #include "core/rt/clock.h"
+#include "nodes/enact/child_process.h"
 #include "nodes/enact/commands.h"
 
 namespace enact::cli {
 namespace {
 
 constexpr const char* kExperimentHelp = R"help(usage: enact experiment FILE [--subjects N] [--conditions A,B,...] [--out DIR] [--clock real|simulated] [--plan]
-                        [--seed S] [--replicates N [--jobs J]]
+                        [--seed S] [--arg NAME=VALUE]... [--replicates N [--jobs J]]
 
 Run the experiment of FILE (format: docs/experiments.md): every subject through every
 condition in a seeded random or balanced order, with optional familiarisation and practice
@@ -77,6 +78,8 @@ options:
   --plan                print the plan (trial order, seeds), check every trial graph's
                         parameters (as a run does first), and run nothing
   --seed S              the plan's seed instead of the file's (subjects' traits, noise, orders)
+  --arg NAME=VALUE      a launch argument of the trial graph over the file's launch_args
+                        (repeatable; e.g. --arg rate_hz=1000); `enact sweep` runs a grid of them
   --replicates N        virtual subjects, simulated time: N independent replicates of the whole
                         experiment (replicate k: fresh subjects and noise from a seed derived
                         from the file's and k), into DIR/replicate_001 ... each resumable, J at
@@ -85,14 +88,6 @@ options:
 Exit status: 0 every trial done, 1 trials failed (they run again on resume) or an error,
 2 bad arguments, 130 stopped before the end (Ctrl-C, or q at a prompt).
 )help";
-
-std::string clock_text(double s) {
-  const long total = static_cast<long>(s + 0.5);
-  char buf[32];
-  if (total >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
-  else std::snprintf(buf, sizeof buf, "%ld:%02ld", total / 60, total % 60);
-  return buf;
-}
 
 // a SIGINT or SIGTERM waiting (they are blocked for the supervisor), not taken
 bool stop_pending() {
@@ -293,36 +288,20 @@ std::string replicate_dir(const std::string& out, int k) {
 
 // `enact experiment FILE --seed S --out DIR [--subjects N] [--conditions ...] --clock
 // simulated` in a child process, its output into DIR/run.log
-pid_t start_replicate(const Args& a, const std::string& file, std::uint64_t seed, const std::string& dir) {
+pid_t start_replicate(const Args& a, const std::vector<std::pair<std::string, std::string>>& spec_args, const std::string& file, std::uint64_t seed, const std::string& dir) {
   std::filesystem::create_directories(dir);
   std::vector<std::string> args = {"/proc/self/exe", "experiment", file, "--clock", "simulated", "--seed", std::to_string(seed), "--out", dir};
   for (const char* o : {"subjects", "conditions"}) {
     if (a.has(o)) args.insert(args.end(), {std::string("--") + o, a.get(o)});
   }
-  const std::string log = dir + "/run.log";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    sigset_t all;
-    sigfillset(&all);
-    sigprocmask(SIG_UNBLOCK, &all, nullptr);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-    }
-    std::vector<char*> argv;
-    for (auto& x : args) argv.push_back(x.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  if (pid < 0) throw std::runtime_error("cannot start a replicate: " + std::string(std::strerror(errno)));
-  return pid;
+  for (const auto& [name, value] : spec_args) args.insert(args.end(), {"--arg", name + "=" + value});
+  return start_logged(args, dir + "/run.log", false);
 }
 
 // --replicates N: the whole experiment N times with fresh seeds, J at once, each resumable in
 // its folder; Ctrl-C stops them (each resumes where it stopped)
-int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const std::string& out) {
+int replicates_run(const Args& a, const std::vector<std::pair<std::string, std::string>>& given_args, const experiment::ExperimentSpec& spec,
+                   const std::string& out) {
   const double n = a.number("replicates", 0.0);
   const double jobs_given = a.number("jobs", static_cast<double>(std::max(1u, std::thread::hardware_concurrency())));
   if (n < 1 || n != static_cast<int>(n) || jobs_given < 1 || jobs_given != static_cast<int>(jobs_given)) throw UsageError("--replicates and --jobs need a whole number >= 1");
@@ -337,7 +316,7 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
   bool stopping = false;
   while ((next <= count && !stopping) || !running.empty()) {
     while (!stopping && next <= count && static_cast<int>(running.size()) < jobs) {
-      running[start_replicate(a, spec.file, replicate_seed(spec.seed, next), replicate_dir(out, next))] = next;
+      running[start_replicate(a, given_args, spec.file, replicate_seed(spec.seed, next), replicate_dir(out, next))] = next;
       ++next;
     }
     if (!stopping && experiment::take_stop_signal()) {
@@ -368,6 +347,13 @@ int replicates_run(const Args& a, const experiment::ExperimentSpec& spec, const 
 }  // namespace
 
 int experiment_run(int argc, char** argv) {
+  // --arg may repeat: taken out before the generic parser
+  std::vector<std::pair<std::string, std::string>> given_args;
+  for (const std::string& kv : take_repeated(argc, argv, "--arg")) {
+    const std::size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--arg needs NAME=VALUE, got '" + kv + "'");
+    given_args.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
   const Args a = parse(argc, argv, 2, {"subjects", "conditions", "out", "clock", "seed", "replicates", "jobs"}, {"plan"});
   if (a.flag("help")) {
     std::fputs(kExperimentHelp, stdout);
@@ -379,9 +365,11 @@ int experiment_run(int argc, char** argv) {
   if (experiment::is_discrimination(a.positional[0])) {
     const std::unique_ptr<FILE, int (*)(FILE*)> term(fdopen(fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3), "w"), &std::fclose);
     if (!term) throw std::runtime_error("cannot duplicate stderr");
+    if (!given_args.empty()) throw UsageError("--arg is for bridge experiments' trial graphs");
     return discrimination_run(a, term.get());
   }
   experiment::ExperimentSpec spec = experiment::load_experiment(a.positional[0]);
+  experiment::override_launch_args(spec, given_args);
   if (a.has("subjects")) {
     const double n = a.number("subjects", 0.0);
     if (n != static_cast<int>(n)) throw UsageError("--subjects needs a whole number");
@@ -394,7 +382,7 @@ int experiment_run(int argc, char** argv) {
     spec.seed = static_cast<std::uint64_t>(seed);
   }
   const std::string out = a.get("out", "results/" + spec.name);
-  if (a.has("replicates")) return replicates_run(a, spec, out);
+  if (a.has("replicates")) return replicates_run(a, given_args, spec, out);
   spec.clock = clock_option(a);
   const std::vector<experiment::Trial> plan = experiment::make_plan(spec);
   if (a.flag("plan")) print_plan(spec, plan);

@@ -46,6 +46,7 @@ constexpr Command kCommands[] = {
     {"doctor", "doctor", "is this machine ready for real-time haptics? one line per check, with the fix", doctor},
     {"keys", "keys new|show", "CURVE keys for remote access (graphs launched with --access)", keys},
     {"experiment", "experiment FILE", "run an experiment's trials (virtual subjects or people), resumable", experiment_run},
+    {"sweep", "sweep FILE", "an experiment over a grid of parameters x replicates (here, Slurm, Dask), resumable", sweep_run},
     {"metrics", "metrics FILE", "a trial's metrics recomputed from its recording", metrics},
     {"share", "share [--all] [FILE...]", "where enact's shipped files are (launch files, scenes, scripts, docs): paths that work from any folder", share},
     {"help", "help [--markdown]", "this list; --markdown: the command and parameter reference (docs/cli.md)", help},
@@ -126,7 +127,7 @@ int run_command(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   if (!std::strcmp(argv[1], "--version")) {
-    std::puts("enact 0.1.0");
+    std::puts(kVersion);
     return 0;
   }
   const std::string command = argv[1];

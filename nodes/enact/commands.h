@@ -9,6 +9,9 @@
 
 namespace enact::cli {
 
+// what `enact --version` prints (and a sweep's manifest records)
+inline constexpr const char* kVersion = "enact 0.1.0";
+
 int check(int argc, char** argv);
 int simulate(int argc, char** argv);
 int path(int argc, char** argv);
@@ -48,6 +51,7 @@ int topic_info_or_bw(const std::string& endpoint, const bus::ClientKeys& keys, c
 // enact export FILE --foxglove OUT.mcap (from export_csv)
 int export_foxglove(const Args& a);
 int experiment_run(int argc, char** argv);
+int sweep_run(int argc, char** argv);
 int metrics(int argc, char** argv);
 int share(int argc, char** argv);
 

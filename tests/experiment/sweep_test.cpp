@@ -1,0 +1,135 @@
+// Sweep files and their jobs (core/experiment/sweep.h): the grid's order, seeds that depend on
+// a job's coordinates only, the job's command, the merged table sorted by coordinates, a
+// changed results.csv refused, SHA-256 against the standard's vectors, and bad files refused
+// with file:line. No job runs here (tests/sweep runs them on real executors).
+#include "core/experiment/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "tests/support/refusal.h"
+#include "tests/support/test_util.h"
+
+namespace enact::experiment {
+namespace {
+
+const std::string kHead = "experiment: " + test::source_path("launch/experiments/bridge_quick.yaml") + "\n";
+
+std::string write_sweep(const test::TempDir& dir, const std::string& body, int seed = 3) {
+  const std::string path = dir.file("sweep.yaml");
+  test::write_file(path, kHead + "seed: " + std::to_string(seed) + "\n" + body);
+  return path;
+}
+
+std::string sweep_error(const std::string& body) {
+  return test::error_of_file("bad.yaml", kHead + body, [](const std::string& path) { load_sweep(path); });
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Sweep, Sha256IsTheStandardsOnItsVectors) {
+  // FIPS 180-4's examples, and the empty message
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"), "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(Sweep, JobsFollowTheGridOrderAndTheirSeedsTheirCoordinatesOnly) {
+  const test::TempDir dir;
+  const SweepSpec spec = load_sweep(write_sweep(dir, "replicates: 2\ngrid:\n  rate_hz: [1000, 2000]\n  model: [CM0, CM2, CM3]\n"));
+  const std::vector<SweepJob> jobs = sweep_jobs(spec);
+  ASSERT_EQ(jobs.size(), 12u);
+  EXPECT_EQ(jobs[0].name, "rate_hz-1000_model-CM0_r001");
+  EXPECT_EQ(jobs[1].name, "rate_hz-1000_model-CM0_r002");
+  EXPECT_EQ(jobs[2].name, "rate_hz-1000_model-CM2_r001");
+  EXPECT_EQ(jobs[11].name, "rate_hz-2000_model-CM3_r002");
+  std::set<std::uint64_t> seeds;
+  for (const SweepJob& j : jobs) {
+    EXPECT_LT(j.seed, 1'000'000'000u);
+    seeds.insert(j.seed);
+  }
+  EXPECT_EQ(seeds.size(), jobs.size()) << "every job its own seed";
+  // another value in an axis: every job already there keeps its seed (another index)
+  const std::vector<SweepJob> more = sweep_jobs(load_sweep(write_sweep(dir, "replicates: 2\ngrid:\n  rate_hz: [500, 1000, 2000]\n  model: [CM0, CM2, CM3]\n")));
+  for (const SweepJob& j : jobs) {
+    const auto it = std::find_if(more.begin(), more.end(), [&](const SweepJob& m) { return m.name == j.name; });
+    ASSERT_NE(it, more.end()) << j.name;
+    EXPECT_EQ(it->seed, j.seed) << j.name;
+    EXPECT_NE(it->index, j.index) << j.name;
+  }
+  // another sweep seed: other seeds
+  const std::vector<SweepJob> reseeded = sweep_jobs(load_sweep(write_sweep(dir, "replicates: 2\ngrid:\n  rate_hz: [1000, 2000]\n  model: [CM0, CM2, CM3]\n", 4)));
+  EXPECT_NE(reseeded[0].seed, jobs[0].seed);
+}
+
+TEST(Sweep, AJobIsTheExperimentWithItsValues) {
+  const test::TempDir dir;
+  const SweepSpec spec = load_sweep(write_sweep(dir, "subjects: 2\ngrid:\n  rate_hz: [1000]\n  model: [CM2]\n  scene: [$(dirname)/b.yaml]\n"));
+  const SweepJob job = sweep_jobs(spec)[0];
+  const std::vector<std::string> c = experiment_command(spec, job, "/out/x");
+  const std::vector<std::string> expected{"experiment", spec.experiment, "--clock", "simulated", "--seed", std::to_string(job.seed), "--out", "/out/x",
+                                          "--subjects", "2", "--arg", "rate_hz=1000", "--arg", "scene=" + dir.file("b.yaml"), "--conditions", "CM2"};
+  EXPECT_EQ(c, expected);
+  EXPECT_EQ(job.name, "rate_hz-1000_model-CM2_scene-b_r001") << "a path by its stem";
+}
+
+TEST(Sweep, TheMergedTableIsSortedByCoordinatesAndRefusesAChangedJob) {
+  const test::TempDir dir;
+  const SweepSpec spec = load_sweep(write_sweep(dir, "replicates: 2\ngrid:\n  rate_hz: [1000, 2000]\n"));
+  const std::vector<SweepJob> jobs = sweep_jobs(spec);
+  const std::string out = dir.file("out");
+  // the jobs done in another order than the grid's; job 2 not done (a partial folder)
+  for (std::size_t k : {3u, 0u, 1u}) {
+    std::filesystem::create_directories(job_dir(out, jobs[k]));
+    const std::string results = "subject,condition\n" + std::to_string(k) + ",CM1\n";
+    test::write_file(job_dir(out, jobs[k]) + "/results.csv", results);
+    write_job_record(job_dir(out, jobs[k]), jobs[k], {true, 0, 1.5, "h", sha256_hex(results)});
+  }
+  std::filesystem::create_directories(partial_dir(out, jobs[2]));
+  test::write_file(partial_dir(out, jobs[2]) + "/results.csv", "subject,condition\n2,CM1\n");
+  EXPECT_EQ(merge_sweep(spec, jobs, out, "enact test"), 3u);
+  const std::string s0 = std::to_string(jobs[0].seed), s1 = std::to_string(jobs[1].seed), s3 = std::to_string(jobs[3].seed);
+  EXPECT_EQ(read(out + "/results.csv"), "rate_hz,replicate,seed,subject,condition\n1000,1," + s0 + ",0,CM1\n1000,2," + s1 + ",1,CM1\n2000,2," + s3 + ",3,CM1\n");
+  EXPECT_EQ(job_state(out, jobs[2]), JobState::missing) << "a partial folder without a record: a killed job";
+  const std::string manifest = read(out + "/manifest.json");
+  EXPECT_NE(manifest.find("\"sweep_sha256\": \"" + spec.sha256 + "\""), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("\"state\": \"not done\""), std::string::npos) << manifest;
+  // a done job's results changed after it: refused, naming the file and the fix
+  test::write_file(job_dir(out, jobs[3]) + "/results.csv", "subject,condition\n9,CM1\n");
+  const std::string e = test::error_of([&] { merge_sweep(spec, jobs, out, "enact test"); });
+  EXPECT_NE(e.find(job_dir(out, jobs[3]) + "/results.csv"), std::string::npos) << e;
+  EXPECT_NE(e.find("fix:"), std::string::npos) << e;
+}
+
+TEST(Sweep, BadFilesAreRefusedAtTheirLine) {
+  const auto refused = [](const std::string& body, const std::string& at, const std::string& what) {
+    const std::string e = sweep_error(body);
+    EXPECT_NE(e.find("bad.yaml:" + at + ":"), std::string::npos) << e;
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+    EXPECT_NE(e.find("fix:"), std::string::npos) << e;
+  };
+  refused("grid:\n  rate_hz: [1000]\nreplicate: 2\n", "4", "replicate");                      // an unknown key
+  refused("grid:\n  stiffness: [1, 2]\n", "3", "stiffness");                                // not a launch argument
+  refused("grid:\n  noise_seed: [1, 2]\n", "3", "set by the experiment runner");             // the runner's
+  refused("grid:\n  rate_hz: []\n", "3", "needs a list");                                    // empty
+  refused("grid:\n  rate_hz: [1000, 2000, 1000]\n", "3", "listed twice");                   // twice
+  refused("grid:\n  rate_hz: [1000]\nreplicates: 0\n", "4", "replicates");                    // no replicate
+  refused("conditions: [CM1, CM9]\ngrid:\n  rate_hz: [1000]\n", "2", "CM9");                  // not a model
+  const std::string e = test::error_of_file("bad.yaml", "experiment: nowhere.yaml\ngrid: {rate_hz: [1]}\n", [](const std::string& p) { load_sweep(p); });
+  EXPECT_NE(e.find("bad.yaml:1:"), std::string::npos) << e;
+  EXPECT_NE(e.find("nowhere.yaml"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace enact::experiment
