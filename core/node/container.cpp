@@ -129,8 +129,7 @@ struct Container::Io : SimTopics {
         shown_pub(out, graph::kTactileShown),
         params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
         task_state(out),
-        loop(c.simulator_, *c.force_, c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr),
-        cuts(c.host_.name(), "force path cut (a late tick or a device error): body re-synchronised, force back from zero"),
+        loop(c.simulator_, c.force_->device(), c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr),
         rows(c.tactile_ ? c.tactile_->rows() : c.simulator_.model().proxies[0].rows),
         cols(c.tactile_ ? c.tactile_->cols() : c.simulator_.model().proxies[0].cols) {}
   bus::BytePublisher& out;
@@ -156,7 +155,6 @@ struct Container::Io : SimTopics {
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
   // each cut of the force path (a late tick, a device error) said once, counted
-  graph::WatchdogLog cuts;
   const int rows, cols;  // the tactile display's (none: the model's body grid)
   // the publisher thread's
   msgs::DeviceState state_msg;
@@ -216,7 +214,8 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   sim::SimParams sp = graph::sim_params(sim_p_);
   sp.rate_hz = sched_.rate_hz;
   simulator_.configure(sp);
-  force_ = graph::make_force_device(ffd_p_);
+  force_ = std::make_unique<ForceDriver>(graph::make_force_device(ffd_p_), args.name,
+                                         "force path cut (a late tick or a device error): body re-synchronised, force back from zero");
   if (!tac_name_.empty()) tactile_ = graph::make_tactile_device(tac_p_);
   for (Member& m : members_) {
     m.params.declare(*graph::component_table(m.plugin));
@@ -234,7 +233,7 @@ Container::Container(Host& host) : host_(host), observers_(host.name()) {
   sim_p_.refuse_unknown();
   ffd_p_.refuse_unknown();
   tac_p_.refuse_unknown();
-  if (!tactile_ && force_->simulated_hand() && force_->simulated_hand()->feels_pins()) {
+  if (!tactile_ && force_->feeling_hand()) {
     throw config::Error(args.name + ": component '" + ffd_name_ + "' drives the device with a virtual subject, who feels the pins, and there is no tactile display\n"
                         "  fix: add {name: tactile, plugin: tactile} to the component list, or give '" + ffd_name_ + "' a scripted hand (" + ffd_name_ +
                         ".hand_path) instead of a virtual subject");
@@ -379,8 +378,8 @@ void Container::publish_tick() {
 void Container::publish_status() {
   Io& io = *io_;
   graph::fill(io.status_msg, host_.name(), io.summary, io.felt.device_faults + io.felt.sim_faults, "");
-  io.cuts.fill(io.status_msg);
-  graph::fill_verdict(io.status_msg, sched_.rate_hz, io.summary.ticks, io.summary.overruns, io.cuts);
+  force_->cuts().fill(io.status_msg);
+  graph::fill_verdict(io.status_msg, sched_.rate_hz, io.summary.ticks, io.summary.overruns, force_->cuts());
   host_.publish_status(io.status_msg, &io.params.subscriber());
 }
 
@@ -395,7 +394,7 @@ std::size_t Container::drain() {
   for (; io.queue.try_pop(io.o); ++ticks) {
     take_applied();
     io.felt.add(io.o);
-    if (io.o.cut != io.cuts.tripped()) io.cuts.update(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
+    force_->path_cut(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
     io.task_state.step(io.o.sample.time_ns, io.o.step);
     publish_tick();
     publish_keyframe();
@@ -443,12 +442,12 @@ void Container::print_summary() {
               static_cast<unsigned long long>(io.dropped.load()));
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
   const std::string verdict = clock_ == rt::GraphClock::simulated ? graph::simulated_verdict(sched_.rate_hz, whole.ticks, run_ns_)
-                                                                   : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, io.cuts);
+                                                                   : graph::rate_verdict(sched_.rate_hz, whole.ticks, whole.overruns, force_->cuts());
   std::printf("%s: verdict: %s\n", name, verdict.c_str());
   // each component's lines, as its own process prints them
   std::printf("%s: %s\n", sim_name_.c_str(), simulator_.summary().c_str());
   if (clock_ == rt::GraphClock::simulated && felt.completed) std::printf("%s: %s\n", ffd_name_.c_str(), graph::kRunOverLine);
-  std::printf("%s: %s; %s\n", ffd_name_.c_str(), io.cuts.summary().c_str(), graph::safety_summary(*force_).c_str());
+  std::printf("%s: %s\n", ffd_name_.c_str(), force_->summary().c_str());
   if (const TactileDriver* tactile = io.loop.tactile()) std::printf("%s: %s\n", tac_name_.c_str(), tactile->summary().c_str());
   // what the machine itself takes from a spinning loop, beside what this one missed
   if (spin_floor_ >= 0.0 && clock_ == rt::GraphClock::real) {

@@ -14,6 +14,7 @@
 
 #include "core/devices/device.h"
 #include "core/node/colocated.h"
+#include "core/node/force_driver.h"
 #include "core/params/device_config.h"
 #include "core/params/params.h"
 #include "core/node/host.h"
@@ -71,7 +72,7 @@ class Container {
   ObserverGroup observers_;  // observer components, beside the loop
   std::vector<std::unique_ptr<LoopComponent>> stages_;  // stages of the tick, in order
   sim::Simulator simulator_;
-  std::unique_ptr<devices::ForceDevice> force_;
+  std::unique_ptr<ForceDriver> force_;
   std::unique_ptr<devices::TactileDevice> tactile_;
   std::unique_ptr<Io> io_;
   std::thread rt_thread_;  // the loop's, from activate() to deactivate()

@@ -45,9 +45,8 @@ struct Ffd::Io {
         state_pub(out, graph::kDeviceState),
         commands(in, graph::kForceCommand),
         shown(conflated(shown_in), graph::kTactileShown),
-        hand(f.device_->simulated_hand()),
-        feels_pins(hand && hand->feels_pins()),
-        watchdog(f.host_.name(), "no force answer: force ramped to zero") {}
+        hand(f.driver_->feeling_hand()),
+        feels_pins(hand != nullptr) {}
   static bus::ByteSubscriber& conflated(bus::ByteSubscriber& s) {
     s.set_conflate(true);
     return s;
@@ -82,7 +81,6 @@ struct Ffd::Io {
   msgs::NodeStatus status;
   // each sample and the answer that carries its seq: unanswered samples, late (stale) answers
   rt::RoundTrip answers;
-  graph::WatchdogLog watchdog;
   std::int64_t next_status = 0;
 };
 
@@ -96,7 +94,8 @@ Ffd::Ffd(Host& host)
   sched_.validate();
   rtp_.lock_memory = config_.loop.lock_memory;
   rtp_.fifo_priority = config_.loop.fifo_priority;
-  device_ = graph::make_force_device(host.params());
+  driver_ = std::make_unique<ForceDriver>(graph::make_force_device(host.params()), host.name(),
+                                          "force path cut (no force answer, or a device error): force ramped to zero");
 }
 
 Ffd::~Ffd() = default;
@@ -214,7 +213,7 @@ bool Ffd::apply_answer(std::int64_t now) {
   Io& io = *io_;
   if (!io.answers.reply(io.command.answered_seq(), rt::now_ns())) return false;
   // in simulated time at the model's time, as every tick's read: the loop reads no wall clock
-  device_->write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
+  driver_->device().write(simulated_ ? now : rt::now_ns(), io.command.zero() ? math::Vec3{} : graph::get(io.command.force()));
   if (simulated_) {
     io.frame_due = io.command.tactile_frame_seq();
     run_over_ = io.command.run_over();
@@ -234,8 +233,8 @@ void Ffd::tick(std::int64_t now) {
   }
   feel_pins(io.last_tick_ns < 0 ? now : io.last_tick_ns);
   io.last_tick_ns = now;
-  device_->read(now, io.sample);
-  io.watchdog.update(devices::has(io.sample.faults, devices::DeviceFault::watchdog), now);
+  driver_->device().read(now, io.sample);
+  driver_->path(io.sample.faults, now);
   io.state.mutable_header()->set_stamp_ns(0);
   graph::fill(io.state, io.sample);
   if (local_hop_ && !io.link.connected()) io.link.accept_peer();  // a respawned simulator
@@ -254,10 +253,10 @@ void Ffd::publish_status() {
   rt::take_timing(*io.scheduler, io.stats);
   graph::fill(io.status, host_.name(), rt::summarize(io.stats, sched_.rate_hz), io.answers.unanswered(),
               io.answers.unanswered() ? "samples without a force answer in time" : "");
-  io.watchdog.fill(io.status);
+  driver_->cuts().fill(io.status);
   // every deadline: a sample taken and answered in time, or not (a skipped tick is missed)
   graph::fill_verdict(io.status, sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
-                      io.answers.unanswered() + io.scheduler->skipped(), io.watchdog);
+                      io.answers.unanswered() + io.scheduler->skipped(), driver_->cuts());
   io.status.mutable_header()->set_stamp_ns(0);
   host_.publish_status(io.status, &io.in);
 }
@@ -270,10 +269,10 @@ void Ffd::say_summary() {
                        std::to_string(io.answers.unanswered()) + " of " + std::to_string(io.answers.requests()) +
                        ", late answers: " + std::to_string(io.answers.stale()) +
                        ", lost answers (seq gaps): " + std::to_string(io.commands.counters().lost) + ".");
-  graph::say(name, io.watchdog.summary() + "; " + graph::safety_summary(*device_));
+  graph::say(name, driver_->summary());
   graph::say(name, "verdict: " + (simulated_ ? graph::simulated_verdict(sched_.rate_hz, io.answers.requests(), rt::now_ns() - started_ns_)
                                              : graph::rate_verdict(sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
-                                                                   io.answers.unanswered() + io.scheduler->skipped(), io.watchdog)));
+                                                                   io.answers.unanswered() + io.scheduler->skipped(), driver_->cuts())));
   if (io.feels_pins) {
     graph::say(name, "the virtual subject felt " + std::to_string(io.pins_felt) + " pin states from " + config_.tactile_node + " (tactile/shown)" +
                          (simulated_ ? "; frames whose pins did not come in time: " + std::to_string(io.pins_missed) + "." : "."));
@@ -285,7 +284,7 @@ void Ffd::open_ports() { io_ = std::make_unique<Io>(*this); }
 void Ffd::activate() {
   open_hop();
   plan_wait();
-  device_->activate();
+  driver_->device().activate();
   const std::int64_t start = rt::now_ns() + 1'000'000;
   end_ns_ = config_.loop.end_ns(start);
   io_->next_status = start + 1'000'000'000;
@@ -304,7 +303,7 @@ void Ffd::run() {
 
 int Ffd::deactivate() {
   io_->answers.close();
-  device_->deactivate();  // zero force first
+  driver_->device().deactivate();  // zero force first
   say_summary();
   return 0;
 }

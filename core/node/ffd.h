@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "core/devices/device.h"
+#include "core/node/force_driver.h"
 #include "core/node/host.h"
 #include "core/params/device_config.h"
 #include "core/rt/rt_setup.h"
@@ -45,7 +45,7 @@ class Ffd {
   rt::SchedulerParams sched_;
   graph::FfdNodeConfig config_;
   rt::RtParams rtp_;
-  std::unique_ptr<devices::ForceDevice> device_;
+  std::unique_ptr<ForceDriver> driver_;
   bool local_hop_;
   bool simulated_;  // the graph's clock: lock-step ticks, every answer waited for
   std::int64_t started_ns_ = 0;  // the wall clock at the loop's start
