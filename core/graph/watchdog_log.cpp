@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "core/graph/node.h"
+#include "core/graph/process.h"
 
 namespace enact::graph {
 namespace {

@@ -5,7 +5,10 @@
 
 #include "core/config/yaml.h"
 #include "core/graph/launcher_pipe.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
+#include "core/graph/process.h"
+#include "core/graph/sockets.h"
+#include "core/graph/stop.h"
 #include "core/graph/topics.h"
 #include "core/node/loop_component.h"
 #include "core/params/node_params.h"

@@ -8,7 +8,8 @@
 #include "core/config/lists.h"
 #include "core/config/yaml.h"
 #include "core/foxglove/bridge.h"
-#include "core/graph/node.h"
+#include "core/graph/process.h"
+#include "core/graph/stop.h"
 #include "core/record/logger.h"
 #include "core/session/registry.h"
 

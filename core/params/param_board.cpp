@@ -6,7 +6,7 @@
 #include <chrono>
 
 #include "core/graph/launcher_pipe.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
 #include "core/graph/topics.h"
 
 namespace enact::graph {

@@ -10,7 +10,7 @@
 #include "core/config/format.h"
 #include "core/config/number.h"
 #include "core/config/suggest.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 

@@ -15,7 +15,8 @@
 #include "core/bus/endpoints.h"
 #include "core/bus/schema.h"
 #include "core/config/yaml.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
+#include "core/graph/stop.h"
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 

@@ -4,7 +4,9 @@
 
 #include "core/config/format.h"
 #include "core/graph/launcher_pipe.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
+#include "core/graph/sockets.h"
+#include "core/graph/stop.h"
 #include "core/session/session.h"
 #include "core/rt/clock.h"
 

@@ -16,7 +16,7 @@
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
 #include "core/graph/messages.h"
-#include "core/graph/node.h"
+#include "core/graph/sockets.h"
 #include "core/rt/clock.h"
 #include "core/rt/scheduler.h"
 #include "nodes/enact-bench/bench_loop.h"

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "core/config/suggest.h"
-#include "core/graph/node.h"
+#include "core/graph/stop.h"
 
 namespace enact::cli {
 

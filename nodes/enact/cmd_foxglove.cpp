@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "core/foxglove/bridge.h"
-#include "core/graph/node.h"
+#include "core/graph/stop.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 

@@ -12,7 +12,6 @@
 #include "core/graph/topics.h"
 #include "core/rt/clock.h"
 #include "msgs/node_status.pb.h"
-#include "core/graph/node.h"
 #include "nodes/enact/attach_target.h"
 #include "nodes/enact/commands.h"
 

@@ -17,7 +17,7 @@
 #include "core/config/suggest.h"
 #include "core/config/yaml.h"
 #include "core/record/logger.h"
-#include "core/graph/node.h"
+#include "core/graph/stop.h"
 #include "core/replay/replay.h"
 #include "core/graph/topics.h"
 #include "core/record/reader.h"

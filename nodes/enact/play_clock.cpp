@@ -6,7 +6,7 @@
 
 #include <ctime>
 
-#include "core/graph/node.h"
+#include "core/graph/stop.h"
 #include "core/rt/clock.h"
 
 namespace enact::cli {

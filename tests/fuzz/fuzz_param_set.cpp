@@ -7,7 +7,7 @@
 
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
 #include "core/params/param_bus.h"
 #include "core/graph/topics.h"
 #include "core/sim/simulator.h"

@@ -6,7 +6,7 @@
 
 #include "core/record/logger.h"
 #include "core/session/launch_info.h"
-#include "core/graph/node.h"
+#include "core/graph/graph_dir.h"
 
 namespace enact::graph {
 namespace {

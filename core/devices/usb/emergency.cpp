@@ -18,7 +18,7 @@ struct Slot {
 };
 std::array<Slot, EmergencyStop::kSlots> g_slots;
 
-// SIGALRM: a node past its stop grace period (core/graph/node.h)
+// SIGALRM: a node past its stop grace period (core/graph/stop.h)
 constexpr std::array<int, 6> kFatal = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGALRM};
 std::array<struct sigaction, kFatal.size()> g_previous{};
 std::once_flag g_installed;

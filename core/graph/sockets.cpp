@@ -1,65 +1,17 @@
-#include "core/graph/node.h"
+#include "core/graph/sockets.h"
 
 #include <poll.h>
-#include <signal.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <string>
 
-#include "core/bus/context.h"
-#include "core/bus/endpoints.h"
-#include "core/config/yaml.h"
-#include "core/graph/launcher_pipe.h"
-#include "core/graph/topics.h"
 #include "core/config/env.h"
+#include "core/graph/launcher_pipe.h"
+#include "core/graph/process.h"
+#include "core/graph/stop.h"
 #include "core/rt/clock.h"
-#include "core/rt/profile.h"
 
 namespace enact::graph {
-namespace {
-
-std::atomic<bool> g_stop{false};
-bool g_loop_cpu_own = false;
-void on_stop(int) {
-  // the first request arms the grace period: SIGALRM's default action ends the process
-  if (!g_stop.exchange(true)) alarm(kStopGrace_s);
-}
-
-}  // namespace
-
-std::vector<std::string> nodes_not_announced(const msgs::GraphInfo& info) {
-  std::vector<std::string> out;
-  for (const std::string& node : info.param_nodes()) {
-    const std::string board = kParamValues + node;
-    if (std::none_of(info.topics().begin(), info.topics().end(), [&](const auto& t) { return t.name() == board; })) out.push_back(node);
-  }
-  return out;
-}
-
-std::string graph_dir() {
-  const char* dir = std::getenv(env::kGraphDir);
-  std::string out = dir && *dir ? dir : "/tmp/enact-" + std::to_string(getuid());
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  return out;
-}
-
-std::string node_endpoint(const std::string& name) { return bus::ipc_endpoint(graph_dir(), name); }
-
-void install_stop_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_stop;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-
-bool stop_requested() { return g_stop.load(std::memory_order_relaxed); }
 
 bool wait_readable(zmq::socket_t& socket, std::int64_t deadline_ns) {
   // ZMQ_FD is edge-triggered: check ZMQ_EVENTS before every wait
@@ -120,31 +72,6 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
     t->set_dropped(c.dropped + c.lost);
     t->set_malformed(c.malformed);
   }
-}
-
-void apply_rt_profile(const std::string& node) {
-  const char* text = std::getenv(env::kRtProfile);
-  if (!text) return;
-  const rt::NodeProfile profile = rt::NodeProfile::from_env(text);
-  const rt::NodeProfileReport report = rt::apply_node_profile(profile);
-  g_loop_cpu_own = report.pinned && profile.sharing == 1;
-  bus::set_io_threads({report.io_cpus, report.io_fifo_priority});
-  say(node, report.summary());
-}
-
-bool loop_cpu_own() { return g_loop_cpu_own; }
-
-rt::GraphClock graph_clock() {
-  const char* text = std::getenv(env::kClock);
-  if (!text) return rt::GraphClock::real;
-  const auto clock = rt::parse_clock(text);
-  if (!clock) throw config::Error(std::string(env::kClock) + "='" + text + "' names no clock\n  fix: real or simulated (the launcher sets it from the launch file's clock: entry or --clock)");
-  return *clock;
-}
-
-void say(const std::string& node, const std::string& text) {
-  std::fprintf(stderr, "%s: %s\n", node.c_str(), text.c_str());
-  std::fflush(stderr);
 }
 
 }  // namespace enact::graph
