@@ -381,6 +381,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   // step on every recorded state, as the recorded simulator did; compare as we go
   for (std::size_t i = replay.first; i < traffic.states.size(); ++i) replay.step(traffic.states[i]);
   out.metrics = sim.metrics();
+  out.task = sim.has_task();
   sim.deactivate();
   return out;
 }

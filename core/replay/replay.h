@@ -78,6 +78,7 @@ struct ResimResult {
   std::vector<RecordedStage> stages;   // the recorded loop's stages, stepped again after the model
   std::optional<Divergence> divergence;
   task::Metrics metrics;               // the bridge task's metrics of the replay
+  bool task = true;                    // the scene has a task (else the metrics count nothing)
 };
 
 // where a replay of `r` starts (the first keyframe of the simulator that answered the states,

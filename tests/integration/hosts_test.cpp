@@ -12,11 +12,11 @@
 namespace enact::test {
 namespace {
 
-// what a run printed (stdout and stderr together)
+// what a run printed (stderr, where the nodes speak as they go, then stdout)
 std::string launched(const std::string& file, const std::string& more = "") {
   const RunResult r = run(kCli + " launch " + source_path(file) + " --clock simulated --arg duration_s=1 --arg realtime=false" + more);
   EXPECT_EQ(r.exit_code, 0) << file << "\n" << r.out << r.err;
-  return r.out + r.err;
+  return r.err + r.out;
 }
 
 // the number in "<node>: N frames applied; ..." of the tactile driver's summary line (-1: none)
@@ -50,7 +50,7 @@ TEST(BothHosts, EachComponentEndsTheSameWayAndSaysSoInTheSameWords) {
   EXPECT_EQ(d[4], "1") << d[0];
   EXPECT_EQ(c[4], "1") << c[0];
   // the container's loop thread says what it set up (memory locked) as it starts, before the
-  // node is ready, on one line
+  // node is ready, on one line (not in its summary, on stdout at the end)
   const std::size_t locked = colocated.find("\nrt: memory locked (mlockall current and future pages)\n");
   ASSERT_NE(locked, std::string::npos) << colocated;
   EXPECT_LT(locked, colocated.find("rt ready")) << colocated;
