@@ -21,10 +21,14 @@ namespace enact::viewer {
 namespace {
 
 // what a snapshot showed, for people and tests
-void report_snapshot(const ViewerOptions& o, const ViewModel& model, int w, int h) {
+void report_snapshot(const ViewerOptions& o, const ViewModel& model, const SceneGeometry& scene, int w, int h) {
   const TaskView& t = model.task();
-  std::printf("enact-viewer: snapshot %s (%d x %d), task: falls %d, trial %.1f s (%s)", o.snapshot.c_str(), w, h, t.falls,
-              static_cast<double>(t.time_ns) * 1e-9, t.completed ? "completed" : t.running ? "running" : "stopped");
+  std::printf("enact-viewer: snapshot %s (%d x %d), ", o.snapshot.c_str(), w, h);
+  if (!scene.name.empty() && scene.task_surface.empty()) {
+    std::printf("no task in this scene");
+  } else {
+    std::printf("task: falls %d, trial %.1f s (%s)", t.falls, static_cast<double>(t.time_ns) * 1e-9, t.completed ? "completed" : t.running ? "running" : "stopped");
+  }
   if (model.has_scene()) {
     const msgs::SceneState& s = model.scene();
     std::uint32_t contact = 0;
@@ -156,7 +160,7 @@ int run_viewer(const ViewerOptions& o) {
         std::fprintf(stderr, "enact-viewer: error: cannot write %s\n", o.snapshot.c_str());
         return 1;
       } else {
-        report_snapshot(o, model, window.width(), window.height());
+        report_snapshot(o, model, scene.geometry(), window.width(), window.height());
         return 0;
       }
     } else {
