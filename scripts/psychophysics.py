@@ -67,7 +67,7 @@ def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06, exponent=None):
     spreads = [1.0, 2.0, 3.0, 4.0, 5.0] if shape == "weibull" else [span / 16 * 2 ** j for j in range(5)]
     for t in thresholds:
         for s in spreads:
-            start = (t, exponent or s, 0.01 if free else fixed_lapse)
+            start = (t, exponent or s, min(0.01, max_lapse) if free else fixed_lapse)
             c = nll(start, shape, guess, data)
             if c < best_cost:
                 best, best_cost = start, c
