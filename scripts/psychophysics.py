@@ -67,7 +67,7 @@ def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06, exponent=None):
     spreads = [1.0, 2.0, 3.0, 4.0, 5.0] if shape == "weibull" else [span / 16 * 2 ** j for j in range(5)]
     for t in thresholds:
         for s in spreads:
-            start = (t, exponent or s, 0.01 if free else fixed_lapse)
+            start = (t, exponent or s, min(0.01, max_lapse) if free else fixed_lapse)
             c = nll(start, shape, guess, data)
             if c < best_cost:
                 best, best_cost = start, c
@@ -88,6 +88,18 @@ def fit(data, shape, guess=0.5, lapse=None, max_lapse=0.06, exponent=None):
 def read_counts(path):
     rows = list(csv.DictReader(open(path, newline="")))
     return np.array([[float(r["level"]), float(r["trials"]), float(r["correct"])] for r in rows])
+
+
+# fewer answers than this and a fit is warned about, as `enact experiment` does (kMinTrialsForFit,
+# core/experiment/discrimination.h: 30 two-interval answers give a proportion correct near 75 %
+# a 95 % interval of +-0.155, as wide as the step from 75 % to 90 % correct)
+MIN_TRIALS = 30
+
+
+def warn_few(trials, what):
+    if trials < MIN_TRIALS:
+        print("warning: %s: the fit rests on %d trials, fewer than %d: its threshold is unreliable" % (what, trials, MIN_TRIALS),
+              file=sys.stderr)
 
 
 def wilson(k, n, z=1.959964):
@@ -111,6 +123,7 @@ def plot(trials_path, out, shape, max_lapse, exponent):
     os.makedirs(out, exist_ok=True)
     for (subject, condition), by_level in sorted(groups.items()):
         data = np.array([[x, n, k] for x, (n, k) in sorted(by_level.items())])
+        warn_few(int(data[:, 1].sum()), "subject %s, %s" % (subject, condition))
         f = fit(data, shape, max_lapse=max_lapse, exponent=exponent)
         fig, ax = plt.subplots(figsize=(5, 3.5))
         p = data[:, 2] / data[:, 1]
@@ -172,7 +185,9 @@ def main():
     g.add_argument("summary")
     a = ap.parse_args()
     if a.command == "fit":
-        print(json.dumps(fit(read_counts(a.data), a.shape, a.guess, a.lapse, a.max_lapse, a.exponent)))
+        counts = read_counts(a.data)
+        warn_few(int(counts[:, 1].sum()), a.data)
+        print(json.dumps(fit(counts, a.shape, a.guess, a.lapse, a.max_lapse, a.exponent)))
     elif a.command == "plot":
         plot(a.trials, a.out, a.shape, a.max_lapse, a.exponent)
     else:

@@ -318,6 +318,16 @@ void check_same_plan(const DiscriminationSpec& spec, const std::string& out, con
   keep_or_check(out + "/experiment.yaml", text.str(), "experiment file differs");
 }
 
+}  // namespace
+
+std::string script_fit_options(const psychophysics::FitSettings& fit) {
+  std::string o = std::string(" --shape ") + psychophysics::to_string(fit.shape);
+  if (fit.spread > 0.0) o += " --exponent " + config::number(fit.spread);
+  return o + " --max-lapse " + config::number(fit.free_lapse ? fit.max_lapse : 0.0);
+}
+
+namespace {
+
 // the summary row of a finished block
 std::string summarise(const DiscriminationSpec& spec, const DiscriminationBlock& block, const psychophysics::Interleaved& set) {
   std::vector<psychophysics::Response> all;
@@ -341,7 +351,7 @@ std::string summarise(const DiscriminationSpec& spec, const DiscriminationBlock&
   using config::number;
   return block.subject + "," + block.condition.label + "," + std::to_string(block.order) + "," + std::to_string(all.size()) + "," +
          number(fit.function.threshold) + "," + number(profile.low) + "," + number(profile.high) + "," + number(bootstrap.low) + "," +
-         number(bootstrap.high) + "," + number(fit.function.threshold / spec.reference) + "," + number(fit.function.lapse) + "," +
+         number(bootstrap.high) + "," + number(fit.function.threshold / spec.reference) + "," + number(std::round(fit.function.lapse / kLapsePrecision) * kLapsePrecision) + "," +
          number(fit.function.spread) + "," + number(block.observer.function.threshold);
 }
 
@@ -461,6 +471,10 @@ DiscriminationRun run_discrimination(const DiscriminationSpec& spec, const std::
       break;
     }
     summary += summarise(spec, b, set) + "\n";
+    if (set.trials < static_cast<std::uint64_t>(kMinTrialsForFit)) {
+      ui.note("warning: subject " + b.subject + ", " + b.condition.label + ": its fit rests on " + std::to_string(set.trials) + " trials, fewer than " +
+              std::to_string(kMinTrialsForFit) + ": its JND is unreliable\n  fix: give the procedures more trials (trials:, max_trials:, reversals:)");
+    }
     ui.note("subject " + b.subject + ", " + b.condition.label + ": " + std::to_string(set.trials) + " trials done");
   }
   // the summary, once every block is done

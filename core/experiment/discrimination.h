@@ -142,6 +142,20 @@ class PersonAnswers final : public AnswerSource {
 std::vector<std::string> check_discrimination_graphs(const DiscriminationSpec& spec, const std::string& out);
 
 // the interleaved procedures of a block, in their first state
+// the options of scripts/psychophysics.py (fit, plot) that fit as summary.csv does: e.g.
+// " --shape weibull --exponent 3.5 --max-lapse 0.06"
+std::string script_fit_options(const psychophysics::FitSettings& fit);
+
+// fewer answers in a block than this and its fit is warned about: with 30 two-interval
+// answers the 95 % interval of a proportion correct near the JND's 75 % is already +-0.155
+// (1.96 sqrt(0.75 x 0.25 / 30)), as wide as the step from 75 % to 90 % correct, so fewer
+// cannot place the threshold; psychophysical fits are small-sample problems even at 120 and
+// more trials (Wichmann & Hill 2001, Perception & Psychophysics 63(8):1293-1313)
+inline constexpr int kMinTrialsForFit = 30;
+
+// a summary.csv lapse is given to this precision (the fit's lapse bound 0 prints 0, not 1e-15)
+inline constexpr double kLapsePrecision = 1e-6;
+
 psychophysics::Interleaved make_procedures(const DiscriminationSpec& spec, const DiscriminationBlock& block);
 
 struct DiscriminationRun {

@@ -9,7 +9,9 @@
 #include "core/config/yaml.h"
 #include "core/record/logger.h"
 #include "core/graph/topics.h"
+#include "core/physics/scene.h"
 #include "core/record/reader.h"
+#include "core/replay/replay.h"
 #include "msgs/device_state.pb.h"
 #include "msgs/node_status.pb.h"
 #include "msgs/task_event.pb.h"
@@ -154,6 +156,13 @@ RecordedTrial read_trial(const std::string& mcap_path, std::int64_t keyframe_sta
   if (out.states == 0) throw config::Error(mcap_path + ": holds no device state (ffd/state)\n  fix: record the trial's graph with its logger");
   out.metrics = metrics_of(events, sim, from, first_ns, last_ns);
   out.duration_s = seconds(last_ns - first_ns);
+  // the recorded scene: one without a task has no falls or completion to count
+  try {
+    graph::TempFolder files;
+    out.task = !physics::load_scene(graph::recorded_sim_param(mcap_path, "scene", files)).task_surface.empty();
+  } catch (const config::Error&) {
+    // no scene recorded (a graph not started by enact launch): taken to have the task
+  }
   return out;
 }
 

@@ -22,6 +22,7 @@ struct RecordedTrial {
   std::uint64_t state_gaps = 0;    // device states missing between the first and the last
   double duration_s = 0.0;         // from the first device state to the last
   std::uint64_t missed_deadlines = 0;  // the loop's, as its last node/status said (0 in simulated time)
+  bool task = true;                // the recorded scene has a task (falls and completion count)
 };
 
 // the metrics of a trial from its recording: time 0 is the first device state (the

@@ -241,10 +241,15 @@ namespace {
 
 // a measured or practice trial done, in one line for the person running the experiment
 std::string trial_line(const Trial& t, const RecordedTrial& recorded) {
-  char line[256];
-  std::snprintf(line, sizeof line, "subject %s, %s (%s %d): falls %d, time %.2f s, time out %.2f s%s%s", t.subject.c_str(), t.condition.label.c_str(),
-                to_string(t.kind), t.order, recorded.metrics.falls, recorded.metrics.time_total_s, recorded.metrics.time_out_s,
-                recorded.metrics.completed ? "" : ", not completed",
+  char task[96];
+  if (recorded.task) {
+    std::snprintf(task, sizeof task, "falls %d, time %.2f s, time out %.2f s%s", recorded.metrics.falls, recorded.metrics.time_total_s,
+                  recorded.metrics.time_out_s, recorded.metrics.completed ? "" : ", not completed");
+  } else {
+    std::snprintf(task, sizeof task, "time %.2f s (no task in this scene: no falls or completion to count)", recorded.metrics.time_total_s);
+  }
+  char line[320];
+  std::snprintf(line, sizeof line, "subject %s, %s (%s %d): %s%s", t.subject.c_str(), t.condition.label.c_str(), to_string(t.kind), t.order, task,
                 recorded.missed_deadlines ? (", " + std::to_string(recorded.missed_deadlines) + " deadlines missed").c_str() : "");
   return line;
 }

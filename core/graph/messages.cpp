@@ -1,6 +1,7 @@
 #include "core/graph/messages.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace enact::graph {
 
@@ -95,7 +96,9 @@ bool get(const msgs::TactileShown& m, devices::PinMotion& out) {
 void snapshot(const sim::Simulator& s, std::uint32_t pins, const math::Vec3& force_n, SceneSnapshot& out) {
   const physics::State& state = s.state();
   const physics::Proxy& body = s.model().proxies[0];
-  out.time_ns = static_cast<std::int64_t>(state.time_s * 1e9);
+  // on the graph's clock, as the device states: the device's clock at the model's time 0 (the
+  // first sample) plus the model's time; a simulator stepped without samples: the model's time
+  out.time_ns = std::max<std::int64_t>(s.origin_ns(), 0) + std::llround(state.time_s * 1e9);
   out.body_m = state.x[body.point];
   out.masses = std::min(body.rows * body.cols, 32);
   out.in_contact = 0;

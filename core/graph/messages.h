@@ -39,7 +39,7 @@ bool get(const msgs::TactileShown& m, devices::PinMotion& out);
 // what the scene shows at one step, copied out of the simulator without allocating (the
 // real-time thread takes it, the publisher thread sends it)
 struct SceneSnapshot {
-  std::int64_t time_ns = 0;  // model time
+  std::int64_t time_ns = 0;  // on the graph's clock (the device's: Simulator::origin_ns plus the model's time)
   math::Vec3 body_m;
   int masses = 0;            // grid masses (pins), at most 32
   math::Vec3 contact_force_n[32];

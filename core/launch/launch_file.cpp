@@ -33,7 +33,12 @@ std::string source_of(const Scope& scope, const YAML::Node& at) {
   return line;
 }
 
-// $(var NAME), $(env NAME [DEFAULT]), $(dirname) and $(share) in a scalar
+RecordedLookup& recorded_lookup() {
+  static RecordedLookup lookup;
+  return lookup;
+}
+
+// $(var NAME), $(env NAME [DEFAULT]), $(dirname), $(share) and $(recorded ARG NAME) in a scalar
 std::string substitute(const Scope& scope, const YAML::Node& at, const std::string& text) {
   std::string out;
   std::size_t pos = 0;
@@ -41,7 +46,7 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
     const std::size_t open = text.find("$(", pos);
     if (open == std::string::npos) return out + text.substr(pos);
     const std::size_t close = text.find(')', open);
-    if (close == std::string::npos) config::fail(scope.file, at, "unclosed substitution in '" + text + "'", "write $(var NAME), $(env NAME), $(dirname) or $(share)");
+    if (close == std::string::npos) config::fail(scope.file, at, "unclosed substitution in '" + text + "'", "write $(var NAME), $(env NAME), $(dirname), $(share) or $(recorded ARG NAME)");
     out += text.substr(pos, open - pos);
     std::string expr = text.substr(open + 2, close - open - 2);
     const std::size_t space = expr.find(' ');
@@ -56,6 +61,20 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
       } catch (const config::Error& e) {
         throw config::Error(scope.file + ":" + std::to_string(at.Mark().line + 1) + ": " + e.what());
       }
+    } else if (kind == "recorded") {
+      // the recorded simulator's parameter, from the recording a launch argument names
+      const std::size_t sep = rest.find(' ');
+      const std::string arg = rest.substr(0, sep), name = sep == std::string::npos ? "" : rest.substr(sep + 1);
+      const auto it = scope.vars.find(arg);
+      if (it == scope.vars.end() || name.empty()) {
+        config::fail(scope.file, at, "'$(" + expr + ")' names no launch argument and parameter", "write $(recorded ARG NAME), ARG a launch argument declared before it (the recording), NAME the simulator's parameter (scene, model, rate_hz)");
+      }
+      if (!recorded_lookup()) config::fail(scope.file, at, "$(recorded ...) needs a program that reads recordings", "run the file with enact launch");
+      try {
+        out += recorded_lookup()(it->second, name);
+      } catch (const config::Error& e) {
+        throw config::Error(scope.file + ":" + std::to_string(at.Mark().line + 1) + ": " + e.what());
+      }
     } else if (kind == "var") {
       const auto it = scope.vars.find(rest);
       if (it == scope.vars.end()) config::fail(scope.file, at, "unknown launch argument '" + rest + "'", "declare it first: - arg: {name: " + rest + ", default: ...}");
@@ -67,7 +86,7 @@ std::string substitute(const Scope& scope, const YAML::Node& at, const std::stri
       if (!value && sep == std::string::npos) config::fail(scope.file, at, "environment variable '" + name + "' is not set", "set it, or give a default: $(env " + name + " DEFAULT)");
       out += value ? value : rest.substr(sep + 1);
     } else {
-      config::fail(scope.file, at, "unknown substitution '$(" + expr + ")'", "use $(var NAME), $(env NAME [DEFAULT]), $(dirname) or $(share)");
+      config::fail(scope.file, at, "unknown substitution '$(" + expr + ")'", "use $(var NAME), $(env NAME [DEFAULT]), $(dirname), $(share) or $(recorded ARG NAME)");
     }
     pos = close + 1;
   }
@@ -329,6 +348,8 @@ void choose_clock(LaunchDescription& graph, rt::GraphClock clock) {
   graph.clock = clock;
   graph.clock_source = "--clock";
 }
+
+void set_recorded_lookup(RecordedLookup lookup) { recorded_lookup() = std::move(lookup); }
 
 ExecResolver default_resolver() {
   return [](const std::string& exec) -> std::string {

@@ -79,6 +79,14 @@ using ExecResolver = std::function<std::string(const std::string& exec)>;
 // else <enact build>/nodes/<exec>/<exec> next to the running enact binary, else $PATH
 ExecResolver default_resolver();
 
+// $(recorded ARG NAME) in a launch file: the recorded simulator's parameter NAME (scene, model,
+// rate_hz) in the recording the launch argument ARG names, a file parameter as a copy of the
+// recorded file. Reading recordings is not this library's: the program that loads launch
+// files gives how (enact: core/replay, recorded_sim_param); none given, the substitution is
+// refused. Throws config::Error naming the recording and the fix
+using RecordedLookup = std::function<std::string(const std::string& recording, const std::string& name)>;
+void set_recorded_lookup(RecordedLookup lookup);
+
 // load a launch file with `--arg name=value` overrides; throws config::Error
 LaunchDescription load_launch(const std::string& path, const std::map<std::string, std::string>& args,
                               const ExecResolver& resolve = default_resolver());

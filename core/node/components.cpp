@@ -17,6 +17,9 @@
 #include "core/params/node_params.h"
 #include "core/params/param_binding.h"
 #include "core/physics/scene.h"
+#include "core/sim/offline.h"
+
+#include <cstdio>
 
 namespace enact::graph {
 namespace {
@@ -45,6 +48,10 @@ void read_hand(const Params& p, const ForceConfig& c, devices::SimulatedForcePar
   f.subject_seed = c.hand.subject_seed;
   f.noise_seed = c.hand.noise_seed;
   f.start_m = start_position(p, f.start_m);
+  // a scripted hand that never reaches the graph's scene feels nothing: said before it starts
+  if (!f.hand_path.empty() && !p.text("start_scene").empty()) {
+    if (const std::string warning = sim::hand_path_warning(p.text("start_scene"), f.hand_path); !warning.empty()) std::fprintf(stderr, "warning: %s\n", warning.c_str());
+  }
   f.hand_stiffness_n_per_m = c.hand.hand_stiffness_n_per_m;
   f.hand_damping_n_s_per_m = c.hand.hand_damping_n_s_per_m;
 }

@@ -434,12 +434,14 @@ void Container::print_summary() {
   Io& io = *io_;
   const char* name = host_.name().c_str();
   const Felt& felt = io.felt;
-  std::printf("%s: %s\n", name, io.report.summary().c_str());
   std::printf("%s: %s\n", name, rt::format(rt::summarize(io.stats, sched_.rate_hz)).c_str());
   const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
-  std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, on the top %.1f %% of ticks, "
+  // on the top: of the task's surface (a scene without a task has none)
+  char on_top[48] = "";
+  if (simulator_.has_task()) std::snprintf(on_top, sizeof on_top, "on the top %.1f %% of ticks, ", 100.0 * static_cast<double>(felt.on_top) / n);
+  std::printf("%s: the hand felt: mean |F| %.3f N, peak |F| %.3f N, mean pins up %.2f, %s"
               "%llu tactile frames; device faults on %llu ticks, model faults %llu, queue drops %llu\n",
-              name, felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, 100.0 * static_cast<double>(felt.on_top) / n,
+              name, felt.force_sum_n / n, felt.force_max_n, felt.pins_sum / n, on_top,
               static_cast<unsigned long long>(felt.frames), static_cast<unsigned long long>(felt.device_faults), static_cast<unsigned long long>(felt.sim_faults),
               static_cast<unsigned long long>(io.dropped.load()));
   const rt::LoopSummary whole = rt::summarize(io.stats, sched_.rate_hz);
@@ -479,6 +481,9 @@ void Container::activate() {
   graph::wait_for_subscribers(io_->out, graph::kDeviceState, config_.observers + observers_.recorders(graph::kDeviceState), host_.name(), "observer (logger)");
   observers_.start(false);
   rt_thread_ = std::thread([this] { rt_main(); });
+  // what the loop thread set up (memory locked, SCHED_FIFO, pinned), said before the node is ready
+  while (io_->fifo_in_force.load() < 0 && !rt_done_.load() && !graph::stop_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  graph::say(host_.name(), io_->report.summary());
   graph::say(host_.name(), "the loop " + wait_why_);
 }
 

@@ -1,10 +1,12 @@
 #include "core/node/ffd.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <utility>
 
 #include "core/bus/loop_link.h"
 #include "core/bus/typed.h"
+#include "core/config/env.h"
 #include "core/devices/hand.h"
 #include "core/node/components.h"
 #include "core/params/node_params.h"
@@ -136,7 +138,8 @@ void Ffd::plan_wait() {
     return;
   }
   const rt::RtReport report = rt::apply_rt_setup(rtp_);
-  graph::say(host_.name(), report.summary());
+  // under the graph's real-time profile (said above) a node that asks for nothing more has nothing to add
+  if (!report.notes.empty() || !std::getenv(env::kRtProfile)) graph::say(host_.name(), report.summary());
   const bool fifo = rt::running_fifo();
   const rt::WaitPlan wait = rt::loop_wait(config_.loop.spin_us, rt::PeriodicScheduler(sched_).period_ns(), fifo, false, graph::loop_cpu_own());
   if (fifo && !wait.fifo) rt::system_calls().set_fifo(0);

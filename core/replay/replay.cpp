@@ -316,6 +316,30 @@ struct Replay {
 
 }  // namespace
 
+std::string recorded_sim_param(const std::string& recording, const std::string& name, TempFolder& files) {
+  record::Reader r(recording);
+  // the simulator: the publisher of the answers, else the one node with a scene parameter
+  std::string publisher;
+  r.for_each([&](const record::Message& m) {
+    if (m.topic != kForceCommand) return true;
+    const auto pub = m.channel->metadata.find("publisher");
+    if (pub != m.channel->metadata.end()) publisher = pub->second;
+    return false;
+  });
+  if (publisher.empty()) {
+    for (const auto& [key, value] : r.metadata("enact.params")) {
+      if (key.size() > 6 && key.compare(key.size() - 6, 6, ".scene") == 0) publisher = key.substr(0, key.find('.'));
+    }
+  }
+  ResimResult out;
+  const Params p = recorded_sim_params(r, {}, publisher, files, out);
+  p.declare(*node_table("enact-sim"));
+  if (!p.has(name)) {
+    throw config::Error(recording + ": the recording holds no simulator parameter '" + name + "'\n  fix: give it yourself (--arg), or check the name: enact info " + recording);
+  }
+  return p.text(name);
+}
+
 ResimResult resim(record::Reader& r, const ResimOptions& options) {
   Traffic traffic = read_traffic(r);
   // another scene or model replays from the first state, as a fresh simulator would
@@ -357,6 +381,7 @@ ResimResult resim(record::Reader& r, const ResimOptions& options) {
   // step on every recorded state, as the recorded simulator did; compare as we go
   for (std::size_t i = replay.first; i < traffic.states.size(); ++i) replay.step(traffic.states[i]);
   out.metrics = sim.metrics();
+  out.task = sim.has_task();
   sim.deactivate();
   return out;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/devices/device.h"
+#include "core/graph/temp_folder.h"
 #include "core/record/reader.h"
 #include "core/sim/simulator.h"
 #include "core/task/bridge_task.h"
@@ -77,6 +78,7 @@ struct ResimResult {
   std::vector<RecordedStage> stages;   // the recorded loop's stages, stepped again after the model
   std::optional<Divergence> divergence;
   task::Metrics metrics;               // the bridge task's metrics of the replay
+  bool task = true;                    // the scene has a task (else the metrics count nothing)
 };
 
 // where a replay of `r` starts (the first keyframe of the simulator that answered the states,
@@ -84,6 +86,12 @@ struct ResimResult {
 ReplayStart replay_start(record::Reader& r);
 // where a replay starts, in words ("" from the graph's first tick)
 std::string describe(const ReplayStart& start);
+
+// the simulator's parameter `name` (scene, model, rate_hz, ...) as recorded in `recording` (the
+// node or component that answered the device states); a file parameter (scene, model) as a
+// copy of the recorded file in `files`, with the files it reads beside it. Throws
+// config::Error naming the recording and the fix. For $(recorded ARG NAME) in launch files
+std::string recorded_sim_param(const std::string& recording, const std::string& name, TempFolder& files);
 
 // replays `r` from its start (replay_start; with another scene or model, from its first
 // state); throws config::Error (naming the file and the fix) when the recording has no

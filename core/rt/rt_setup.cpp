@@ -96,7 +96,7 @@ std::string RtReport::summary() const {
   if (notes.empty()) return "no real-time setup requested";
   std::string out;
   for (const std::string& n : notes) {
-    if (!out.empty()) out += '\n';
+    if (!out.empty()) out += "; ";
     out += n;
   }
   return out;

@@ -28,7 +28,7 @@ struct RtReport {
   // one line per request: what was done, or what was refused, why (errno text) and the fix
   std::vector<std::string> notes;
 
-  // the notes, one per line ("no real-time setup requested" when there are none)
+  // the notes on one line, "; " between them ("no real-time setup requested" when there are none)
   std::string summary() const;
 };
 

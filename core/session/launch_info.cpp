@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/config/share.h"
 #include "core/params/node_params.h"
 #include "core/physics/scene.h"
 #include "core/rt/clock.h"
@@ -42,10 +43,12 @@ msgs::GraphInfo launch_info(const std::string& launch_path, const launch::Launch
     file.set_data(data.str());
     return true;
   };
-  auto add = [&](const std::string& name, const std::string& value) {
+  auto add = [&](const std::string& name, const std::string& given) {
     auto& p = *info.add_params();
     p.set_name(name);
-    p.set_value(value);
+    p.set_value(given);
+    // a file as its node finds it: where the user stands, else enact's share (config/share.h)
+    const std::string value = given.empty() ? given : config::locate(given).value_or(given);
     // a parameter naming a file: keep the file, and the files a scene reads beside it as
     // "<name>/<path relative to it>" (TempFolder::put puts them back: core/graph/kept_files.h)
     if (!keep(name, value) || !value.ends_with(".yaml")) return;

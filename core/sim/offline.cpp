@@ -11,6 +11,9 @@
 
 #include "core/config/format.h"
 #include "core/config/share.h"
+#include "core/physics/contact.h"
+#include "core/physics/scene.h"
+#include "core/config/share.h"
 #include "core/config/yaml.h"
 
 namespace enact::sim {
@@ -112,6 +115,7 @@ RunSummary run_offline(Simulator& sim, const task::Trajectory& tr, std::ostream*
     sum.peak_force_n = std::max(sum.peak_force_n, f);
     pins_sum += std::popcount(o.pins);
     touching += o.contacts > 0;
+    sum.path_progress = std::max(sum.path_progress, o.progress);
     if (!csv) continue;
     for (int i = 0; i < masses; ++i) pins[static_cast<std::size_t>(i)] = (o.pins >> i) & 1u ? '1' : '0';
     *csv << number(t) << ',' << number(p.x) << ',' << number(p.y) << ',' << number(p.z) << ',' << number(o.force_n.x) << ','
@@ -125,6 +129,56 @@ RunSummary run_offline(Simulator& sim, const task::Trajectory& tr, std::ostream*
   sum.contact_fraction = static_cast<double>(touching) / static_cast<double>(steps);
   sum.metrics = sim.metrics();
   return sum;
+}
+
+bool path_may_touch(const physics::Model& model, const task::Trajectory& path, double margin_m) {
+  if (model.proxies.empty() || path.t_s.empty()) return true;
+  const physics::Proxy& body = model.proxies[0];
+  for (const physics::Link& l : model.links) {
+    if (l.type == physics::LinkType::contact && (model.points[l.a].proxy == 0 || model.points[l.b].proxy == 0)) return true;
+  }
+  // a deformable body's masses sway about their rest places
+  if (body.deformable.enabled()) margin_m += body.pitch_m;
+  // each contact pair of a body point, along each segment of the path: a sphere about the
+  // point's place at the segment's middle, holding both ends
+  for (std::size_t i = 0; i < path.position_m.size(); ++i) {
+    const math::Vec3& a = path.position_m[i];
+    const math::Vec3& b = path.position_m[i + 1 < path.position_m.size() ? i + 1 : i];
+    const math::Vec3 middle = (a + b) * 0.5;
+    const double radius_m = margin_m + 0.5 * math::norm(b - a);
+    for (const physics::ContactPair& c : model.contacts) {
+      const physics::Point& point = model.points[c.point];
+      if (point.proxy == 0 && !physics::apart(model, model.objects[c.object], middle + point.offset_m, radius_m)) return true;
+    }
+  }
+  return false;
+}
+
+std::string hand_path_warning(const std::string& scene_file, const std::string& path_file) {
+  const physics::Model model = physics::load_scene(scene_file);
+  if (path_may_touch(model, task::load_trajectory(path_file))) return "";
+  std::string fix = model.task_surface.empty()
+                        ? "give a path that reaches the scene: --arg hand_path=PATH.csv (t_s,x_m,y_m,z_m; " + config::shipped("docs/scenes-and-models.md") + ")"
+                        : "the scene's own path: enact path " + scene_file + " -o path.csv, then --arg hand_path=path.csv";
+  return "the hand path " + path_file + " never comes near the scene " + scene_file + " (its body stays clear of every object it has contacts with): "
+         "nothing will be felt\n  fix: " + fix;
+}
+
+std::string not_done_reason(const RunSummary& s, const Simulator& sim) {
+  const task::Metrics& m = s.metrics;
+  if (!sim.has_task() || m.completed) return "";
+  const double end = sim.params().task.end_progress;
+  char text[400];
+  if (s.path_progress >= end) {
+    std::snprintf(text, sizeof text,
+                  "not done (%s): progress along the path reached %.2f, but on the top of '%s' only %.2f: the trial completes at %.2f while on the top, "
+                  "and the body was off it (or its points missed the top's faces) past there",
+                  s.model.c_str(), s.path_progress, sim.model().task_surface.c_str(), m.progress, end);
+  } else {
+    std::snprintf(text, sizeof text, "not done (%s): the path ends at progress %.2f (on the top: %.2f); the trial completes at %.2f while on the top of '%s'",
+                  s.model.c_str(), s.path_progress, m.progress, end, sim.model().task_surface.c_str());
+  }
+  return text;
 }
 
 void write_metrics_json(const RunSummary& s, const Simulator& sim, std::ostream& out) {

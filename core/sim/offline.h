@@ -18,6 +18,16 @@ namespace enact::sim {
 // about 2 s (a fall), climbs back, and reaches the end
 task::Trajectory scripted_path(const Simulator& simulator, double press_m = 0.00005);
 
+// can a device (or a hand's target) moving along `path` bring the scene's exploratory body to
+// anything it has contacts with? Conservative: false only when, along every segment of the
+// path, a sphere holding the whole body (and margin_m more) stays clear of each such object.
+// A body with contact links to the scene's masses may always touch (not checked)
+bool path_may_touch(const physics::Model& model, const task::Trajectory& path, double margin_m = 0.002);
+
+// the warning for a scripted hand whose path never touches the scene, with the fix ("" when
+// it may touch it); reads both files (throws config::Error as loading them does)
+std::string hand_path_warning(const std::string& scene_file, const std::string& path_file);
+
 struct RunSummary {
   std::string model;
   std::int64_t steps = 0;
@@ -26,12 +36,16 @@ struct RunSummary {
   double peak_force_n = 0.0;    // max |F|
   double mean_pins_up = 0.0;    // mean number of raised pins over all steps
   double contact_fraction = 0.0;  // fraction of steps with a grid mass touching
+  double path_progress = 0.0;     // the furthest progress along the task path, on the top or not
   task::Metrics metrics;
 };
 
 // one step per 1/rate from the trajectory's start to its end; writes one CSV row per step
 // when csv is not null
 RunSummary run_offline(Simulator& simulator, const task::Trajectory& trajectory, std::ostream* csv);
+// why a run on a scene with a task did not complete, in words ("" when it did, or there is
+// no task): the path's progress against the progress made on the top
+std::string not_done_reason(const RunSummary& summary, const Simulator& simulator);
 void write_metrics_json(const RunSummary& summary, const Simulator& simulator, std::ostream& out);
 
 }  // namespace enact::sim

@@ -382,12 +382,15 @@ const StepOutput& Simulator::step_sample(std::int64_t sample_ns, const math::Vec
 }
 
 std::string Simulator::summary() const {
-  const task::Metrics m = metrics();
   char line[256];
-  std::snprintf(line, sizeof line, "task: falls %d, progress %.2f%s; re-synchronised with the device %llu time%s (largest offset %.1f mm)", m.falls,
-                m.progress, m.completed ? " (completed)" : "", static_cast<unsigned long long>(reengage_.count()), reengage_.count() == 1 ? "" : "s",
-                reengage_.largest_offset_m() * 1e3);
-  return line;
+  std::snprintf(line, sizeof line, "re-synchronised with the device %llu time%s (largest offset %.1f mm)", static_cast<unsigned long long>(reengage_.count()),
+                reengage_.count() == 1 ? "" : "s", reengage_.largest_offset_m() * 1e3);
+  // a scene without a task has no falls and no progress to count
+  if (!has_task()) return line;
+  const task::Metrics m = metrics();
+  char task_line[96];
+  std::snprintf(task_line, sizeof task_line, "task: falls %d, progress %.2f%s; ", m.falls, m.progress, m.completed ? " (completed)" : "");
+  return task_line + std::string(line);
 }
 
 }  // namespace enact::sim

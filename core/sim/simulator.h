@@ -88,7 +88,8 @@ class Simulator {
   // the device's clock at the model's time 0 (step_sample; -1 before the first sample)
   std::int64_t origin_ns() const { return origin_ns_; }
   const Reengagement& reengagement() const { return reengage_; }
-  // the task's line of a host's summary: falls and progress, and the re-synchronisations
+  // the simulator's line of a host's summary: the task's falls and progress (a scene with a
+  // task only), and the re-synchronisations with the device
   std::string summary() const;
 
  private:

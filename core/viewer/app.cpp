@@ -21,10 +21,14 @@ namespace enact::viewer {
 namespace {
 
 // what a snapshot showed, for people and tests
-void report_snapshot(const ViewerOptions& o, const ViewModel& model, int w, int h) {
+void report_snapshot(const ViewerOptions& o, const ViewModel& model, const SceneGeometry& scene, int w, int h) {
   const TaskView& t = model.task();
-  std::printf("enact-viewer: snapshot %s (%d x %d), task: falls %d, trial %.1f s (%s)", o.snapshot.c_str(), w, h, t.falls,
-              static_cast<double>(t.time_ns) * 1e-9, t.completed ? "completed" : t.running ? "running" : "stopped");
+  std::printf("enact-viewer: snapshot %s (%d x %d), ", o.snapshot.c_str(), w, h);
+  if (!scene.name.empty() && scene.task_surface.empty()) {
+    std::printf("no task in this scene");
+  } else {
+    std::printf("task: falls %d, trial %.1f s (%s)", t.falls, static_cast<double>(t.time_ns) * 1e-9, t.completed ? "completed" : t.running ? "running" : "stopped");
+  }
   if (model.has_scene()) {
     const msgs::SceneState& s = model.scene();
     std::uint32_t contact = 0;
@@ -90,7 +94,7 @@ void live_frame(GraphLink& link, ViewModel& model, SceneInUse& scene, std::int64
     const auto it = model.nodes().find(model.scene().header().source());
     if (it != model.nodes().end()) scene.controls().set_rate(it->second.status.rate_hz());
   }
-  task_window(l.task, model, now, link.endpoint().empty() ? link.describe() : link.endpoint(), scene.geometry().has_path);
+  task_window(l.task, model, now, link.endpoint().empty() ? link.describe() : link.endpoint(), scene.geometry().task_surface);
   status_window(l.status, model, now);
   std::vector<msgs::ParamUpdate> requests = scene.controls().draw(l.controls, model);
   for (const char key : keys) {
@@ -105,10 +109,10 @@ void live_frame(GraphLink& link, ViewModel& model, SceneInUse& scene, std::int64
 }
 
 // a recording: the timeline moves the model
-void recording_frame(Playback& playback, ViewModel& model, bool has_task, std::int64_t wall_ns, const Layout& l, const std::vector<char>& keys) {
+void recording_frame(Playback& playback, ViewModel& model, const std::string& surface, std::int64_t wall_ns, const Layout& l, const std::vector<char>& keys) {
   for (const char key : keys) playback.on_key(key, model);
   playback.advance(wall_ns, model);
-  task_window(l.task, model, playback.clock_ns(), "", has_task, playback.path());
+  task_window(l.task, model, playback.clock_ns(), "", surface, playback.path());
   status_window(l.status, model, playback.clock_ns());
   playback.draw(l.controls, model);
 }
@@ -138,7 +142,7 @@ int run_viewer(const ViewerOptions& o) {
     if (!window.poll(keys)) return 0;
     window.begin_frame();
     const Layout l = layout(static_cast<float>(window.width()), static_cast<float>(window.height()));
-    if (playback) recording_frame(*playback, model, scene.geometry().has_path, now - last, l, keys);
+    if (playback) recording_frame(*playback, model, scene.geometry().task_surface, now - last, l, keys);
     else live_frame(*link, model, scene, now, l, keys);
     last = now;
     // the scene, into the background
@@ -156,7 +160,7 @@ int run_viewer(const ViewerOptions& o) {
         std::fprintf(stderr, "enact-viewer: error: cannot write %s\n", o.snapshot.c_str());
         return 1;
       } else {
-        report_snapshot(o, model, window.width(), window.height());
+        report_snapshot(o, model, scene.geometry(), window.width(), window.height());
         return 0;
       }
     } else {

@@ -60,7 +60,7 @@ void draw_panel(ImDrawList& dl, const Rect& r, const char* title) {
 
 void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const ViewModel& model) {
   draw_panel(dl, r, "top view (x right, y forward)");
-  if (g.faces.empty() && !g.has_path) text(dl, r.x0 + kTitleX, r.y0 + 24, palette::kTitle, "no scene yet (it comes with the graph, or give --scene)");
+  if (g.faces.empty() && g.rounds.empty() && !g.has_path) text(dl, r.x0 + kTitleX, r.y0 + 24, palette::kTitle, "no scene yet (it comes with the graph, or give --scene)");
   const TopView view(g, r);
   // the workspace, the boxes seen from above, the task path's centreline
   dl.AddRect(im(view.to_screen(g.view_min_m.x_m, g.view_max_m.y_m)), im(view.to_screen(g.view_max_m.x_m, g.view_min_m.y_m)), palette::kWorkspace);
@@ -68,6 +68,20 @@ void draw_top_view(ImDrawList& dl, const Rect& r, const SceneGeometry& g, const 
     ImVec2 quad[4];
     for (int i = 0; i < 4; ++i) quad[i] = im(view.to_screen(f.corner[i].x_m, f.corner[i].y_m));
     dl.AddConvexPolyFilled(quad, 4, f.task_surface ? palette::kBridge : palette::kOtherBox);
+  }
+  // spheres and capsules: a disc at each end of the axis, the band between them
+  for (const RoundTop& round : g.rounds) {
+    const ImU32 colour = round.task_surface ? palette::kBridge : palette::kOtherBox;
+    const float radius = static_cast<float>(round.radius_m) * view.pixels_per_m();
+    const ImVec2 a = im(view.to_screen(round.from.x_m, round.from.y_m)), b = im(view.to_screen(round.to.x_m, round.to.y_m));
+    dl.AddCircleFilled(a, radius, colour, 32);
+    dl.AddCircleFilled(b, radius, colour, 32);
+    const float dx = b.x - a.x, dy = b.y - a.y, length = std::sqrt(dx * dx + dy * dy);
+    if (length > 0.5f) {
+      const float nx = -dy / length * radius, ny = dx / length * radius;
+      const ImVec2 band[4] = {{a.x + nx, a.y + ny}, {b.x + nx, b.y + ny}, {b.x - nx, b.y - ny}, {a.x - nx, a.y - ny}};
+      dl.AddConvexPolyFilled(band, 4, colour);
+    }
   }
   if (g.has_path) {
     const auto& pts = g.path.points();

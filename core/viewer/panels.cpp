@@ -43,12 +43,13 @@ std::string link_line(LinkState state, const std::string& graph_name, const std:
   return "";
 }
 
-std::string place_line(const TaskView& t, bool has_task) {
-  if (!has_task) return "no task in this scene: nothing is counted";
-  return std::string(t.on_top ? "ON the bridge" : "OFF the bridge") + "  falls " + std::to_string(t.falls) + (t.falling ? " (falling)" : "");
+std::string place_line(const TaskView& t, const std::string& surface) {
+  if (surface.empty()) return "no task in this scene: nothing is counted";
+  return std::string(t.on_top ? "ON the " : "OFF the ") + surface + "  falls " + std::to_string(t.falls) + (t.falling ? " (falling)" : "");
 }
 
-void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, bool has_task, const std::string& recording) {
+void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, const std::string& surface, const std::string& recording) {
+  const bool has_task = !surface.empty();
   begin_fixed("task", r);
   if (!recording.empty()) {
     ImGui::TextColored(kGood, "recording %s", recording.c_str());
@@ -61,7 +62,7 @@ void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, con
   const TaskView& t = model.task();
   if (model.has_scene()) {
     ImGui::Text("computer model %s", model.scene().model().c_str());
-    ImGui::TextColored(!has_task ? kDim : t.on_top ? kGood : kBad, "%s", place_line(t, has_task).c_str());
+    ImGui::TextColored(!has_task ? kDim : t.on_top ? kGood : kBad, "%s", place_line(t, surface).c_str());
     if (has_task) {
       ImGui::Text("trial %.1f s %s", static_cast<double>(t.time_ns) * 1e-9, t.completed ? "(completed)" : t.running ? "(running)" : "(stopped)");
       char progress[32];

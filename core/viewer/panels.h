@@ -21,11 +21,13 @@ namespace enact::viewer {
 // the link's line: waiting for `where` (what the viewer follows), or the graph's name and
 // `where` (its endpoint) once attached, or lost
 std::string link_line(LinkState state, const std::string& graph_name, const std::string& where);
-// where the body is for the task: on or off the bridge, or that the scene has no task
-std::string place_line(const TaskView& task, bool has_task);
-// the link (or, given `recording`, that one), the task (on or off the bridge, falls, time,
+// where the body is for the task: on or off its surface (the scene's task surface, named), or
+// that the scene has no task (`surface` empty)
+std::string place_line(const TaskView& task, const std::string& surface);
+// the link (or, given `recording`, that one), the task (on or off its surface, falls, time,
 // progress; a scene without a task says so, and counts nothing)
-void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, bool has_task, const std::string& recording = "");
+void task_window(const Rect& r, const ViewModel& model, std::int64_t now_ns, const std::string& source, const std::string& surface,
+                 const std::string& recording = "");
 // one row per node: rate, loop latency percentiles, overruns, drops, faults, age
 void status_window(const Rect& r, const ViewModel& model, std::int64_t now_ns);
 // |F| and the contact count over the last ViewModel::kHistory scenes

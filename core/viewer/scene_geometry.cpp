@@ -36,6 +36,7 @@ void add_mesh_faces(const physics::Mesh& mesh, SceneGeometry& g) {
 SceneGeometry geometry_of(const physics::Model& m) {
   SceneGeometry g;
   g.name = m.name;
+  g.task_surface = m.task_surface;
   const int surface = m.task_surface.empty() ? -1 : m.find_object(m.task_surface);
   // the boxes' top faces, the meshes' faces that look up
   for (std::size_t o = 0; o < m.objects.size(); ++o) {
@@ -45,6 +46,10 @@ SceneGeometry geometry_of(const physics::Model& m) {
       continue;
     }
     if (obj.type == physics::ObjectType::mesh) add_mesh_faces(m.meshes[obj.mesh], g);
+    if (obj.type == physics::ObjectType::capsule) {
+      g.rounds.push_back({{obj.axis_from_m.x, obj.axis_from_m.y}, {obj.axis_to_m.x, obj.axis_to_m.y}, obj.radius_m,
+                          std::max(obj.axis_from_m.z, obj.axis_to_m.z) + obj.radius_m, static_cast<int>(o) == surface});
+    }
     for (int b = obj.first_box; b < obj.first_box + obj.box_count; ++b) {
       const physics::Box& box = m.boxes[b];
       const math::Vec3& h = box.half_extents_m;
@@ -84,6 +89,12 @@ SceneGeometry geometry_of(const physics::Model& m) {
   task::Point2 lo{1e9, 1e9}, hi{-1e9, -1e9};
   for (const TopFace& f : g.faces) {
     for (const task::Point2& c : f.corner) grow(lo, hi, c.x_m, c.y_m);
+  }
+  for (const RoundTop& round : g.rounds) {
+    for (const task::Point2& c : {round.from, round.to}) {
+      grow(lo, hi, c.x_m - round.radius_m, c.y_m - round.radius_m);
+      grow(lo, hi, c.x_m + round.radius_m, c.y_m + round.radius_m);
+    }
   }
   if (!m.proxies.empty()) {
     const math::Vec3& start = m.points[m.proxies[0].point].position_m;

@@ -13,7 +13,7 @@ constexpr const char* kHelp = R"(usage: enact-viewer [--graph NAME | --follow EX
                     [--snapshot OUT.png [--after SECONDS]] [--size WxH]
        enact-viewer FILE.mcap [--at SECONDS] [--scene FILE] [--snapshot OUT.png [--after SECONDS]]
 
-Attach to a running graph and show it: the bridge from above with the grid (masses in
+Attach to a running graph and show it: the scene from above with the grid (masses in
 contact highlighted) and its trail, the height against the top surface along the path,
 the pins as shown, the forces, a scrolling plot of force and contacts, the task state and
 every node's status. Change the computer model, threshold, stiffness and damping (checked

@@ -64,6 +64,7 @@ DIR/trials.csv (one row per trial, at once, with the response time) and DIR/summ
 (per subject and condition: the fitted JND, its profile-likelihood and bootstrap 95 %
 intervals, the Weber fraction). Run again to resume.
 Then: /usr/bin/python3 "$(enact share scripts/psychophysics.py)" plot DIR/trials.csv --out DIR/figures
+  with the fit's options of the analysis: section (the command printed at the end gives them)
 
 options:
   --subjects N          N subjects (ids 1..N) instead of the file's
@@ -270,7 +271,8 @@ int discrimination_run(const Args& a, FILE* term) {
   ui.note(std::to_string(r.trials_run) + " trials run" + (r.blocks_done_before ? ", " + std::to_string(r.blocks_done_before) + " blocks done before" : "") +
           (r.failed ? ", " + std::to_string(r.failed) + " failed" : "") + "; trials: " + r.trials +
           (r.interrupted ? "\nstopped before the end: run the same command again to resume"
-                         : "\nsummary: " + r.summary + "\nfigures: /usr/bin/python3 " + config::shipped("scripts/psychophysics.py") + " plot " + r.trials + " --out " + out + "/figures"));
+                         : "\nsummary: " + r.summary + "\nfigures: /usr/bin/python3 " + config::shipped("scripts/psychophysics.py") + " plot " + r.trials + " --out " + out + "/figures" +
+                                 experiment::script_fit_options(spec.fit)));
   if (r.interrupted) return r.failed ? 1 : 130;
   return 0;
 }

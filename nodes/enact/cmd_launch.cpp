@@ -13,6 +13,7 @@
 #include "core/launch/realtime.h"
 #include "core/rt/profile.h"
 #include "core/launch/supervisor.h"
+#include "core/replay/replay.h"
 #include "core/rt/clock.h"
 #include "nodes/enact/commands.h"
 
@@ -128,6 +129,12 @@ int launch(int argc, char** argv) {
   const std::string file = find_file(a.positional[0]);
   const std::string name = a.get("name", std::filesystem::path(file).stem().string());
   if (name.empty()) throw UsageError("--name needs a name");
+  // $(recorded ARG NAME): the recorded simulator's files, copied into a folder kept while the
+  // graph runs (this process outlives its nodes)
+  launch::set_recorded_lookup([](const std::string& recording, const std::string& param) {
+    static graph::TempFolder files;
+    return graph::recorded_sim_param(find_file(recording), param, files);
+  });
   launch::LaunchDescription graph = launch::load_launch(file, launch_args);
   if (const auto clock = clock_option(a)) launch::choose_clock(graph, *clock);
   print_graph(graph);

@@ -66,6 +66,7 @@ int resim(int argc, char** argv) {
     j.field("forces_missing", static_cast<long long>(res.forces_missing)).field("changes", static_cast<long long>(res.changes));
     j.field("stages", static_cast<long long>(res.stages.size()));
     j.field("identical", !res.divergence);
+    j.field("task", res.task);
     j.field("falls", m.falls).field("time_total_s", m.time_total_s).field("time_out_s", m.time_out_s).field("ratio", m.ratio);
     j.field("completed", m.completed);
     if (res.divergence) {
@@ -95,8 +96,12 @@ int resim(int argc, char** argv) {
     }
     std::printf("\n");
   }
-  std::printf("  task: falls %d, time %.3f s, time out %.3f s, ratio %.4f, %s\n", m.falls, m.time_total_s, m.time_out_s, m.ratio,
-              m.completed ? "completed" : "not completed");
+  if (res.task) {
+    std::printf("  task: falls %d, time %.3f s, time out %.3f s, ratio %.4f, %s\n", m.falls, m.time_total_s, m.time_out_s, m.ratio,
+                m.completed ? "completed" : "not completed");
+  } else {
+    std::printf("  no task in this scene: no falls or completion to count\n");
+  }
   if (!res.divergence) {
     std::printf("  identical: every force and every pin frame is bit for bit the recorded one\n");
     return 0;

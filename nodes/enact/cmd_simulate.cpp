@@ -2,6 +2,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "core/config/share.h"
 #include "core/config/yaml.h"
@@ -110,6 +112,7 @@ int simulate(int argc, char** argv) {
   first.configure(params_from(a, models.front()));
   const bool task = first.has_task();
   print_header(task);
+  std::vector<std::string> not_done;  // why each run that did not complete did not
   for (const std::string& model : models) {
     sim::Simulator simulator;
     simulator.configure(params_from(a, model));
@@ -118,12 +121,14 @@ int simulate(int argc, char** argv) {
     if (a.has("out")) csv = open_out(a.get("out"));
     const sim::RunSummary s = sim::run_offline(simulator, path, a.has("out") ? &csv : nullptr);
     print_row(s, task);
+    if (const std::string why = sim::not_done_reason(s, simulator); !why.empty()) not_done.push_back(why);
     if (a.has("metrics")) {
       std::ofstream out = open_out(a.get("metrics"));
       sim::write_metrics_json(s, simulator, out);
     }
   }
   if (!task) std::printf("(no task in this scene: no falls, time out or completion to count)\n");
+  for (const std::string& why : not_done) std::printf("%s\n", why.c_str());
   if (a.has("input")) {
     std::printf("(the device followed the path exactly; live, a simulated hand tracks it behind a spring and presses far less:\n"
                 " %s, \"Offline and live forces differ\")\n", config::shipped("docs/scenes-and-models.md").c_str());

@@ -33,8 +33,12 @@ class QuietUi final : public RunnerUi {
   }
   std::map<std::string, int> ranking(const std::string&, const std::vector<Condition>&) override { return {}; }
   void progress(const Progress&) override {}
-  void note(const std::string&) override { ++notes; }
+  void note(const std::string& text) override {
+    ++notes;
+    texts.push_back(text);
+  }
   int notes = 0;
+  std::vector<std::string> texts;
   std::vector<int> keys;
 };
 
@@ -113,6 +117,7 @@ TEST(Discrimination, RecordsEveryTrialAndFitsEveryBlock) {
   const DiscriminationRun run = run_discrimination(spec, dir.path(), ui);
   EXPECT_FALSE(run.interrupted);
   EXPECT_EQ(run.trials_run, 3u * 2u * 60u);
+  for (const std::string& t : ui.texts) EXPECT_EQ(t.find("warning"), std::string::npos) << "60 trials a block are enough: " << t;
   const auto trials = rows_of(run.trials);
   ASSERT_EQ(trials.size(), 360u);
   std::map<std::string, int> interval_count;
@@ -136,7 +141,41 @@ TEST(Discrimination, RecordsEveryTrialAndFitsEveryBlock) {
     EXPECT_LT(low, jnd);
     EXPECT_GT(high, jnd);
     EXPECT_NEAR(std::stod(r[9]), jnd / 600.0, 1e-6) << "Weber fraction = JND / reference";
+    // the lapse to its stated precision: a fit at the bound 0 prints 0, not 1e-15
+    const double lapse = std::stod(r[10]);
+    EXPECT_TRUE(lapse == 0.0 || lapse >= kLapsePrecision) << r[10];
+    EXPECT_NEAR(lapse / kLapsePrecision, std::round(lapse / kLapsePrecision), 1e-6) << r[10];
   }
+}
+
+// a block fitted from fewer answers than a fit can rest on is warned about, with the fix
+TEST(Discrimination, AFitOfTooFewTrialsIsWarnedAbout) {
+  const test::TempDir dir;
+  const std::string path = dir.file("short.yaml");
+  test::write_file(path, R"(kind: discrimination
+subjects: 1
+conditions: [CM0]
+parameter: stiffness_n_per_m
+reference: 600
+graph: false
+procedures:
+  - {label: staircase, kind: staircase, start: 300, step_sizes: [0.2, 0.1], reversals: 8, max_trials: 6}
+virtual_observers: {weber_fraction: 0.15}
+analysis: {shape: weibull, exponent: 3.5, bootstrap: 0}
+)");
+  QuietUi ui;
+  const DiscriminationRun run = run_discrimination(load_discrimination(path), dir.file("out"), ui);
+  ASSERT_EQ(rows_of(run.summary).size(), 1u);
+  std::string warned;
+  for (const std::string& t : ui.texts) warned += t.find("warning") != std::string::npos ? t : "";
+  EXPECT_NE(warned.find("warning: subject 1, CM0: its fit rests on 6 trials, fewer than 30"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("fix: give the procedures more trials"), std::string::npos) << warned;
+  // the script says so too
+  const std::string counts = dir.file("counts.csv");
+  test::write_file(counts, "level,trials,correct\n100,3,2\n200,3,3\n");
+  const test::RunResult fit = test::run("/usr/bin/python3 " + test::source_path("scripts/psychophysics.py") + " fit " + counts + " --shape weibull");
+  EXPECT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_NE(fit.err.find("the fit rests on 6 trials, fewer than 30"), std::string::npos) << fit.err;
 }
 
 TEST(Discrimination, AnInterruptedRunResumesToTheSameFiles) {
@@ -304,11 +343,14 @@ TEST(Discrimination, TheCommandLineRunsTheExampleEndToEnd) {
   EXPECT_NE(r.err.find("summary: "), std::string::npos) << r.err;
   EXPECT_EQ(rows_of(dir.file("out/trials.csv")).size(), 2u * 2u * 60u);
   EXPECT_EQ(rows_of(dir.file("out/summary.csv")).size(), 4u);
-  // the figures from it, with scipy
-  const test::RunResult plot = test::run("/usr/bin/python3 " + test::source_path("scripts/psychophysics.py") + " plot " + dir.file("out/trials.csv") +
-                                         " --out " + dir.file("figures") + " --shape weibull --exponent 3.5");
+  // the figures from it, with scipy, by the command it prints: it fits as summary.csv does
+  const std::size_t hint = r.err.find("figures: ");
+  ASSERT_NE(hint, std::string::npos) << r.err;
+  const std::string plot_command = r.err.substr(hint + 9, r.err.find('\n', hint) - hint - 9);
+  EXPECT_NE(plot_command.find(" --shape weibull --exponent 3.5 --max-lapse 0.06"), std::string::npos) << plot_command;
+  const test::RunResult plot = test::run(plot_command);
   EXPECT_EQ(plot.exit_code, 0) << plot.err;
-  EXPECT_NE(test::read_file_or_empty(dir.file("figures/s1_CM0.png")), "");
+  EXPECT_NE(test::read_file_or_empty(dir.file("out/figures/s1_CM0.png")), "");
   // the group statistics: both subjects in both conditions, one pair
   const test::RunResult group = test::run("/usr/bin/python3 " + test::source_path("scripts/psychophysics.py") + " group " + dir.file("out/summary.csv"));
   EXPECT_EQ(group.exit_code, 0) << group.err;

@@ -238,6 +238,8 @@ TEST(ExperimentCli, AUsersOwnSceneRunsAsAnExperiment) {
   const auto rows = csv_rows(dir.file("out/results.csv"));
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[1][7], "0") << "a scene without a task has nothing to complete";
+  EXPECT_NE(r.err.find("subject 1, CM1 (measured 1): time 1.00 s (no task in this scene: no falls or completion to count)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("falls 0"), std::string::npos) << r.err;
   EXPECT_NEAR(std::stod(rows[1][4]), 1.0, 1e-3) << "the trial ran to its limit";
   // recorded on the user's scene: its parameters name the file, 1 s of ticks at 5 kHz
   const std::string recording = dir.file("out/trials/s1_CM1_measured.mcap");
@@ -254,6 +256,8 @@ TEST(ExperimentCli, AUsersOwnSceneRunsAsAnExperiment) {
   const RunResult resim = enact("resim " + recording);
   EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
   EXPECT_NE(resim.out.find("identical: every force and every pin frame"), std::string::npos) << resim.out;
+  EXPECT_NE(resim.out.find("no task in this scene: no falls or completion to count"), std::string::npos) << resim.out;
+  EXPECT_EQ(resim.out.find("task: falls"), std::string::npos) << resim.out;
 }
 
 // the second shipped experiment (contour following on the ridge: a height map, its task line

@@ -2,11 +2,16 @@
 // first messages were missed; what a launch file tells the graph's observers.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <utility>
 
 #include "core/record/logger.h"
 #include "core/session/launch_info.h"
 #include "core/graph/graph_dir.h"
+#include "tests/support/test_util.h"
 
 namespace enact::graph {
 namespace {
@@ -50,6 +55,29 @@ TEST(LaunchInfo, NamesTheNodesThatPublishTheirParameters) {
   }
   const msgs::GraphInfo info = launch_info("no-such-launch-file.yaml", graph);
   EXPECT_EQ(std::vector<std::string>(info.param_nodes().begin(), info.param_nodes().end()), (std::vector<std::string>{"sim", "ffd", "log"}));
+}
+
+// a scene given as the shipped one's path (found in enact's share, not where the user stands,
+// as its node finds it) is kept in the graph's info with the files it reads beside it: the
+// viewer draws it from there
+TEST(LaunchInfo, AShippedSceneNamedFromElsewhereIsKept) {
+  ASSERT_FALSE(std::filesystem::exists("launch/scenes/ridge.yaml")) << "the test runs outside the source tree";
+  launch::LaunchDescription graph;
+  launch::NodeSpec n;
+  n.name = "sim";
+  n.exec = "enact-sim";
+  n.params.push_back({"scene", "launch/scenes/ridge.yaml", ""});
+  graph.nodes.push_back(n);
+  const msgs::GraphInfo info = launch_info("no-such-launch-file.yaml", graph);
+  std::map<std::string, std::string> kept;
+  for (const auto& f : info.files()) kept[f.name()] = f.data();
+  ASSERT_TRUE(kept.count("sim.scene")) << "the scene kept";
+  std::ifstream source(test::source_path("launch/scenes/ridge.yaml"));
+  std::stringstream text;
+  text << source.rdbuf();
+  EXPECT_EQ(kept["sim.scene"], text.str());
+  EXPECT_TRUE(kept.count("sim.scene/ridge_heights.png")) << "and its height map";
+  EXPECT_EQ(info.params(0).value(), "launch/scenes/ridge.yaml") << "the parameter as given";
 }
 
 // a graph still starting: `enact param`, `enact topic` and `enact record --topics` wait for

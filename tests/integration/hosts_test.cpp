@@ -12,11 +12,11 @@
 namespace enact::test {
 namespace {
 
-// what a run printed (stdout and stderr together)
-std::string launched(const std::string& file) {
-  const RunResult r = run(kCli + " launch " + source_path(file) + " --clock simulated --arg duration_s=1 --arg realtime=false");
+// what a run printed (stderr, where the nodes speak as they go, then stdout)
+std::string launched(const std::string& file, const std::string& more = "") {
+  const RunResult r = run(kCli + " launch " + source_path(file) + " --clock simulated --arg duration_s=1 --arg realtime=false" + more);
   EXPECT_EQ(r.exit_code, 0) << file << "\n" << r.out << r.err;
-  return r.out + r.err;
+  return r.err + r.out;
 }
 
 // the number in "<node>: N frames applied; ..." of the tactile driver's summary line (-1: none)
@@ -49,6 +49,21 @@ TEST(BothHosts, EachComponentEndsTheSameWayAndSaysSoInTheSameWords) {
   EXPECT_NEAR(std::stod(d[3]), std::stod(c[3]), 0.011) << d[0] << "\n" << c[0];
   EXPECT_EQ(d[4], "1") << d[0];
   EXPECT_EQ(c[4], "1") << c[0];
+  // the container's loop thread says what it set up (memory locked) as it starts, before the
+  // node is ready, on one line (not in its summary, on stdout at the end)
+  const std::size_t locked = colocated.find("\nrt: memory locked (mlockall current and future pages)\n");
+  ASSERT_NE(locked, std::string::npos) << colocated;
+  EXPECT_LT(locked, colocated.find("rt ready")) << colocated;
+}
+
+// a scene without a task: no falls, progress or time on the top to count, in either line
+TEST(BothHosts, ASceneWithoutATaskPrintsNoTaskMetrics) {
+  const std::string log = launched("launch/bridge_rt.yaml", " --arg scene=" + source_path("launch/scenes/two_boxes.yaml"));
+  EXPECT_TRUE(std::regex_search(log, std::regex("(^|\\n)sim: re-synchronised with the device 1 time \\(largest offset [0-9.]+ mm\\)\\n"))) << log;
+  EXPECT_EQ(log.find("falls"), std::string::npos) << log;
+  EXPECT_EQ(log.find("progress"), std::string::npos) << log;
+  EXPECT_EQ(log.find("on the top"), std::string::npos) << log;
+  EXPECT_NE(log.find("rt: the hand felt: mean |F|"), std::string::npos) << log;
 }
 
 // in simulated time nobody is there once the task is completed: either host ends its run at

@@ -472,5 +472,33 @@ TEST_F(LoadLaunch, ShippedGraphsHoldTheRealtimeProfileByDefault) {
   }
 }
 
+// $(recorded ARG NAME): the recorded simulator's parameter, by the lookup the program gives,
+// from the recording the argument names; overridden by --arg, refused without a lookup
+TEST_F(LoadLaunch, RecordedSubstitutesTheRecordingsParameter) {
+  write("replay.yaml",
+        "launch:\n"
+        "  - arg: {name: recording}\n"
+        "  - arg: {name: scene, default: \"$(recorded recording scene)\"}\n"
+        "  - node:\n"
+        "      name: sim\n"
+        "      exec: enact-sim\n"
+        "      param: [{name: scene, value: $(var scene)}]\n");
+  set_recorded_lookup({});
+  const std::string none = refusal("replay.yaml", {{"recording", "run.mcap"}});
+  EXPECT_NE(none.find("replay.yaml:3: $(recorded ...) needs a program that reads recordings"), std::string::npos) << none;
+  std::vector<std::string> asked;
+  set_recorded_lookup([&](const std::string& recording, const std::string& name) {
+    asked.push_back(recording + " " + name);
+    return "/tmp/copy/" + name + ".yaml";
+  });
+  EXPECT_EQ(param(load("replay.yaml", {{"recording", "run.mcap"}}).nodes[0], "scene"), "/tmp/copy/scene.yaml");
+  EXPECT_EQ(asked, std::vector<std::string>{"run.mcap scene"});
+  EXPECT_EQ(param(load("replay.yaml", {{"recording", "run.mcap"}, {"scene", "mine.yaml"}}).nodes[0], "scene"), "mine.yaml");
+  EXPECT_EQ(asked.size(), 1u) << "a default given over is not evaluated";
+  write("bad.yaml", "launch:\n  - arg: {name: scene, default: \"$(recorded nothing scene)\"}\n");
+  expect_refused_at("bad.yaml", 2);
+  set_recorded_lookup({});
+}
+
 }  // namespace
 }  // namespace enact::launch

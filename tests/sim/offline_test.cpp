@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/physics/scene.h"
 #include "tests/sim/sim_test_util.h"
 #include "tests/support/test_util.h"
 
@@ -55,6 +57,72 @@ TEST(ScriptedPath, OneFallCompletedForCM1) {
   EXPECT_GT(s.metrics.time_total_s, s.metrics.time_out_s);
   EXPECT_NEAR(s.metrics.ratio, s.metrics.time_out_s / s.metrics.time_total_s, 1e-12);
   EXPECT_EQ(s.faults, 0u);
+}
+
+// a scripted hand whose path never comes near the scene is warned about, with the fix
+TEST(HandPath, APathThatNeverReachesTheSceneIsWarnedAbout) {
+  const std::string walk = test::source_path("launch/paths/bridge_walk.csv");
+  EXPECT_EQ(hand_path_warning(test::source_path("launch/scenes/bridge.yaml"), walk), "");
+  EXPECT_EQ(hand_path_warning(test::source_path("launch/scenes/ridge.yaml"), walk), "");
+  // a grating of three bars 40 mm beside the walk, on a floor the walk stays 6 mm above
+  const test::TempDir dir;
+  const std::string grating = dir.file("grating.yaml");
+  test::write_file(grating, R"(scene: grating
+rate_hz: 5000
+objects:
+  - {name: bars, type: union, boxes: [{center_m: [0.05, 0, 0.001], half_extents_m: [0.001, 0.02, 0.001]}, {center_m: [0.054, 0, 0.001], half_extents_m: [0.001, 0.02, 0.001]}]}
+  - {name: floor, type: plane, point_m: [0, 0, 0], normal: [0, 0, 1]}
+body:
+  name: finger
+  position_m: [0.05, 0, 0.004]
+  grid: {rows: 4, cols: 4, pitch_m: 0.00245}
+contacts:
+  - {masses: body, objects: [bars, floor], stiffness_n_per_m: 3000, damping_n_s_per_m: 0.01}
+)");
+  const std::string warning = hand_path_warning(grating, walk);
+  EXPECT_NE(warning.find("never comes near the scene " + grating), std::string::npos) << warning;
+  EXPECT_NE(warning.find("fix: give a path that reaches the scene: --arg hand_path="), std::string::npos) << warning;
+  // the same walk 5 mm lower reaches the floor
+  task::Trajectory low = task::load_trajectory(walk);
+  for (math::Vec3& p : low.position_m) p.z -= 0.005;
+  EXPECT_TRUE(path_may_touch(physics::load_scene(grating), low));
+  // a scene with a task: its own path is the fix
+  task::Trajectory far = task::load_trajectory(walk);
+  for (math::Vec3& p : far.position_m) p.z += 0.05;
+  const std::string far_walk = dir.file("far.csv");
+  {
+    std::ofstream out(far_walk);
+    task::write_trajectory(far, out);
+  }
+  const std::string bridge_scene = test::source_path("launch/scenes/bridge.yaml");
+  EXPECT_NE(hand_path_warning(bridge_scene, far_walk).find("fix: the scene's own path: enact path " + bridge_scene + " -o path.csv"), std::string::npos)
+      << hand_path_warning(bridge_scene, far_walk);
+}
+
+// a run that does not complete says why: the path passed the end off the top, or stopped short
+TEST(ScriptedPath, ARunNotDoneSaysWhy) {
+  Simulator sim;
+  sim.configure(bridge("CM1"));
+  const task::Trajectory scripted = scripted_path(sim);
+  EXPECT_EQ(not_done_reason(run_offline(sim, scripted, nullptr), sim), "");
+
+  task::Trajectory above = scripted;  // the same walk, 5 mm above the top: never on it
+  for (math::Vec3& p : above.position_m) p.z += 0.005;
+  const RunSummary off = run_offline(sim, above, nullptr);
+  ASSERT_FALSE(off.metrics.completed);
+  EXPECT_GE(off.path_progress, 0.98);
+  const std::string why = not_done_reason(off, sim);
+  EXPECT_NE(why.find("not done (CM1): progress along the path reached 1.00, but on the top of 'bridge' only 0.00"), std::string::npos) << why;
+
+  task::Trajectory half;  // the first half of the walk, on the top
+  for (std::size_t i = 0; i < scripted.t_s.size() / 2; ++i) {
+    half.t_s.push_back(scripted.t_s[i]);
+    half.position_m.push_back(scripted.position_m[i]);
+  }
+  const RunSummary short_run = run_offline(sim, half, nullptr);
+  ASSERT_FALSE(short_run.metrics.completed);
+  const std::string short_why = not_done_reason(short_run, sim);
+  EXPECT_NE(short_why.find("not done (CM1): the path ends at progress"), std::string::npos) << short_why;
 }
 
 // the step-by-step runs below see the same trial as run_offline

@@ -84,5 +84,28 @@ TEST(Simulator, SetComputerModelChangesTheForceBetweenSteps) {
   EXPECT_EQ(out.pins, kPressedPins);
 }
 
+// the summary line counts falls and progress only where the scene has a task to count them
+TEST(Simulator, SummaryHasTaskMetricsOnlyForASceneWithATask) {
+  Simulator with_task;
+  with_task.configure(bridge());
+  with_task.activate(0);
+  with_task.step_sample(0, kPressed, false);
+  EXPECT_NE(with_task.summary().find("task: falls 0, progress"), std::string::npos) << with_task.summary();
+  EXPECT_NE(with_task.summary().find("re-synchronised with the device 1 time"), std::string::npos) << with_task.summary();
+
+  SimParams p = bridge();
+  p.scene = test::source_path("launch/scenes/two_boxes.yaml");
+  Simulator no_task;
+  no_task.configure(p);
+  ASSERT_FALSE(no_task.has_task());
+  no_task.activate(0);
+  no_task.step_sample(0, {-0.012, 0.003, 0.0115}, false);
+  const std::string line = no_task.summary();
+  EXPECT_EQ(line.find("task"), std::string::npos) << line;
+  EXPECT_EQ(line.find("falls"), std::string::npos) << line;
+  EXPECT_EQ(line.find("progress"), std::string::npos) << line;
+  EXPECT_NE(line.find("re-synchronised with the device 1 time"), std::string::npos) << line;
+}
+
 }  // namespace
 }  // namespace enact::sim

@@ -95,6 +95,23 @@ TEST(SceneGeometry, MeshesAreTheirUpwardTrianglesSeenFromAbove) {
   }
 }
 
+// spheres and capsules seen from above: a disc, or two joined by a band; the view holds them
+TEST(SceneGeometry, SpheresAndCapsulesAreDiscsSeenFromAbove) {
+  const SceneGeometry g = load_geometry(test::source_path("launch/scenes/shapes.yaml"));
+  ASSERT_EQ(g.rounds.size(), 2u);
+  const RoundTop& ball = g.rounds[0];
+  EXPECT_NEAR(ball.from.x_m, -0.013, 1e-12);
+  EXPECT_NEAR(ball.to.y_m, -0.013, 1e-12);
+  EXPECT_NEAR(ball.radius_m, 0.007, 1e-12);
+  EXPECT_NEAR(ball.top_z_m, 0.014, 1e-12);
+  const RoundTop& rod = g.rounds[1];
+  EXPECT_NEAR(rod.to.x_m - rod.from.x_m, 0.016, 1e-12);
+  EXPECT_NEAR(rod.radius_m, 0.004, 1e-12);
+  EXPECT_EQ(g.task_surface, "");
+  EXPECT_EQ(bridge().task_surface, "bridge");
+  EXPECT_EQ(load_geometry(test::source_path("launch/scenes/ridge.yaml")).task_surface, "ridge");
+}
+
 // an ImGui frame with no window and no renderer: enough to fill draw lists
 class Headless : public ::testing::Test {
  protected:
@@ -170,6 +187,24 @@ TEST_F(Headless, TopViewDrawsTheBridgeFacesAndTheGridWhereTheSceneSays) {
     EXPECT_NEAR(mean.x, at.x, 0.5f) << "mass " << i;
     EXPECT_NEAR(mean.y, at.y, 0.5f) << "mass " << i;
   }
+}
+
+// the ball of the shapes scene: a disc of its radius, centred on it
+TEST_F(Headless, TopViewDrawsASphereAsADisc) {
+  const SceneGeometry g = load_geometry(test::source_path("launch/scenes/shapes.yaml"));
+  ViewModel vm;
+  const Rect r = layout(1280, 800).top_view;
+  ImDrawList& dl = *ImGui::GetBackgroundDrawList();
+  draw_top_view(dl, r, g, vm);
+  const TopView view(g, r);
+  const Pixel centre = view.to_screen(-0.013, -0.013);
+  const float radius = 0.007f * view.pixels_per_m();
+  // its rim: vertices of the box colour at the radius all round (anti-aliasing: within a pixel)
+  int rim = 0;
+  for (const ImDrawVert& v : dl.VtxBuffer) {
+    rim += v.col == palette::kOtherBox && std::abs(std::hypot(v.pos.x - centre.x, v.pos.y - centre.y) - radius) < 1.0f;
+  }
+  EXPECT_GE(rim, 32) << "the disc's 32 segments";
 }
 
 TEST_F(Headless, WithoutASceneThereIsNoGrid) {

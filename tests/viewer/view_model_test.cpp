@@ -122,12 +122,13 @@ TEST(TaskWindow, TheLinkLineNamesTheGraphOnce) {
 TEST(TaskWindow, ASceneWithoutATaskSaysSo) {
   TaskView t;
   t.on_top = false;
-  EXPECT_EQ(place_line(t, false), "no task in this scene: nothing is counted");
-  EXPECT_EQ(place_line(t, true), "OFF the bridge  falls 0");
+  EXPECT_EQ(place_line(t, ""), "no task in this scene: nothing is counted");
+  EXPECT_EQ(place_line(t, "bridge"), "OFF the bridge  falls 0");
   t.on_top = true;
   t.falls = 2;
   t.falling = true;
-  EXPECT_EQ(place_line(t, true), "ON the bridge  falls 2 (falling)");
+  EXPECT_EQ(place_line(t, "bridge"), "ON the bridge  falls 2 (falling)");
+  EXPECT_EQ(place_line(t, "grating"), "ON the grating  falls 2 (falling)") << "the task's own surface, not the bridge";
 }
 
 TEST(ViewModel, KeepsTheLastStatusOfEveryNodeAndLogsAnswers) {
