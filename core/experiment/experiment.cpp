@@ -198,7 +198,8 @@ void override_launch_args(ExperimentSpec& spec, const std::vector<std::pair<std:
   if (args.empty()) return;
   // the arguments only: the executables are found when a trial starts
   const launch::LaunchDescription declared = launch::load_launch(spec.launch, {}, [](const std::string& exec) { return exec; });
-  for (const auto& [name, value] : args) {
+  for (const auto& arg : args) {
+    const std::string& name = arg.first;  // a lambda cannot capture a structured binding in C++20 (clang 14)
     const auto& runner = runner_launch_args();
     if (std::find(runner.begin(), runner.end(), name) != runner.end()) {
       throw config::Error("'" + name + "' is set by the experiment runner for each trial\n  fix: give another launch argument (for the model: the conditions)");
@@ -206,7 +207,7 @@ void override_launch_args(ExperimentSpec& spec, const std::vector<std::pair<std:
     const bool has = std::any_of(declared.args.begin(), declared.args.end(), [&](const launch::ArgSpec& a) { return a.name == name; });
     if (!has) throw config::Error("the trial graph " + spec.launch + " declares no launch argument '" + name + "'\n  fix: give one it declares (`enact launch " + spec.launch + " --check` lists them)");
     std::erase_if(spec.launch_args, [&](const auto& kv) { return kv.first == name; });
-    spec.launch_args.emplace_back(name, value);
+    spec.launch_args.emplace_back(name, arg.second);
   }
 }
 

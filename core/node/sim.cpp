@@ -211,8 +211,9 @@ void Sim::restart_begins() {
 std::string Sim::summary() const {
   const rt::LoopSummary s = rt::summarize(io_->stats, simulator_.model().rate_hz);
   char latency[160];
-  std::snprintf(latency, sizeof latency, "receive-to-answer p50 %.2f us, p99 %.2f us, p99.9 %.2f us, max %.2f us", s.latency_p50_ns * 1e-3,
-                s.latency_p99_ns * 1e-3, s.latency_p999_ns * 1e-3, s.latency_max_ns * 1e-3);
+  auto us = [](std::int64_t ns) { return static_cast<double>(ns) * 1e-3; };
+  std::snprintf(latency, sizeof latency, "receive-to-answer p50 %.2f us, p99 %.2f us, p99.9 %.2f us, max %.2f us", us(s.latency_p50_ns),
+                us(s.latency_p99_ns), us(s.latency_p999_ns), us(s.latency_max_ns));
   return std::to_string(steps_) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + "; " + latency + ".";
 }
 
