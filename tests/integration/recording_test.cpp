@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <regex>
 #include <set>
 #include <optional>
 
@@ -324,6 +325,12 @@ void live_changes_replay_exactly(const std::string& graph_file, const std::strin
   // source, each with seq 1), and its ack
   EXPECT_EQ(s.requests.size(), 8u);
   EXPECT_EQ(s.acks, s.requests);
+  // what enact record said it kept of the device states is what this independent reader finds
+  const std::string said = read_file(dir.file("rec.out"));
+  std::smatch kept;
+  ASSERT_TRUE(std::regex_search(said, kept, std::regex("ffd/state +\\S+ +([0-9]+) messages +([0-9]+) gaps"))) << said;
+  EXPECT_EQ(std::stoull(kept[1]), s.states) << said;
+  EXPECT_EQ(std::stoull(kept[2]), s.state_gaps) << said;
   const RunResult resim = run(kCli + " resim " + file);
   EXPECT_EQ(resim.exit_code, 0) << resim.out << resim.err;
   EXPECT_NE(resim.out.find("8 live parameter changes re-applied"), std::string::npos) << resim.out;
