@@ -92,16 +92,19 @@ void print_graph(const launch::LaunchDescription& graph) {
 
 // every node checks its parameters, as it would at start, before anything starts: the
 // problems said (with the --arg a value came from); true when there is none
+// a problem's text, and where a value it names came from when it does not say so itself (a
+// node's own check, a file a launch argument names, does not know)
+std::string with_sources(const std::string& problem, const std::map<std::string, std::string>& launch_args) {
+  std::string out = problem;
+  for (const auto& [arg, value] : problem.find("--arg ") != std::string::npos ? std::map<std::string, std::string>{} : launch_args) {
+    if (!value.empty() && problem.find(value) != std::string::npos) out += "\n  (the value comes from --arg " + arg + "=" + value + ")";
+  }
+  return out;
+}
+
 bool graph_accepted(const launch::LaunchDescription& graph, const std::map<std::string, std::string>& launch_args) {
   const std::vector<std::string> problems = graph::check_graph(graph);
-  for (const std::string& p : problems) {
-    // a node's own check does not know where its value came from
-    std::string from;
-    for (const auto& [arg, value] : p.starts_with("--arg ") ? std::map<std::string, std::string>{} : launch_args) {
-      if (!value.empty() && p.find(value) != std::string::npos) from += "\n  (the value comes from --arg " + arg + "=" + value + ")";
-    }
-    std::fprintf(stderr, "enact launch: %s%s\n", p.c_str(), from.c_str());
-  }
+  for (const std::string& p : problems) std::fprintf(stderr, "enact launch: %s\n", with_sources(p, launch_args).c_str());
   if (problems.empty()) return true;
   std::fprintf(stderr, "enact launch: nothing started (%zu parameter problem%s)\n", problems.size(), problems.size() == 1 ? "" : "s");
   return false;
@@ -135,7 +138,17 @@ int launch(int argc, char** argv) {
     static graph::TempFolder files;
     return graph::recorded_sim_param(find_file(recording), param, files);
   });
-  launch::LaunchDescription graph = launch::load_launch(file, launch_args);
+  launch::LaunchDescription graph;
+  try {
+    graph = launch::load_launch(file, launch_args);
+  } catch (const config::Error& e) {
+    // a launch argument's value the file could not take (a recording that is not there): a
+    // parameter problem, said as the nodes' own are; the file's own errors go on as they are
+    const std::string said = with_sources(e.what(), launch_args);
+    if (said == e.what()) throw;
+    std::fprintf(stderr, "enact launch: error: %s\nenact launch: nothing started (1 parameter problem)\n", said.c_str());
+    return 1;
+  }
   if (const auto clock = clock_option(a)) launch::choose_clock(graph, *clock);
   print_graph(graph);
   if (!graph_accepted(graph, launch_args)) return 1;
