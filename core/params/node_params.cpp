@@ -164,7 +164,7 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
                {.name = "min_recovery_s", .min = 0, .doc = "contact regained for less than this does not end a fall"})
         .field([](S& s) -> double& { return s.task.end_progress; }, {.name = "end_progress", .min = 0, .max = 1, .doc = "progress that completes the bridge"})
         .field(&S::reengage_s, {.name = "reengage_s", .min = 0,
-                   .doc = "after a cut of the force path (its start, a watchdog episode, a late tick), the body returns from out of the objects to the device over this time"})
+                   .doc = "after a cut of the force path (its start, a watchdog episode, a late tick) or a late sample held, the body returns to the device over this time"})
         .field(&S::reentry_speed_m_per_s, {.name = "reentry_speed_m_per_s", .min = 0, .above_min = true, .doc = "after a live change of the force law, the body comes back out of the objects at most this fast"})
         .declared({.name = "reset", .type = ParamType::command, .doc = "model, pins and task back to their start: a new trial", .live = true, .at_start = false})
         .declared({.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false})

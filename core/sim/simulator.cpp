@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -98,6 +99,7 @@ void Simulator::configure(const SimParams& params) {
   deepest_pair_.assign(model_.points.size(), -1);
   const auto profile = devices::find_device_profile(model_.device_profile);
   max_step_n_ = profile && profile->max_force_step_n_per_ms > 0.0 ? profile->max_force_step_n_per_ms * model_.dt_s * 1e3 : 0.0;
+  late_steps_ns_ = std::llround(2.0 * model_.dt_s * 1e9);
   state_ = physics::make_state(model_);
   lifecycle_ = Lifecycle::inactive;
 }
@@ -372,7 +374,11 @@ const StepOutput& Simulator::step(std::int64_t time_ns, const math::Vec3& device
 }
 
 const StepOutput& Simulator::step_sample(std::int64_t sample_ns, const math::Vec3& device_position_m, bool cut) {
-  if (origin_ns_ < 0) origin_ns_ = sample_ns;
+  if (origin_ns_ < 0) {
+    origin_ns_ = sample_ns;
+  } else if (const std::int64_t gap_ns = sample_ns - sample_ns_; gap_ns > std::max(kLateSample_ns, late_steps_ns_)) {
+    reengage_.late(state_.proxy_position_m[0], gap_ns);
+  }
   sample_ns_ = sample_ns;
   if (cut) reengage_.interrupt();
   const std::int64_t t_ns = sample_ns - origin_ns_;
@@ -385,6 +391,12 @@ std::string Simulator::summary() const {
   char line[256];
   std::snprintf(line, sizeof line, "re-synchronised with the device %llu time%s (largest offset %.1f mm)", static_cast<unsigned long long>(reengage_.count()),
                 reengage_.count() == 1 ? "" : "s", reengage_.largest_offset_m() * 1e3);
+  if (const std::uint64_t late = reengage_.late_count(); late > 0) {
+    const std::size_t n = std::strlen(line);
+    std::snprintf(line + n, sizeof line - n, "; %llu late sample%s held at the depth before (longest gap %.1f ms, largest offset %.1f mm)",
+                  static_cast<unsigned long long>(late), late == 1 ? "" : "s", static_cast<double>(reengage_.longest_gap_ns()) * 1e-6,
+                  reengage_.largest_late_offset_m() * 1e3);
+  }
   // a scene without a task has no falls and no progress to count
   if (!has_task()) return line;
   const task::Metrics m = metrics();

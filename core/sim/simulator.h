@@ -48,8 +48,9 @@ class Simulator {
   // simulator (enact-sim, the co-located loop, a replay): the first sample after activate()
   // is the model's time 0 (origin_ns); when the force path was cut (`cut`: the device's
   // watchdog or an error) and at the first sample, the body is first re-synchronised with the
-  // device (Reengagement), so the force comes back from zero. The task event's time is on the
-  // device's clock. Allocates nothing, never throws.
+  // device (Reengagement), so the force comes back from zero; a late sample (reengage.h) is
+  // held at the depth of the one before. The task event's time is on the device's clock.
+  // Allocates nothing, never throws.
   const StepOutput& step_sample(std::int64_t sample_ns, const math::Vec3& device_position_m, bool cut);
 
   // between steps: switch the computer model
@@ -118,6 +119,7 @@ class Simulator {
   std::uint64_t steps_ = 0;     // steps since activate
   Reengagement reengage_;
   std::int64_t origin_ns_ = -1, sample_ns_ = 0;  // step_sample's first and last sample
+  std::int64_t late_steps_ns_ = 0;  // two of the model's steps: a sample later than this (and kLateSample_ns) is late
   // the live numbers changed since configure (bit n: row n of live_numbers()), their values
   std::array<double, kMaxLiveNumbers> live_values_{};
   std::uint32_t live_changed_ = 0;
