@@ -1,6 +1,7 @@
 #include "core/node/recorder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <iostream>
 #include <utility>
@@ -9,6 +10,9 @@
 #include "core/config/yaml.h"
 #include "core/foxglove/bridge.h"
 #include "core/graph/process.h"
+#include "core/params/device_config.h"
+#include "core/params/node_params.h"
+#include "core/params/param_binding.h"
 #include "core/graph/stop.h"
 #include "core/record/logger.h"
 #include "core/session/registry.h"
@@ -52,18 +56,19 @@ std::string attach_point(const std::string& given, double wait_s) {
 class LoggerObserver : public Observer {
  public:
   explicit LoggerObserver(graph::Params& p) {
-    o_.output = p.text("output");
-    o_.topics = config::split_commas(p.text("topics"));
-    topics_ = o_.topics.empty() ? "every topic" : p.text("topics");
-    o_.regex = p.text("regex");
-    o_.exclude = p.text("exclude");
-    o_.writer.compression = record::parse_compression(p.text("compression"));
-    o_.writer.chunk_duration_ns = static_cast<std::int64_t>(p.number("chunk_duration_s") * 1e9);
-    o_.split_size_mb = p.number("split_size_mb");
-    o_.split_duration_s = p.number("split_duration_s");
-    o_.attach = p.text("attach");
+    const graph::LoggerConfig c = graph::logger_bindings().read(p);
+    o_.output = c.output;
+    o_.topics = config::split_commas(c.topics);
+    topics_ = o_.topics.empty() ? "every topic" : c.topics;
+    o_.regex = c.regex;
+    o_.exclude = c.exclude;
+    o_.writer.compression = record::parse_compression(c.compression);
+    o_.writer.chunk_duration_ns = std::llround(c.chunk_duration_s * 1e9);
+    o_.split_size_mb = c.split_size_mb;
+    o_.split_duration_s = c.split_duration_s;
+    o_.attach = c.attach;
     o_.keys = bus::client_keys("", "");
-    o_.wait_s = p.number("wait_s");
+    o_.wait_s = c.wait_s;
     filter_ = graph::TopicFilter(o_);  // a bad pattern is refused here, before anything moves
   }
   std::string activate() override {
@@ -99,10 +104,12 @@ class LoggerObserver : public Observer {
 
 class FoxgloveObserver : public Observer {
  public:
-  explicit FoxgloveObserver(graph::Params& p) : attach_(p.text("attach")) {
-    o_.port = p.integer("port");
-    o_.host = p.text("host");
-    o_.max_rate_hz = p.number("max_rate_hz");
+  explicit FoxgloveObserver(graph::Params& p) {
+    const graph::FoxgloveConfig c = graph::foxglove_bindings().read(p);
+    attach_ = c.attach;
+    o_.port = c.port;
+    o_.host = c.host;
+    o_.max_rate_hz = c.max_rate_hz;
     o_.keys = bus::client_keys("", "");
   }
   std::string activate() override {

@@ -78,4 +78,23 @@ struct TactileNodeConfig {
   double watchdog_s = 0.25;
 };
 
+// the observers' (enact-logger / plugin logger, enact-foxglove / plugin foxglove); the node
+// turns them into graph::LoggerOptions and foxglove::BridgeOptions
+struct LoggerConfig {
+  std::string output = "recording.mcap";
+  std::string topics;  // comma-separated; empty: every topic
+  std::string regex, exclude;
+  std::string compression = "zstd";
+  double chunk_duration_s = 1.0;
+  double split_size_mb = 0.0, split_duration_s = 0.0;
+  std::string attach;
+  double wait_s = 10.0;
+};
+struct FoxgloveConfig {
+  int port = 8765;
+  std::string host = "127.0.0.1";
+  double max_rate_hz = 100.0;
+  std::string attach;
+};
+
 }  // namespace enact::graph

@@ -13,7 +13,6 @@
 #include "core/devices/safety.h"
 #include "core/devices/simulated_force.h"
 #include "core/devices/simulated_tactile.h"
-#include "core/record/logger.h"
 #include "core/params/device_config.h"
 #include "core/params/param_binding.h"
 #include "core/devices/device_profile.h"
@@ -28,12 +27,14 @@ namespace enact::graph {
 namespace {
 
 using config::number;
+
+constexpr const char* kAttachDoc =
+    "attach endpoint (default: the graph that launched it, else the only one running; keys: $ENACT_KEY, $ENACT_SERVER_KEY)";
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // the defaults are the components' own (their structs' initial values)
 const sim::SimParams kSim{};
 const devices::SimulatedForceParams kHand{};
-const graph::LoggerOptions kLogger{};
 
 // what a loop process shares (a config with a LoopConfig `loop`): enact-ffd, enact-rt
 template <class Config>
@@ -73,30 +74,6 @@ ParamTable tactile_node_table() {
 }
 
 ParamTable rt_table() { return rt_bindings().table(); }
-
-ParamTable logger_table() {
-  return {
-      {.name = "output", .type = ParamType::text, .fallback = kLogger.output, .doc = "file (with splitting: NAME_000.mcap, NAME_001.mcap, ...)"},
-      {.name = "topics", .type = ParamType::text, .doc = "comma-separated topics to keep (empty: every topic)"},
-      {.name = "regex", .type = ParamType::text, .doc = "only topics the regular expression matches"},
-      {.name = "exclude", .type = ParamType::text, .doc = "no topic the regular expression matches"},
-      {.name = "compression", .type = ParamType::choice, .fallback = "zstd", .choices = {"zstd", "lz4", "none"}, .doc = "chunk compression"},
-      {.name = "chunk_duration_s", .fallback = "1", .min = 0, .above_min = true, .doc = "a chunk reaches the file at least this often (the most a kill -9 loses)"},
-      {.name = "split_size_mb", .fallback = number(kLogger.split_size_mb), .min = 0, .doc = "start a new file past this size (0: never)"},
-      {.name = "split_duration_s", .fallback = number(kLogger.split_duration_s), .min = 0, .doc = "start a new file after this long (0: never)"},
-      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: the graph that launched it, else the only one running; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
-      {.name = "wait_s", .fallback = number(kLogger.wait_s), .min = 0, .doc = "how long to wait for the graph"},
-  };
-}
-
-ParamTable foxglove_table() {
-  return {
-      {.name = "port", .type = ParamType::integer, .fallback = "8765", .min = 0, .max = 65535, .doc = "WebSocket port (0: any free port)"},
-      {.name = "host", .type = ParamType::text, .fallback = "127.0.0.1", .doc = "where it listens (clients may publish param/set only on loopback)"},
-      {.name = "max_rate_hz", .fallback = "100", .min = 0, .above_min = true, .doc = "per client, on topics that run faster"},
-      {.name = "attach", .type = ParamType::text, .doc = "attach endpoint (default: the graph that launched it, else the only one running; keys: $ENACT_KEY, $ENACT_SERVER_KEY)"},
-  };
-}
 
 // the value of a launch parameter where it was written: its line, or the --arg it came from
 std::string where(const launch::NodeSpec& n, const launch::Param& p) { return p.source.empty() ? n.source : p.source; }
@@ -265,6 +242,36 @@ const ParamBindings<RtConfig>& rt_bindings() {
   return b;
 }
 
+const ParamBindings<LoggerConfig>& logger_bindings() {
+  static const ParamBindings<LoggerConfig> b = [] {
+    ParamBindings<LoggerConfig> out;
+    out.field(&LoggerConfig::output, {.name = "output", .doc = "file (with splitting: NAME_000.mcap, NAME_001.mcap, ...)"})
+        .field(&LoggerConfig::topics, {.name = "topics", .doc = "comma-separated topics to keep (empty: every topic)"})
+        .field(&LoggerConfig::regex, {.name = "regex", .doc = "only topics the regular expression matches"})
+        .field(&LoggerConfig::exclude, {.name = "exclude", .doc = "no topic the regular expression matches"})
+        .field(&LoggerConfig::compression, {.name = "compression", .type = ParamType::choice, .choices = {"zstd", "lz4", "none"}, .doc = "chunk compression"})
+        .field(&LoggerConfig::chunk_duration_s, {.name = "chunk_duration_s", .min = 0, .above_min = true, .doc = "a chunk reaches the file at least this often (the most a kill -9 loses)"})
+        .field(&LoggerConfig::split_size_mb, {.name = "split_size_mb", .min = 0, .doc = "start a new file past this size (0: never)"})
+        .field(&LoggerConfig::split_duration_s, {.name = "split_duration_s", .min = 0, .doc = "start a new file after this long (0: never)"})
+        .field(&LoggerConfig::attach, {.name = "attach", .doc = kAttachDoc})
+        .field(&LoggerConfig::wait_s, {.name = "wait_s", .min = 0, .doc = "how long to wait for the graph"});
+    return out;
+  }();
+  return b;
+}
+
+const ParamBindings<FoxgloveConfig>& foxglove_bindings() {
+  static const ParamBindings<FoxgloveConfig> b = [] {
+    ParamBindings<FoxgloveConfig> out;
+    out.field(&FoxgloveConfig::port, {.name = "port", .min = 0, .max = 65535, .doc = "WebSocket port (0: any free port)"})
+        .field(&FoxgloveConfig::host, {.name = "host", .doc = "where it listens (clients may publish param/set only on loopback)"})
+        .field(&FoxgloveConfig::max_rate_hz, {.name = "max_rate_hz", .min = 0, .above_min = true, .doc = "per client, on topics that run faster"})
+        .field(&FoxgloveConfig::attach, {.name = "attach", .doc = kAttachDoc});
+    return out;
+  }();
+  return b;
+}
+
 const ParamBindings<TactileNodeConfig>& tactile_node_bindings() {
   static const ParamBindings<TactileNodeConfig> b = [] {
     ParamBindings<TactileNodeConfig> out;
@@ -294,14 +301,8 @@ const ParamBindings<TactileConfig>& tactile_bindings() {
 
 const ParamTable& tactile_table() { return tactile_bindings().table(); }
 
-const ParamTable& logger_component_table() {
-  static const ParamTable t = logger_table();
-  return t;
-}
-const ParamTable& foxglove_component_table() {
-  static const ParamTable t = foxglove_table();
-  return t;
-}
+const ParamTable& logger_component_table() { return logger_bindings().table(); }
+const ParamTable& foxglove_component_table() { return foxglove_bindings().table(); }
 
 namespace {
 std::vector<ComponentKind>& kinds() {
@@ -365,15 +366,14 @@ std::optional<ComponentProblem> component_list_problem(const std::vector<std::pa
 }
 
 const ParamTable* node_table(const std::string& exec) {
-  static const ParamTable sim = sim_node_table(), ffd = ffd_node_table(), tactile = tactile_node_table(), rt = rt_table(),
-                          logger = logger_table(), foxglove = foxglove_table();
+  static const ParamTable sim = sim_node_table(), ffd = ffd_node_table(), tactile = tactile_node_table(), rt = rt_table();
   const std::string file = std::filesystem::path(exec).filename().string();
   if (file == "enact-sim") return &sim;
   if (file == "enact-ffd") return &ffd;
   if (file == "enact-tactile") return &tactile;
   if (file == "enact-rt") return &rt;
-  if (file == "enact-logger") return &logger;
-  if (file == "enact-foxglove") return &foxglove;
+  if (file == "enact-logger") return &logger_component_table();
+  if (file == "enact-foxglove") return &foxglove_component_table();
   return nullptr;
 }
 

@@ -42,6 +42,11 @@ const ParamBindings<TactileNodeConfig>& tactile_node_bindings();
 // the co-located container's own (enact-rt; its loop thread's CPU, `cpus`, is read by name:
 // empty means any)
 const ParamBindings<RtConfig>& rt_bindings();
+// the observers' own, bound to LoggerConfig and FoxgloveConfig (device_config.h)
+struct LoggerConfig;
+struct FoxgloveConfig;
+const ParamBindings<LoggerConfig>& logger_bindings();
+const ParamBindings<FoxgloveConfig>& foxglove_bindings();
 
 // the components of a real-time container (enact-rt) and of the nodes that wrap one
 const ParamTable& sim_table();      // the simulator (plugin sim; enact-sim): sim_bindings()'s table
