@@ -155,15 +155,23 @@ std::string deformable_refusal(physics::Model model, std::optional<double> stiff
 
 }  // namespace
 
-double body_passivity_demand(physics::Model model, double stiffness, double damping) {
+PassivityDemand body_passivity_demand(const physics::Model& loaded) {
+  physics::Model model = loaded;
   // the worst computer model: every body point feeds the device
   for (physics::Point& p : model.points) {
     if (p.proxy == 0) p.feeds_device = true;
   }
-  set_body_contacts(model, stiffness, damping);
   // any device damping: only the demand K T/2 + B is read
-  const physics::StabilityReport report = physics::analyze_stability(model, 0.0);
-  return report.devices.empty() ? 0.0 : report.devices[0].required_n_s_per_m;
+  auto demand = [&](double stiffness, double damping) {
+    set_body_contacts(model, stiffness, damping);
+    const physics::StabilityReport report = physics::analyze_stability(model, 0.0);
+    return report.devices.empty() ? 0.0 : report.devices[0].required_n_s_per_m;
+  };
+  PassivityDemand d;
+  d.at_zero = demand(0.0, 0.0);
+  d.per_n_per_m = demand(1.0, 0.0) - d.at_zero;
+  d.per_n_s_per_m = demand(0.0, 1.0) - d.at_zero;
+  return d;
 }
 
 ModelChange to_change(const haptics::ComputerModel& cm) {
@@ -188,19 +196,24 @@ void assign(haptics::ComputerModel& cm, const ModelChange& c) {
   cm.name.assign(c.name);
 }
 
-double passivity_envelope(const physics::Model& model) {
+namespace {
+double envelope(const physics::Model& model, const PassivityDemand& demand) {
   const auto profile = devices::find_device_profile(model.device_profile);
   const int pair = first_body_contact(model);
-  const double loaded = pair < 0 ? 0.0 : body_passivity_demand(model, model.contacts[pair].stiffness_n_per_m, model.contacts[pair].damping_n_s_per_m);
+  const double loaded = pair < 0 ? 0.0 : demand.at(model.contacts[pair].stiffness_n_per_m, model.contacts[pair].damping_n_s_per_m);
   return std::max(profile ? profile->damping_n_s_per_m : 0.0, loaded);
 }
+}  // namespace
+
+double passivity_envelope(const physics::Model& model) { return envelope(model, body_passivity_demand(model)); }
 
 ParamPlanner::ParamPlanner(const Simulator& simulator)
     : model_(simulator.model()),
       cm_(simulator.computer_model()),
       params_(simulator.params()),
       grid_masses_(simulator.grid_masses()),
-      envelope_(passivity_envelope(model_)) {
+      demand_(body_passivity_demand(model_)),
+      envelope_(envelope(model_, demand_)) {
   if (const auto profile = devices::find_device_profile(model_.device_profile)) device_damping_ = profile->damping_n_s_per_m;
 }
 
@@ -226,7 +239,7 @@ std::string ParamPlanner::contact_refusal(bool stiffness, double value) const {
   if (first_body_contact(model_) < 0) return std::string(name) + ": the scene's body has no contacts\n  fix: add a contacts: entry for the body";
   // the passivity demand is linear in the changed parameter, the other one held
   const double k = stiffness_n_per_m(), z = damping_n_s_per_m();
-  auto demand = [&](double v) { return body_passivity_demand(model_, stiffness ? v : k, stiffness ? z : v); };
+  auto demand = [&](double v) { return demand_.at(stiffness ? v : k, stiffness ? z : v); };
   const double asked = demand(value);
   if (asked > envelope_ * (1.0 + 1e-12)) {
     const double at0 = demand(0.0), slope = demand(1.0) - at0;

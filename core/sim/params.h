@@ -28,6 +28,17 @@
 
 namespace enact::sim {
 
+// the passivity demand K T/2 + B of the exploratory body with every body point feeding the
+// device and every body contact pair at a stiffness and damping (N s/m): sums of the body's
+// elements, so linear in both; found once per scene, then a request is checked by arithmetic
+struct PassivityDemand {
+  double at_zero = 0.0, per_n_per_m = 0.0, per_n_s_per_m = 0.0;
+  double at(double stiffness_n_per_m, double damping_n_s_per_m) const {
+    return at_zero + per_n_per_m * stiffness_n_per_m + per_n_s_per_m * damping_n_s_per_m;
+  }
+};
+PassivityDemand body_passivity_demand(const physics::Model& model);
+
 class Simulator;
 class ParamPlanner;
 
@@ -180,12 +191,10 @@ class ParamPlanner {
   SimParams params_;
   int grid_masses_ = 0;
   double device_damping_ = 0.0;
+  PassivityDemand demand_;
   double envelope_ = 0.0;
 };
 
-// the passivity demand K T/2 + B of the exploratory body with every body point feeding the
-// device and every body contact pair at the given stiffness and damping (N s/m)
-double body_passivity_demand(physics::Model model, double stiffness_n_per_m, double damping_n_s_per_m);
 
 // the largest K T/2 + B live stiffness and damping changes may reach on `model` as loaded:
 // the larger of its device's damping b (0 without a device profile) and the body's demand
