@@ -2,53 +2,137 @@
 """Run a sweep's jobs on a Dask distributed scheduler (what `enact sweep --executor
 dask://HOST:PORT` calls; docs/experiments.md, "Sweeps").
 
-One task per job: the task runs `COMMAND... --job K` (enact sweep FILE --out DIR) on a worker
-as a process, through the folder the sweep's files are on (shared with the workers, the same
-path). The job writes its own folder; the task returns its exit code, host and output, which
-this script appends to LOGS/job_K.log. A worker that dies while running a task: the scheduler
-runs the task again on another worker (the job starts afresh; `enact sweep` merges only jobs
-done). Exit status 0 when every task ran (the jobs' own success is in their folders), 1 when a
-task could not run (e.g. its workers kept dying), 2 for bad arguments or no scheduler.
+One task per job, each running `ENACT sweep SWEEP --out DIR --job K` on a worker as a process.
+With --inputs (enact's default, --dask-files content) the files the jobs read travel by
+content: their bytes go to the workers once, each task writes them into a folder of its own on
+its worker (at their paths under it, an absolute path naming one of them in a text file
+pointed there), runs the job there and sends the job's folder back, which this script writes
+into DIR/jobs/ (renamed from .partial once the job succeeded, as a job does itself); so a
+worker needs no folder shared with this machine, only the enact executable. Without
+--inputs the workers use the sweep's files and DIR at their paths (a shared folder).
+The task's output goes to DIR/logs/job_K.log. A worker that dies while running a task: the
+scheduler runs the task again on another worker (the job starts afresh; `enact sweep` merges
+only jobs done). Exit status 0 when every task ran (the jobs' own success is in their
+folders), 1 when a task could not run (e.g. its workers kept dying), 2 for bad arguments or
+no scheduler.
 
 Needs Debian's python3-distributed (scripts/setup.sh).
 """
 import argparse
 import os
+import re
+import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 
 
-def run_job(command, k):
-    """On a worker: the job as a process; (k, exit code, host, output)."""
+def run(command, cwd=None):
+    """The job as a process that stops when this worker does: (exit code, output)."""
     import ctypes
     import signal
 
-    host = socket.gethostname()
-
     def die_with_worker():
-        # the job stops when this worker does (PR_SET_PDEATHSIG = 1): it runs again elsewhere
+        # PR_SET_PDEATHSIG = 1: the job stops with the worker, and runs again elsewhere
         ctypes.CDLL(None).prctl(1, signal.SIGTERM)
 
-    if not os.path.exists(command[0]):
-        return k, 127, host, f"enact sweep: on host {host}: the enact executable {command[0]} is missing here\n  fix: run the workers where the build (or install) is on a folder shared with this host (the same path)\n"
     try:
-        done = subprocess.run(command + ["--job", str(k)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_worker, check=False)
+        done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_worker, cwd=cwd, check=False)
     except OSError as e:
-        return k, 127, host, f"enact sweep: on host {host}: cannot run {command[0]}: {e}\n"
-    return k, done.returncode, host, done.stdout.decode(errors="replace")
+        return 127, f"enact sweep: on host {socket.gethostname()}: cannot run {command[0]}: {e}\n"
+    return done.returncode, done.stdout.decode(errors="replace")
+
+
+def missing_enact(enact):
+    host = socket.gethostname()
+    return f"enact sweep: on host {host}: the enact executable {enact} is missing here\n  fix: run the workers where the build (or install) is at the same path\n"
+
+
+def run_job_shared(enact, sweep, out, k):
+    """On a worker: the job through the shared folder; (k, exit code, host, output, None)."""
+    host = socket.gethostname()
+    if not os.path.exists(enact):
+        return k, 127, host, missing_enact(enact), None
+    code, output = run([enact, "sweep", sweep, "--out", out, "--job", str(k)])
+    return k, code, host, output, None
+
+
+def placed(inputs, root):
+    """Each input's bytes as written under `root`: text files with the inputs' paths pointed
+    under `root` too (a path naming another file, not a longer name that starts with it)."""
+    pattern = re.compile(r"(?<![\w./-])(" + "|".join(re.escape(p) for p in sorted(inputs, key=len, reverse=True)) + r")(?![\w.-])")
+    files = {}
+    for path, data in inputs.items():
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError:
+            text = None
+        if text is not None and "\0" not in text:
+            data = pattern.sub(lambda m: root + m.group(1), text).encode("utf-8")
+        files[root + path] = data
+    return files
+
+
+def run_job_by_content(enact, sweep, inputs, k):
+    """On a worker: the job in a folder of its own from the inputs' bytes; (k, exit code,
+    host, output, (the job's folder name, its files' bytes by relative path))."""
+    from distributed import get_worker
+
+    host = socket.gethostname()
+    if not os.path.exists(enact):
+        return k, 127, host, missing_enact(enact), None
+    work = tempfile.mkdtemp(prefix=f"enact-sweep-job{k}-", dir=get_worker().local_directory)
+    try:
+        for path, data in placed(inputs, os.path.join(work, "files")).items():
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            with open(path, "wb") as f:
+                f.write(data)
+        jobs = os.path.join(work, "out", "jobs")
+        os.makedirs(jobs)
+        code, output = run([enact, "sweep", os.path.join(work, "files") + sweep, "--out", os.path.join(work, "out"), "--job", str(k)], cwd=work)
+        folders = [n for n in os.listdir(jobs) if os.path.isdir(os.path.join(jobs, n))]
+        if len(folders) != 1:
+            return k, code or 1, host, output, None
+        folder = os.path.join(jobs, folders[0])
+        files = {}
+        for parent, _, names in os.walk(folder):
+            for n in names:
+                with open(os.path.join(parent, n), "rb") as f:
+                    files[os.path.relpath(os.path.join(parent, n), folder)] = f.read()
+        return k, code, host, output, (folders[0], files)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def keep_job(jobs, folder):
+    """A job's folder sent back by its worker, written into DIR/jobs as the job writes it:
+    NAME.partial first, renamed NAME once its job.json says it succeeded."""
+    name, files = folder
+    name = name[: -len(".partial")] if name.endswith(".partial") else name
+    if os.sep in name or name.startswith(".") or any(os.path.isabs(r) or ".." in r.split(os.sep) for r in files):
+        raise ValueError(f"a worker sent back a job folder with a bad name: {name}")
+    done, partial = os.path.join(jobs, name), os.path.join(jobs, name + ".partial")
+    if os.path.exists(os.path.join(done, "job.json")):
+        return  # done before (a task run twice)
+    shutil.rmtree(partial, ignore_errors=True)
+    for relative, data in files.items():
+        os.makedirs(os.path.dirname(os.path.join(partial, relative)), exist_ok=True)
+        with open(os.path.join(partial, relative), "wb") as f:
+            f.write(data)
+    if folder[0] == name:  # the worker renamed it: the job succeeded
+        os.rename(partial, done)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--scheduler", required=True, help="HOST:PORT of a running Dask scheduler")
-    p.add_argument("--logs", required=True, help="the sweep's logs folder (DIR/logs)")
+    p.add_argument("--enact", required=True, help="the enact executable (the same path on the workers)")
+    p.add_argument("--sweep", required=True, help="the sweep file (absolute)")
+    p.add_argument("--out", required=True, help="the sweep's folder (absolute)")
     p.add_argument("--jobs", required=True, help="the jobs to run, comma-separated numbers")
-    p.add_argument("command", nargs=argparse.REMAINDER, help="-- enact sweep FILE --out DIR")
+    p.add_argument("--inputs", help="a file listing the files the jobs read (absolute, one a line): they travel by content")
     a = p.parse_args()
-    command = a.command[1:] if a.command[:1] == ["--"] else a.command
-    if not command:
-        p.error("give the job's command after --")
     try:
         from distributed import Client, as_completed
     except ImportError:
@@ -61,21 +145,36 @@ def main():
         print(f"dask_sweep.py: no Dask scheduler at {a.scheduler}: {e}\n  fix: start one (dask scheduler) and its workers (dask worker {a.scheduler})", file=sys.stderr)
         return 2
     print(f"enact sweep: Dask scheduler {a.scheduler}, {len(client.scheduler_info()['workers'])} workers, dashboard {client.dashboard_link}", file=sys.stderr, flush=True)
-    os.makedirs(a.logs, exist_ok=True)
-    futures = [client.submit(run_job, command, k, key=f"enact-sweep-{os.getpid()}-{k}", pure=False) for k in jobs]
+    logs = os.path.join(a.out, "logs")
+    os.makedirs(logs, exist_ok=True)
+    key = f"enact-sweep-{os.getpid()}"
+    if a.inputs:
+        with open(a.inputs) as f:
+            paths = [line.rstrip("\n") for line in f if line.strip()]
+        inputs = {}
+        for path in paths:
+            with open(path, "rb") as f:
+                inputs[path] = f.read()
+        # sent to the workers once, not with each task
+        [sent] = client.scatter([inputs], broadcast=True)
+        futures = [client.submit(run_job_by_content, a.enact, a.sweep, sent, k, key=f"{key}-{k}", pure=False) for k in jobs]
+    else:
+        futures = [client.submit(run_job_shared, a.enact, a.sweep, a.out, k, key=f"{key}-{k}", pure=False) for k in jobs]
     lost = 0
     for f in as_completed(futures):
         try:
-            k, code, host, output = f.result()
+            k, code, host, output, folder = f.result()
         except Exception as e:  # the task could not run (e.g. KilledWorker: its workers kept dying)
             lost += 1
             print(f"enact sweep: a Dask task did not run ({type(e).__name__}: {e}); the job runs on the next run", file=sys.stderr, flush=True)
             continue
-        with open(os.path.join(a.logs, f"job_{k}.log"), "a") as log:
+        with open(os.path.join(logs, f"job_{k}.log"), "a") as log:
             log.write(output)
+        if folder is not None:
+            keep_job(os.path.join(a.out, "jobs"), folder)
         if code != 0:
             said = "".join("\n  " + line for line in output.strip().splitlines()[-3:])
-            print(f"enact sweep: job {k} failed on {host} (exit {code}); log {a.logs}/job_{k}.log:{said}", file=sys.stderr, flush=True)
+            print(f"enact sweep: job {k} failed on {host} (exit {code}); log {logs}/job_{k}.log:{said}", file=sys.stderr, flush=True)
     client.close()
     return 1 if lost else 0
 

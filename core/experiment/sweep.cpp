@@ -132,7 +132,12 @@ SweepSpec load_sweep(const std::string& path) {
     if (!kv.second.IsSequence() || kv.second.size() == 0) config::fail(path, kv.second, "grid parameter '" + axis.name + "' needs a list of values", "write " + axis.name + ": [A, B]");
     for (const auto& v : kv.second) {
       // $(dirname): the sweep file's folder, $(share): enact's shipped files
-      std::string value = substitute(path, config::scalar(path, v, "a value of " + axis.name));
+      const std::string written = config::scalar(path, v, "a value of " + axis.name);
+      std::string value = substitute(path, written);
+      // the value in a job's seed: as written, an absolute path relative to the sweep file
+      // (the same wherever the sweep and its files are moved together)
+      const fs::path p(written);
+      axis.seed_texts.push_back(p.is_absolute() ? p.lexically_normal().lexically_relative(fs::path(s.file).parent_path()).string() : written);
       if (axis.name == kModelAxis) value = model_value(value, path);
       if (value.find('/') != std::string::npos) value = fs::path(value).lexically_normal().string();
       if (value.find_first_of(",\n\r\"") != std::string::npos) config::fail(path, v, "a grid value cannot hold a comma, a quote or a line break", "write the value without them");
@@ -155,10 +160,12 @@ std::vector<SweepJob> sweep_jobs(const SweepSpec& spec) {
   for (const SweepAxis& a : spec.grid) points *= a.values.size();
   for (std::size_t p = 0; p < points; ++p) {
     // the point's value of each axis, the last axis varying fastest
-    std::vector<std::string> values(spec.grid.size());
+    std::vector<std::string> values(spec.grid.size()), seed_texts(spec.grid.size());
     std::size_t rest = p;
     for (std::size_t i = spec.grid.size(); i-- > 0;) {
-      values[i] = spec.grid[i].values[rest % spec.grid[i].values.size()];
+      const std::size_t v = rest % spec.grid[i].values.size();
+      values[i] = spec.grid[i].values[v];
+      seed_texts[i] = spec.grid[i].seed_texts[v];
       rest /= spec.grid[i].values.size();
     }
     for (int r = 1; r <= spec.replicates; ++r) {
@@ -168,14 +175,15 @@ std::vector<SweepJob> sweep_jobs(const SweepSpec& spec) {
       j.replicate = r;
       std::string coords, name;
       for (std::size_t i = 0; i < values.size(); ++i) {
-        coords += spec.grid[i].name + "=" + values[i] + ";";
+        coords += spec.grid[i].name + "=" + seed_texts[i] + ";";
         name += spec.grid[i].name + "-" + value_name(values[i]) + "_";
       }
       coords += "replicate=" + std::to_string(r);
       char rep[16];
       std::snprintf(rep, sizeof rep, "r%03d", r);
       j.name = name + rep;
-      // from the sweep's seed and the coordinates alone: not from the job's place in the list
+      // from the sweep's seed and the coordinates alone (not where the files are, not the
+      // job's place in the list)
       j.seed = math::derive_seed(spec.seed, fnv1a64(coords)) % kJobSeedRange;
       jobs.push_back(j);
     }
@@ -278,7 +286,8 @@ JobState job_state(const std::string& out, const SweepJob& job) {
   return r.present && r.exit_code != 0 ? JobState::failed : JobState::missing;
 }
 
-std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs, const std::string& out, const std::string& version) {
+std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs, const std::string& out, const std::string& version,
+                        const std::string& commit) {
   std::string header;
   for (const SweepAxis& a : spec.grid) header += a.name + ",";
   header += "replicate,seed,";
@@ -328,11 +337,46 @@ std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs
     for (const std::string& v : a.values) values += (values.empty() ? "" : ", ") + json_string(v);
     axes += (axes.empty() ? "" : ", ") + json_string(a.name) + ": [" + values + "]";
   }
-  write_whole(out + "/manifest.json", "{\n  \"enact\": " + json_string(version) + ",\n  \"sweep\": " + json_string(spec.file) + ",\n  \"sweep_sha256\": " +
+  write_whole(out + "/manifest.json", "{\n  \"enact\": " + json_string(version) + ",\n  \"enact_commit\": " + json_string(commit) + ",\n  \"sweep\": " + json_string(spec.file) + ",\n  \"sweep_sha256\": " +
                                           json_string(spec.sha256) + ",\n  \"experiment\": " + json_string(spec.experiment) + ",\n  \"seed\": " +
                                           std::to_string(spec.seed) + ",\n  \"replicates\": " + std::to_string(spec.replicates) + ",\n  \"grid\": {" + axes +
                                           "},\n  \"jobs_done\": " + std::to_string(merged) + ",\n  \"jobs\": [\n" + manifest_jobs + "\n  ]\n}\n");
   return merged;
+}
+
+namespace {
+
+// each value in a YAML file's tree that names a file (beside the file, absolute or in
+// enact's share) into `found`; values with $(var ...) and the like name none that exists
+void named_files(const std::string& file, const YAML::Node& node, std::vector<std::string>& found) {
+  if (node.IsMap()) {
+    for (const auto& kv : node) named_files(file, kv.second, found);
+  } else if (node.IsSequence()) {
+    for (const auto& v : node) named_files(file, v, found);
+  } else if (node.IsScalar() && !node.Scalar().empty() && node.Scalar().size() < 4096) {
+    const std::string path = fs::path(beside(file, node.Scalar())).lexically_normal().string();
+    if (fs::is_regular_file(path)) found.push_back(path);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> sweep_inputs(const SweepSpec& spec) {
+  std::vector<std::string> files{spec.file, spec.experiment};
+  for (const std::string& c : spec.conditions) files.push_back(c);
+  for (const SweepAxis& a : spec.grid) files.insert(files.end(), a.values.begin(), a.values.end());
+  // what each YAML file among them names, until no new file comes
+  std::vector<std::string> inputs;
+  while (!files.empty()) {
+    const std::string f = files.back();
+    files.pop_back();
+    if (!fs::is_regular_file(f) || std::find(inputs.begin(), inputs.end(), f) != inputs.end()) continue;
+    inputs.push_back(f);
+    const std::string ext = fs::path(f).extension().string();
+    if (ext == ".yaml" || ext == ".yml") named_files(f, config::load_file(f), files);
+  }
+  std::sort(inputs.begin(), inputs.end());
+  return inputs;
 }
 
 // SHA-256 as FIPS 180-4 specifies it: 512-bit blocks, 64 rounds, big-endian words

@@ -15,7 +15,8 @@
 //                            and job.json (exit code, duration, host, sha256 of results.csv);
 //                            renamed from .partial only once it succeeded
 //   DIR/results.csv          every done job's rows, the coordinates first, sorted by them
-//   DIR/manifest.json        the enact version, the sweep file's sha256 and each job
+//   DIR/manifest.json        the enact version and git commit, the sweep file's sha256 and
+//                            each job
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -29,6 +30,8 @@ namespace enact::experiment {
 struct SweepAxis {
   std::string name;
   std::vector<std::string> values;
+  std::vector<std::string> seed_texts;  // each value in its jobs' seeds: as the sweep file writes it, an
+                                        // absolute path relative to the sweep file's folder
   std::vector<int> lines;  // each value's line in the sweep file (1-based)
 };
 
@@ -49,7 +52,8 @@ struct SweepJob {
   std::size_t index = 0;            // in the sweep's order, from 0 (a Slurm array's task id)
   std::vector<std::string> values;  // one per axis
   int replicate = 1;                // from 1
-  std::uint64_t seed = 0;           // the experiment's seed (under 10^9)
+  std::uint64_t seed = 0;           // the experiment's seed (under 10^9), from the values as written
+                                    // (SweepAxis::seed_texts): the same wherever the sweep's files are
   std::string name;                 // its folder under DIR/jobs: <axis>-<value>_..._r<NNN>
 };
 
@@ -100,9 +104,17 @@ enum class JobState : std::uint8_t { missing, running, failed, done };
 JobState job_state(const std::string& out, const SweepJob& job);
 
 // DIR/results.csv from every done job (rows sorted by coordinates: the jobs' order, then each
-// job's own order) and DIR/manifest.json; the number of jobs merged. Throws config::Error
-// when a done job's results.csv does not match its recorded sha256.
-std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs, const std::string& out, const std::string& version);
+// job's own order) and DIR/manifest.json (with the enact `version` and the git `commit` it
+// was built from); the number of jobs merged. Throws config::Error when a done job's
+// results.csv does not match its recorded sha256.
+std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs, const std::string& out, const std::string& version,
+                        const std::string& commit);
+
+// every file a job reads, so that it can travel with the job by content (Dask): the sweep
+// file, the experiment file, the conditions' and the grid's files, and each file a YAML file
+// among them names (a value that is a file: absolute, relative to the naming file or in
+// enact's share, $(dirname) and $(share) substituted), and so on; absolute, sorted
+std::vector<std::string> sweep_inputs(const SweepSpec& spec);
 
 // SHA-256 (FIPS 180-4) of a file's bytes, lowercase hex; throws config::Error when unreadable
 std::string sha256_file(const std::string& path);

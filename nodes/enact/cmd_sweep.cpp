@@ -40,7 +40,7 @@ using experiment::SweepJob;
 using experiment::SweepSpec;
 
 constexpr const char* kSweepHelp = R"help(usage: enact sweep FILE [--out DIR] [--executor local|slurm|dask://HOST:PORT] [--jobs J]
-                   [--slurm-opt NAME=VALUE]... [--dry-run]
+                   [--slurm-opt NAME=VALUE]... [--dask-files content|shared] [--dry-run]
 
 Run the sweep of FILE (format: docs/experiments.md, "Sweeps"): an experiment with virtual
 subjects over a grid of its parameters (the trial graph's launch arguments, e.g. rate_hz,
@@ -55,8 +55,8 @@ which runs `enact experiment EXPERIMENT --clock simulated --seed S --arg NAME=VA
 DIR/jobs/<coords>.partial/ and renames it DIR/jobs/<coords>/ once it succeeded (results.csv,
 trials/, experiment.log, job.json). Then DIR/results.csv holds every done job's rows, the
 coordinates as the first columns, sorted by them: the same bytes whatever ran the jobs; and
-DIR/manifest.json the enact version, the sweep file's sha256 and each job's seed, exit code,
-duration, host and results.csv's sha256. Run the same command again to resume: only the jobs
+DIR/manifest.json the enact version and the git commit it was built from, the sweep file's
+sha256 and each job's seed, exit code, duration, host and results.csv's sha256. Run the same command again to resume: only the jobs
 missing or failed (a killed worker's, a cancelled task's) run again; a partial job is never
 merged.
 
@@ -65,8 +65,10 @@ executors:
   slurm               one job array through sbatch (each array task runs one job; the
                       folders must be shared with the nodes); waits for the array
   dask://HOST:PORT    a running Dask scheduler: one task per job (scripts/dask_sweep.py,
-                      Debian's python3-distributed), each running the job on a worker
-                      through the shared folder; prints the dashboard's address
+                      Debian's python3-distributed), each running the job on a worker;
+                      the files the job reads travel with the task (DIR/inputs.txt lists
+                      them) and its folder comes back: no folder shared with the workers
+                      but the enact executable's; prints the dashboard's address
 
 options:
   --out DIR           the sweep's folder (default: results/<name of the sweep>)
@@ -75,6 +77,10 @@ options:
                       tasks at once (default: Slurm's choice)
   --slurm-opt N=V     an sbatch option for the array (repeatable): partition=debug,
                       time=00:30:00, mem=2G, cpus-per-task=2 ...
+  --dask-files M      content (default): the inputs and the job's folder travel with each
+                      task; shared: the workers use the sweep's files and DIR at their
+                      paths (a folder shared with them; a file missing on a worker is an
+                      error naming that host and the path)
   --dry-run           print what would run (the jobs' commands, the Slurm script, the Dask
                       call) after the checks, and run nothing
   --job K             run job K only, here (what each executor runs)
@@ -264,6 +270,14 @@ class LocalExecutor final : public Executor {
   int jobs_;
 };
 
+// `text` into the file `path`; throws config::Error naming it when it cannot be written
+void write_text(const std::string& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  const bool written = f && std::fputs(text.c_str(), f) >= 0;
+  if (f && std::fclose(f) != 0) throw config::Error(path + ": cannot be written (" + std::strerror(errno) + ")\n  fix: check the folder's space and permissions");
+  if (!written) throw config::Error(path + ": cannot be written\n  fix: check the folder's space and permissions");
+}
+
 // a command's standard output (its exit status in `status`)
 std::string capture(const std::string& command, int& status) {
   std::string out;
@@ -287,12 +301,7 @@ class SlurmExecutor final : public Executor {
   bool run(const SweepRun& run, const std::function<void()>& tick) override {
     fs::create_directories(run.out + "/slurm");
     const std::string path = run.out + "/slurm/array.sbatch";
-    {
-      std::FILE* f = std::fopen(path.c_str(), "w");
-      if (!f) throw config::Error(path + ": cannot be written");
-      std::fputs(script(run).c_str(), f);
-      std::fclose(f);
-    }
+    write_text(path, script(run));
     int status = 0;
     const std::string answer = capture("sbatch --parsable " + shell_word(path) + " 2>&1", status);
     if (status != 0) throw config::Error("sbatch refused the array (" + path + "): " + answer + "  fix: is Slurm running (sinfo)? scripts/slurm_local.sh start starts one here");
@@ -349,7 +358,9 @@ class SlurmExecutor final : public Executor {
 
 class DaskExecutor final : public Executor {
  public:
-  explicit DaskExecutor(std::string scheduler) : scheduler_(std::move(scheduler)) {}
+  // by_content: the inputs travel with each task and the job's folder comes back (no folder
+  // shared with the workers); else the workers run the jobs through the shared folder
+  DaskExecutor(std::string scheduler, bool by_content) : scheduler_(std::move(scheduler)), by_content_(by_content) {}
 
   void dry_run(const SweepRun& run) override {
     std::string line;
@@ -358,6 +369,12 @@ class DaskExecutor final : public Executor {
   }
 
   bool run(const SweepRun& run, const std::function<void()>& tick) override {
+    if (by_content_) {
+      // the files each job reads, one a line: dask_sweep.py sends their bytes with the tasks
+      std::string list;
+      for (const std::string& f : experiment::sweep_inputs(run.spec)) list += f + "\n";
+      write_text(inputs(run), list);
+    }
     const pid_t pid = start_logged(command(run), "", true);
     bool stopped = false;
     std::int64_t last_tick = 0;
@@ -384,17 +401,19 @@ class DaskExecutor final : public Executor {
   }
 
  private:
+  static std::string inputs(const SweepRun& run) { return run.out + "/inputs.txt"; }
+
   std::vector<std::string> command(const SweepRun& run) const {
     const std::string script = fs::absolute(find_file("scripts/dask_sweep.py")).string();
     std::string tasks;
     for (std::size_t k : run.pending) tasks += (tasks.empty() ? "" : ",") + std::to_string(k);
-    std::vector<std::string> c{script, "--scheduler", scheduler_, "--logs", run.out + "/logs", "--jobs", tasks, "--"};
-    const std::vector<std::string> job = run.job_command(0);
-    c.insert(c.end(), job.begin(), job.end() - 2);  // without --job K: the script adds each
+    std::vector<std::string> c{script, "--scheduler", scheduler_, "--enact", run.enact, "--sweep", run.spec.file, "--out", run.out, "--jobs", tasks};
+    if (by_content_) c.insert(c.end(), {"--inputs", inputs(run)});
     return c;
   }
 
   std::string scheduler_;
+  bool by_content_;
 };
 
 // the states of the jobs, counted
@@ -419,7 +438,7 @@ Counts count(const SweepRun& run) {
 
 int sweep_run(int argc, char** argv) {
   const std::vector<std::string> slurm_options = take_repeated(argc, argv, "--slurm-opt");
-  const Args a = parse(argc, argv, 2, {"out", "executor", "jobs", "job"}, {"dry-run"});
+  const Args a = parse(argc, argv, 2, {"out", "executor", "jobs", "job", "dask-files"}, {"dry-run"});
   if (a.flag("help")) {
     std::fputs(kSweepHelp, stdout);
     return 0;
@@ -442,13 +461,16 @@ int sweep_run(int argc, char** argv) {
   const double jobs_given = a.number("jobs", 0.0);
   if (jobs_given < 0 || jobs_given != std::floor(jobs_given)) throw UsageError("--jobs needs a whole number >= 1");
   if (!slurm_options.empty() && executor != "slurm") throw UsageError("--slurm-opt is for --executor slurm");
+  const std::string dask_files = a.get("dask-files", "content");
+  if (a.has("dask-files") && !executor.starts_with("dask://")) throw UsageError("--dask-files is for --executor dask://HOST:PORT");
+  if (dask_files != "content" && dask_files != "shared") throw UsageError("--dask-files " + dask_files + ": give content or shared");
   for (const std::string& o : slurm_options) {
     if (o.empty() || o.find('\n') != std::string::npos || o[0] == '-') throw UsageError("--slurm-opt needs NAME=VALUE (an sbatch option without its dashes), got '" + o + "'");
   }
   std::unique_ptr<Executor> ex;
   if (executor == "local") ex = std::make_unique<LocalExecutor>(jobs_given > 0 ? static_cast<int>(jobs_given) : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   else if (executor == "slurm") ex = std::make_unique<SlurmExecutor>(static_cast<int>(jobs_given), slurm_options);
-  else if (executor.starts_with("dask://") && executor.size() > 7) ex = std::make_unique<DaskExecutor>(executor.substr(7));
+  else if (executor.starts_with("dask://") && executor.size() > 7) ex = std::make_unique<DaskExecutor>(executor.substr(7), dask_files == "content");
   else throw UsageError("--executor " + executor + ": give local, slurm or dask://HOST:PORT");
   // every value of the grid, before anything runs
   std::fprintf(stderr, "enact sweep: %s: %zu jobs (%zu grid points x %d replicates) of %s; checking every value of the grid\n", spec.name.c_str(), jobs.size(),
@@ -493,7 +515,7 @@ int sweep_run(int argc, char** argv) {
   tick();
   if (tty) std::fputs("\n", stderr);
   // the merged table and the manifest, from the jobs done (earlier runs' included)
-  const std::size_t merged = experiment::merge_sweep(spec, jobs, out, kVersion);
+  const std::size_t merged = experiment::merge_sweep(spec, jobs, out, version(), git_commit());
   // the jobs not done: those that started named with their logs, the others counted
   std::size_t not_done = 0, not_started = 0;
   std::string unstarted;  // their numbers, the first 20

@@ -127,7 +127,7 @@ int run_command(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   if (!std::strcmp(argv[1], "--version")) {
-    std::puts(kVersion);
+    std::printf("%s (git %s)\n", version(), git_commit());
     return 0;
   }
   const std::string command = argv[1];

@@ -9,8 +9,11 @@
 
 namespace enact::cli {
 
-// what `enact --version` prints (and a sweep's manifest records)
-inline constexpr const char* kVersion = "enact 0.1.0";
+// what `enact --version` prints and a sweep's manifest records (version.cpp): "enact 0.1.0",
+// and the git commit this enact was built from (its hex digits, "-dirty" after them when
+// tracked files differed from it; "unknown" when built outside git, e.g. from a tarball)
+const char* version();
+const char* git_commit();
 
 int check(int argc, char** argv);
 int simulate(int argc, char** argv);

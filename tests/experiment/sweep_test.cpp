@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -98,18 +99,64 @@ TEST(Sweep, TheMergedTableIsSortedByCoordinatesAndRefusesAChangedJob) {
   }
   std::filesystem::create_directories(partial_dir(out, jobs[2]));
   test::write_file(partial_dir(out, jobs[2]) + "/results.csv", "subject,condition\n2,CM1\n");
-  EXPECT_EQ(merge_sweep(spec, jobs, out, "enact test"), 3u);
+  EXPECT_EQ(merge_sweep(spec, jobs, out, "enact test", "0123abc-dirty"), 3u);
   const std::string s0 = std::to_string(jobs[0].seed), s1 = std::to_string(jobs[1].seed), s3 = std::to_string(jobs[3].seed);
   EXPECT_EQ(read(out + "/results.csv"), "rate_hz,replicate,seed,subject,condition\n1000,1," + s0 + ",0,CM1\n1000,2," + s1 + ",1,CM1\n2000,2," + s3 + ",3,CM1\n");
   EXPECT_EQ(job_state(out, jobs[2]), JobState::missing) << "a partial folder without a record: a killed job";
   const std::string manifest = read(out + "/manifest.json");
   EXPECT_NE(manifest.find("\"sweep_sha256\": \"" + spec.sha256 + "\""), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("\"enact\": \"enact test\",\n  \"enact_commit\": \"0123abc-dirty\""), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("\"state\": \"not done\""), std::string::npos) << manifest;
   // a done job's results changed after it: refused, naming the file and the fix
   test::write_file(job_dir(out, jobs[3]) + "/results.csv", "subject,condition\n9,CM1\n");
-  const std::string e = test::error_of([&] { merge_sweep(spec, jobs, out, "enact test"); });
+  const std::string e = test::error_of([&] { merge_sweep(spec, jobs, out, "enact test", "0123abc-dirty"); });
   EXPECT_NE(e.find(job_dir(out, jobs[3]) + "/results.csv"), std::string::npos) << e;
   EXPECT_NE(e.find("fix:"), std::string::npos) << e;
+}
+
+TEST(Sweep, AJobsSeedIsTheSameWhereverTheSweepAndItsFilesAre) {
+  // a scene axis written three ways (beside the sweep, absolute, relative); the same sweep
+  // and files in another folder: the same seeds, though every path differs
+  const auto seeds = [](const test::TempDir& dir) {
+    std::filesystem::create_directories(dir.file("scenes"));
+    for (const char* f : {"scenes/a.yaml", "scenes/b.yaml", "scenes/c.yaml"}) test::write_file(dir.file(f), "x: 1\n");
+    const SweepSpec spec = load_sweep(write_sweep(dir, "grid:\n  scene: [$(dirname)/scenes/a.yaml, " + dir.file("scenes/b.yaml") + ", scenes/c.yaml]\n"));
+    std::vector<std::uint64_t> out;
+    for (const SweepJob& j : sweep_jobs(spec)) out.push_back(j.seed);
+    EXPECT_EQ(sweep_jobs(spec)[1].values[0], dir.file("scenes/b.yaml"));
+    return out;
+  };
+  const test::TempDir here, there;
+  const std::vector<std::uint64_t> a = seeds(here), b = seeds(there);
+  ASSERT_EQ(a.size(), 3u);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(std::set<std::uint64_t>(a.begin(), a.end()).size(), 3u) << "each point its own seed";
+}
+
+TEST(Sweep, ItsInputsAreEveryFileItsJobsRead) {
+  // an experiment beside the sweep naming its subject (relative) and the shipped trial graph
+  // (absolute), which names its scene by $(dirname); a model file in the conditions; a scene
+  // in the grid naming a mesh beside it
+  const test::TempDir dir;
+  std::filesystem::create_directories(dir.file("subjects"));
+  test::write_file(dir.file("subjects/s.yaml"), test::read_file(test::source_path("launch/experiments/subjects/quick.yaml")));
+  test::write_file(dir.file("experiment.yaml"), "name: e\nsubjects: 1\nvirtual_subject: subjects/s.yaml\nconditions: [CM1]\nlimit_s: 2\ngraph: " +
+                                                    test::source_path("launch/experiments/trial_rt.yaml") + "\n");
+  test::write_file(dir.file("mine.yaml"), "name: edges-only\nforce: [0, 3, 12, 15]\npins: contact\n");
+  test::write_file(dir.file("mesh.obj"), "v 0 0 0\n");
+  test::write_file(dir.file("scene.yaml"), "objects:\n  - {mesh: mesh.obj, note: $(var x)}\n");
+  test::write_file(dir.file("sweep.yaml"), "experiment: experiment.yaml\nconditions: [mine.yaml]\ngrid:\n  scene: [$(dirname)/scene.yaml]\n  rate_hz: [1000]\n");
+  const std::vector<std::string> expected{dir.file("experiment.yaml"), dir.file("mesh.obj"), dir.file("mine.yaml"), dir.file("scene.yaml"),
+                                          dir.file("subjects/s.yaml"), dir.file("sweep.yaml"),
+                                          std::filesystem::weakly_canonical(test::source_path("launch/scenes/bridge.yaml")).string(),
+                                          test::source_path("launch/experiments/trial_rt.yaml")};
+  std::vector<std::string> inputs = sweep_inputs(load_sweep(dir.file("sweep.yaml")));
+  for (std::string& f : inputs) f = std::filesystem::weakly_canonical(f).string();
+  std::vector<std::string> sorted = expected;
+  for (std::string& f : sorted) f = std::filesystem::weakly_canonical(f).string();
+  std::sort(sorted.begin(), sorted.end());
+  std::sort(inputs.begin(), inputs.end());
+  EXPECT_EQ(inputs, sorted);
 }
 
 TEST(Sweep, BadFilesAreRefusedAtTheirLine) {

@@ -4,14 +4,17 @@
   sweep_test.py BUILD local   a bad grid value refused before any job runs (the sweep file's
                               line); the local run twice the same; resume runs only the jobs
                               missing (a killed job's partial folder never merged); a missing
-                              shared file named with the host
+                              shared file named with the host; the manifest names the git
+                              commit enact was built from
   sweep_test.py BUILD slurm   a real single-node Slurm (scripts/slurm_local.sh): the merged
                               table byte-identical to the local run's, the per-job hashes
                               equal; a cancelled (scancel) array task run again on the re-run
   sweep_test.py BUILD dask    a real Dask scheduler and two workers on 127.0.0.1: the same;
                               a worker killed mid-sweep, its job run again, counted once; a
-                              worker that does not see the shared folder (a tmpfs over it in
-                              its own mount namespace): the host and the missing path said
+                              worker that does not see the sweep's folder (a tmpfs over it in
+                              its own mount namespace, another working directory): the same
+                              bytes again, the files travelling by content; with
+                              --dask-files shared, the host and the missing path said
 Exit 77 (skipped, with the reason) when not root or the packages are missing (scripts/setup.sh).
 """
 import json
@@ -31,14 +34,16 @@ MODE = sys.argv[2]
 ENACT = os.path.join(BUILD, "nodes", "enact", "enact")
 EXPERIMENTS = os.path.join(ROOT, "launch", "experiments")
 
-# the quick bridge experiment, its trials cut to 2 s (few messages: quick jobs)
-EXPERIMENT = f"""name: sweep_test_experiment
+# the quick bridge experiment, its trials cut to 2 s (few messages: quick jobs); its subject a
+# copy in the test's folder, named by its absolute path (a worker without that folder gets it
+# by content, the path pointed at the copy)
+EXPERIMENT = """name: sweep_test_experiment
 seed: 1
 subjects: 1
-virtual_subject: {EXPERIMENTS}/subjects/quick.yaml
+virtual_subject: {tmp}/subjects/quick.yaml
 conditions: [CM1]
 limit_s: 2
-graph: {EXPERIMENTS}/trial_rt.yaml
+graph: {experiments}/trial_rt.yaml
 """
 
 # 4 jobs of about a second each: 2 loop rates x 2 replicates
@@ -125,6 +130,17 @@ def test_local(tmp, sweep_file):
     header = read(os.path.join(again, "results.csv")).decode().splitlines()[0]
     if not header.startswith("rate_hz,replicate,seed,subject,condition"):
         fail("the merged table's columns: " + header)
+    # the manifest: the commit enact was built from (this source's, "-dirty" when it differed
+    # from it; "unknown" when this source is not a git checkout)
+    with open(os.path.join(again, "manifest.json")) as f:
+        commit = json.load(f)["enact_commit"]
+    head = subprocess.run(["git", "-C", ROOT, "rev-parse", "--show-toplevel", "HEAD"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    lines = head.stdout.split()
+    if head.returncode == 0 and os.path.realpath(lines[0]) == os.path.realpath(ROOT):
+        if commit not in (lines[1], lines[1] + "-dirty"):
+            fail(f"the manifest's enact_commit {commit!r}: expected this source's commit {lines[1]} (built from it)")
+    elif commit != "unknown":
+        fail(f"the manifest's enact_commit {commit!r} for a source outside git: expected 'unknown'")
 
     # resume: a job gone, another's folder left partial by a killed run: only those run again,
     # the partial one never merged
@@ -256,8 +272,8 @@ def test_dask(tmp, sweep_file):
         deadline = time.time() + 60
         killed = False
         while not killed and time.time() < deadline:
-            partial = [n for n in os.listdir(os.path.join(out, "jobs"))] if os.path.isdir(os.path.join(out, "jobs")) else []
-            if any(n.endswith(".partial") for n in partial):
+            # a job running on w1: its folder under the worker's own (the job's files came by content)
+            if any(d.endswith(".partial") for _, dirs, _ in os.walk(os.path.join(tmp, "dask_w1")) for d in dirs):
                 workers[0].send_signal(signal.SIGKILL)
                 killed = True
             time.sleep(0.05)
@@ -268,10 +284,12 @@ def test_dask(tmp, sweep_file):
         code, err = sweep(sweep_file, "--out", out, "--executor", "dask://" + address, check=0)
         same_as(reference, out, "dask, a worker killed")
 
-        # a worker that does not see the shared folder (a tmpfs over it in its own mount
-        # namespace), alone on its scheduler: each job's error names the host and the path
+        # a worker that does not see the sweep's folder (a tmpfs over it in its own mount
+        # namespace; its working directory /), alone on its scheduler: by content (the
+        # default) the same bytes; through a shared folder, each job's error names the host
+        # and the path
         if os.geteuid() != 0 or shutil.which("unshare") is None:
-            print("sweep dask: the worker without the shared folder needs root and unshare: not tried")
+            print("sweep dask: the worker without the sweep's folder needs root and unshare: not tried")
             return
         blind = free_port()
         procs.append(subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(blind), "--dashboard-address", f"127.0.0.1:{free_port()}"],
@@ -279,7 +297,15 @@ def test_dask(tmp, sweep_file):
         procs.append(subprocess.Popen(["unshare", "-m", "--propagation", "private", "sh", "-c",
                                        f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://127.0.0.1:{blind} --nthreads 1 --no-nanny --name blind --local-directory "{tmp}"'],
                                       stdout=logs, stderr=logs, cwd="/"))
-        code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind"), "--executor", f"dask://127.0.0.1:{blind}")
+        out = os.path.join(tmp, "dask_blind")
+        sweep(sweep_file, "--out", out, "--executor", f"dask://127.0.0.1:{blind}", check=0)
+        same_as(reference, out, "dask, a worker without the sweep's folder")
+        with open(os.path.join(out, "inputs.txt")) as f:
+            travelled = f.read().split()
+        for name in (sweep_file, os.path.join(tmp, "experiment.yaml"), os.path.join(tmp, "subjects", "quick.yaml")):
+            if name not in travelled:
+                fail(f"{name} did not travel with the jobs (inputs.txt: {travelled})")
+        code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind_shared"), "--executor", f"dask://127.0.0.1:{blind}", "--dask-files", "shared")
         host = socket.gethostname()
         if code != 1 or f"on host {host}: the sweep file {sweep_file} is missing here" not in err:
             fail(f"a worker without the shared folder: exit {code}, expected 1 and the host and the sweep file's path in:\n{err}")
@@ -299,8 +325,10 @@ def main():
         fail(f"no enact at {ENACT}: build it first")
     tmp = tempfile.mkdtemp(prefix="enact_sweep_")
     try:
+        os.makedirs(os.path.join(tmp, "subjects"))
+        shutil.copy(os.path.join(EXPERIMENTS, "subjects", "quick.yaml"), os.path.join(tmp, "subjects"))
         with open(os.path.join(tmp, "experiment.yaml"), "w") as f:
-            f.write(EXPERIMENT)
+            f.write(EXPERIMENT.format(tmp=tmp, experiments=EXPERIMENTS))
         sweep_file = os.path.join(tmp, "sweep.yaml")
         with open(sweep_file, "w") as f:
             f.write(SWEEP)
