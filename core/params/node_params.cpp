@@ -147,10 +147,12 @@ const ParamBindings<sim::SimParams>& sim_bindings() {
         .declared({.name = "reposition", .type = ParamType::command, .doc = "the subject is put back at the start; the trial goes on", .live = true, .at_start = false})
         .declared({.name = "trial", .type = ParamType::command, .choices = {"start", "stop"}, .doc = "start: a new trial from now; stop: the trial ends", .live = true, .at_start = false});
     // the live numbers, each declared once with its range, planning and application (sim/params.h)
-    for (const sim::LiveNumber& n : sim::live_numbers()) {
-      const ParamSpec spec{.name = n.name, .min = n.min, .max = n.max, .doc = n.doc, .live = true, .at_start = n.at_start != nullptr};
+    // (given at start too: into their field of SimParams, or its live_at_start, empty: the scene's)
+    for (std::size_t i = 0; i < sim::live_numbers().size(); ++i) {
+      const sim::LiveNumber& n = sim::live_numbers()[i];
+      const ParamSpec spec{.name = n.name, .min = n.min, .max = n.max, .doc = n.doc, .live = true};
       if (n.at_start) t.field(n.at_start, spec);
-      else t.declared(spec);
+      else t.field([i](S& s) -> std::optional<double>& { return s.live_at_start[i]; }, spec);
     }
     return t;
   }();

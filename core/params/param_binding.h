@@ -6,6 +6,7 @@
 // node's Params. Adding a parameter is a field in the struct and its one line of bindings.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -52,6 +53,15 @@ struct ParamCodec<std::string> {
   static constexpr ParamType type = ParamType::text;
   static std::string text(const std::string& v) { return v; }
   static std::string read(const Params& p, const std::string& name) { return p.text(name); }
+};
+// a number that may be left out: empty (its row's default) when not given
+template <>
+struct ParamCodec<std::optional<double>> {
+  static constexpr ParamType type = ParamType::number;
+  static std::string text(const std::optional<double>& v) { return v ? config::number(*v) : std::string{}; }
+  static std::optional<double> read(const Params& p, const std::string& name) {
+    return p.text(name).empty() ? std::nullopt : std::optional(p.number(name));
+  }
 };
 template <>
 struct ParamCodec<math::Vec3> {

@@ -86,6 +86,7 @@ std::optional<std::string> value_problem(const ParamSpec& spec, const std::strin
   switch (spec.type) {
     case ParamType::number:
     case ParamType::integer: {
+      if (value.empty() && spec.fallback.empty()) return std::nullopt;  // not given: the reader decides
       const auto d = config::parse_number(value);
       if (!d) return refusal(spec, "must be a finite number" + got);
       if (spec.type == ParamType::integer && *d != std::floor(*d)) return refusal(spec, "must be a whole number" + got);

@@ -15,6 +15,7 @@
 //                       cleared, the trial goes on
 //   trial               "start" (or true): a new trial from now; "stop" (or false): the
 //                       trial ends, its metrics are kept
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -42,6 +43,9 @@ PassivityDemand body_passivity_demand(const physics::Model& model);
 class Simulator;
 class ParamPlanner;
 
+// the most rows live_numbers() may have
+inline constexpr std::size_t kMaxLiveNumbers = 16;
+
 struct SimParams {
   std::string scene;               // scene file (YAML)
   double rate_hz = 0.0;            // 0: the scene's rate_hz
@@ -57,9 +61,12 @@ struct SimParams {
   // launched the scripted hand off the top in a hostile burst, and it fell back hard); the
   // device profile's force step limit may make it slower still
   double reentry_speed_m_per_s = 0.01;
-  // after a cut of the force path (its start, a watchdog episode, a late tick), the body
-  // returns from out of the objects to the device over this time (Reengagement)
+  // after a cut of the force path (its start, a watchdog episode, a late tick) or a late
+  // sample held, the body returns to the device over this time (Reengagement)
   double reengage_s = kReengageDefault_s;
+  // a live number's value from the start (by its row of live_numbers(), those without a
+  // field here): none, the scene's or the computer model's
+  std::array<std::optional<double>, kMaxLiveNumbers> live_at_start{};
 };
 
 
@@ -88,7 +95,7 @@ struct LiveNumber {
   const char* doc;   // one line, for the table and docs
   const char* example;  // a value for the fix of a refusal
   LawChange law;
-  double SimParams::*at_start;  // also given at start, into this field of SimParams (nullptr: live only)
+  double SimParams::*at_start;  // given at start into this field of SimParams (nullptr: into SimParams::live_at_start)
   double (*get)(const physics::Model&, const haptics::ComputerModel&, const SimParams&);  // the value in force
   void (*set)(LiveTarget&, double);  // between two steps on the loop: allocates nothing
   // beyond the range, off the loop: "" accepts, else the problem and its fix
@@ -96,7 +103,6 @@ struct LiveNumber {
 };
 
 // the live numbers, at most kMaxLiveNumbers
-inline constexpr std::size_t kMaxLiveNumbers = 16;
 const std::vector<LiveNumber>& live_numbers();
 // the row named `name` (nullptr: none)
 const LiveNumber* find_live_number(const std::string& name);

@@ -65,6 +65,20 @@ void Simulator::configure(const SimParams& params) {
   // room for any name a live change carries: switching models between steps never allocates
   cm_.name.reserve(kMaxModelName + 1);
   haptics::apply(cm_, model_);
+  // the live numbers given at start: planned as a live change of the scene as loaded is (the
+  // same ranges and stability envelope, the same refusals), then set
+  if (std::any_of(params.live_at_start.begin(), params.live_at_start.end(), [](const auto& v) { return v.has_value(); })) {
+    ParamPlanner planner(*this);
+    LiveTarget live{model_, cm_, params_};
+    for (std::size_t n = 0; n < live_numbers().size(); ++n) {
+      const std::optional<double>& v = params.live_at_start[n];
+      if (!v) continue;
+      const ParamPlan plan = planner.plan(live_numbers()[n].name, ParamValue{*v, std::nullopt, std::nullopt}, 0);
+      if (!plan.accepted) throw config::Error(plan.reason);
+      live_numbers()[n].set(live, *v);
+      planner.follow(*this);
+    }
+  }
   stability_ = physics::analyze_stability(model_);
   const std::string unstable = physics::instability_message(model_, stability_);
   if (!unstable.empty() && !params.force) throw config::Error(unstable);

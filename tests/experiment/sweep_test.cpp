@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -157,6 +158,29 @@ TEST(Sweep, ItsInputsAreEveryFileItsJobsRead) {
   std::sort(sorted.begin(), sorted.end());
   std::sort(inputs.begin(), inputs.end());
   EXPECT_EQ(inputs, sorted);
+}
+
+TEST(Sweep, TheBodysStiffnessIsSweptFromTheStartAndABadValueIsRefusedAtItsLine) {
+  // a live number of the simulator's as a grid axis: each job's trial graph is given it at
+  // start (launch/experiments/trial_rt.yaml: stiffness_n_per_m); the whole grid is checked
+  // against the parameter table before any job runs
+  const test::TempDir dir, out;
+  // the trial graph's nodes are found as the enact beside them finds them
+  const std::filesystem::path nodes = std::filesystem::path(ENACT_CLI).parent_path().parent_path();
+  std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
+  for (const char* exec : {"enact-logger", "enact-rt"}) path = (nodes / exec).string() + ":" + path;
+  setenv("PATH", path.c_str(), 1);
+  const SweepSpec good = load_sweep(write_sweep(dir, "grid:\n  stiffness_n_per_m: [800, 1600]\n"));
+  const std::vector<std::string> none = check_sweep(good, out.path());
+  EXPECT_TRUE(none.empty()) << (none.empty() ? "" : none[0]);
+  const std::vector<std::string> c = experiment_command(good, sweep_jobs(good)[1], "/out/x");
+  EXPECT_NE(std::find(c.begin(), c.end(), "stiffness_n_per_m=1600"), c.end());
+  const SweepSpec bad = load_sweep(write_sweep(dir, "grid:\n  stiffness_n_per_m: [800,\n    -5]\n"));
+  const std::vector<std::string> problems = check_sweep(bad, out.path());
+  ASSERT_GE(problems.size(), 1u);
+  for (const std::string& p : problems) EXPECT_NE(p.find("sweep.yaml:5: stiffness_n_per_m: -5"), std::string::npos) << p;
+  EXPECT_NE(problems[0].find("sweep.yaml:5: stiffness_n_per_m: -5"), std::string::npos) << problems[0];
+  EXPECT_NE(problems[0].find("out of range"), std::string::npos) << problems[0];
 }
 
 TEST(Sweep, BadFilesAreRefusedAtTheirLine) {

@@ -8,6 +8,7 @@
 
 #include "core/config/yaml.h"
 #include "tests/sim/sim_test_util.h"
+#include "tests/support/refusal.h"
 #include "tests/support/test_util.h"
 
 namespace enact::sim {
@@ -105,6 +106,50 @@ TEST(Simulator, SummaryHasTaskMetricsOnlyForASceneWithATask) {
   EXPECT_EQ(line.find("falls"), std::string::npos) << line;
   EXPECT_EQ(line.find("progress"), std::string::npos) << line;
   EXPECT_NE(line.find("re-synchronised with the device 1 time"), std::string::npos) << line;
+}
+
+}  // namespace
+}  // namespace enact::sim
+
+namespace enact::sim {
+namespace {
+
+// a live number given at start (sim.stiffness_n_per_m=..., a sweep's grid) is the simulator's
+// from its first step, as the planner and the parameter board read it; out of its range, or
+// past what keeps the loop stable, it is refused with the fix, as a scene file would be
+TEST(Simulator, ALiveNumberGivenAtStartHoldsFromTheFirstStep) {
+  const LiveNumber& stiffness = *find_live_number("stiffness_n_per_m");
+  const std::size_t row = static_cast<std::size_t>(&stiffness - live_numbers().data());
+  Simulator loaded;
+  loaded.configure(bridge());
+  const double scene_n_per_m = stiffness.get(loaded.model(), loaded.computer_model(), loaded.params());
+  SimParams p = bridge();
+  p.live_at_start[row] = scene_n_per_m / 4.0;
+  Simulator softer;
+  softer.configure(p);
+  EXPECT_DOUBLE_EQ(ParamPlanner(softer).value(stiffness), scene_n_per_m / 4.0);
+  EXPECT_DOUBLE_EQ(ParamPlanner(loaded).value(stiffness), scene_n_per_m);
+  // the same press into the bridge's top: a quarter of the stiffness, less force
+  loaded.activate();
+  softer.activate();
+  const math::Vec3 pressed{0.0, -0.0148492, 0.011};
+  double f_loaded = 0.0, f_softer = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    f_loaded = math::norm(loaded.step_sample(n * 200'000, pressed, false).force_n);
+    f_softer = math::norm(softer.step_sample(n * 200'000, pressed, false).force_n);
+  }
+  EXPECT_GT(f_loaded, 0.5);
+  EXPECT_LT(f_softer, 0.5 * f_loaded);
+
+  p.live_at_start[row] = -5.0;
+  std::string e = test::error_of([&] { Simulator().configure(p); });
+  EXPECT_NE(e.find("stiffness_n_per_m"), std::string::npos) << e;
+  EXPECT_NE(e.find(">= 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("fix:"), std::string::npos) << e;
+  p.live_at_start[row] = 1e12;
+  e = test::error_of([&] { Simulator().configure(p); });
+  EXPECT_NE(e.find("passivity"), std::string::npos) << e;
+  EXPECT_NE(e.find("fix:"), std::string::npos) << e;
 }
 
 }  // namespace
