@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include <lz4.h>
 #include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -38,6 +39,15 @@ Compression parse_compression(std::string_view name) {
   if (name == "lz4") return Compression::lz4;
   if (name == "none") return Compression::none;
   throw std::invalid_argument("unknown compression '" + std::string(name) + "' (choose zstd, lz4 or none)");
+}
+
+std::string_view compressor_version(Compression c) {
+  switch (c) {
+    case Compression::lz4: return LZ4_versionString();
+    case Compression::zstd: return ZSTD_versionString();
+    case Compression::none: break;
+  }
+  return "";
 }
 
 void compress(Compression c, std::string_view in, std::string& out) {

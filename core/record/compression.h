@@ -15,6 +15,9 @@ std::string_view mcap_name(Compression c);
 const char* to_string(Compression c);
 // from "none", "lz4" or "zstd"; throws std::invalid_argument naming the choices
 Compression parse_compression(std::string_view name);
+// the version of the library that compresses (e.g. "1.5.4"; "" for none): the same input
+// gives the same bytes from the same version
+std::string_view compressor_version(Compression c);
 
 // compresses `in` into `out` (replaced)
 void compress(Compression c, std::string_view in, std::string& out);
