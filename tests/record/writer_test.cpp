@@ -1,5 +1,6 @@
 // The MCAP writer's own properties: the bytes it writes for a fixed input are the ones the
-// writer of commit 6c3fc58 wrote (tests/record/data).
+// writer wrote before chunks went to a worker thread (tests/record/data, made by the writer of
+// commit 6c3fc58), and writing a message allocates nothing once the writer is warm.
 #include <cstdlib>
 #include <string>
 #include <string_view>
@@ -9,6 +10,7 @@
 
 #include "core/record/reader.h"
 #include "core/record/writer.h"
+#include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
 
 namespace enact::record {
@@ -104,6 +106,48 @@ TEST_P(WriterFixedInput, GivesTheBytesOfTheReferenceFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, WriterFixedInput, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
+                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
+
+class WriterSteadyState : public ::testing::TestWithParam<Compression> {};
+
+// once the writer is warm (a chunk through each of its buffers: the open chunk's and each
+// worker's), writing a message allocates nothing on the writing thread, in an open chunk and
+// when a full chunk is handed on (to be compressed, indexed and written)
+TEST_P(WriterSteadyState, WritingAMessageAllocatesNothing) {
+  TempDir dir;
+  WriterOptions o;
+  o.compression = GetParam();
+  o.chunk_size_bytes = 256 * 1024;
+  Writer w(dir.file("steady.mcap"), o);
+  const std::uint16_t channels[3] = {w.add_channel(0, "a", "", {}), w.add_channel(0, "b", "", {}), w.add_channel(0, "c", "", {})};
+  const std::string payload(100, 'p');
+  constexpr int kPerChunk = 256 * 1024 / (100 + 31);
+  std::int64_t t = 0;
+  const auto write = [&](int n) {
+    for (int i = 0; i < n; ++i, t += 20'000) w.write(channels[i % 3], static_cast<std::uint32_t>(i), t, t, payload);
+  };
+  const int warm_up = static_cast<int>(kMaxWorkers + 1) * kPerChunk;
+  write(warm_up);
+  const std::uint64_t chunks_before = w.chunk_count();
+  std::size_t in_chunk = 0, across_chunks = 0;
+  {
+    const test::AllocGuard guard;
+    write(kPerChunk / 2);
+    in_chunk = guard.allocations();
+  }
+  {
+    const test::AllocGuard guard;
+    write(5 * kPerChunk);
+    across_chunks = guard.allocations();
+  }
+  EXPECT_GE(w.chunk_count(), chunks_before + 5);  // the second count did hand chunks on
+  EXPECT_EQ(in_chunk, 0u) << "allocations in " << kPerChunk / 2 << " messages in an open chunk";
+  EXPECT_EQ(across_chunks, 0u) << "allocations in " << 5 * kPerChunk << " messages across 5 chunks";
+  w.close();
+  EXPECT_EQ(w.message_count(), static_cast<std::uint64_t>(warm_up + kPerChunk / 2 + 5 * kPerChunk));
+}
+
+INSTANTIATE_TEST_SUITE_P(Compressions, WriterSteadyState, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
                          [](const auto& param_info) { return std::string(to_string(param_info.param)); });
 
 }  // namespace
