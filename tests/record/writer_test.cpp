@@ -1,6 +1,12 @@
 // The MCAP writer's own properties: the bytes it writes for a fixed input are the ones the
 // writer wrote before chunks went to a worker thread (tests/record/data, made by the writer of
-// commit 6c3fc58), and writing a message allocates nothing once the writer is warm.
+// commit 6c3fc58), writing a message allocates nothing once the writer is warm, and a worker's
+// failed write leaves a file with no hole.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdlib>
 #include <string>
 #include <string_view>
@@ -149,6 +155,65 @@ TEST_P(WriterSteadyState, WritingAMessageAllocatesNothing) {
 
 INSTANTIATE_TEST_SUITE_P(Compressions, WriterSteadyState, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
                          [](const auto& param_info) { return std::string(to_string(param_info.param)); });
+
+
+// a full chunk written by a worker that finds the disk full (here a file size limit): the
+// error comes out of a later call, and the file keeps the messages up to the last chunk that
+// reached it, with no hole (the chunks behind the failed one are given up too), as many as the
+// writer counts
+TEST(WriterFullDisk, AWorkersFailedWriteIsThrownAndTheFileEndsAtItsLastWholeChunk) {
+  TempDir dir;
+  const std::string path = dir.file("full.mcap"), report = dir.file("report");
+  const pid_t child = fork();
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails (EFBIG) instead of killing
+    const rlimit limit{174'000, 174'000};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    WriterOptions o;
+    o.compression = Compression::none;
+    o.chunk_size_bytes = 8 * 1024;              // full chunks: the workers write them
+    o.chunk_duration_ns = 1'000'000'000'000;  // never on time
+    bool thrown = false;
+    std::uint64_t counted = 0;
+    {
+      Writer w(path, o);
+      const std::uint16_t c = w.add_channel(0, "t", "", {});
+      // chunks of 63 small messages (8.3 kB) between chunks of 60 small and one of 30 kB
+      // (38 kB): the limit stops a large one with room left for the small one behind it
+      const std::string small(100, 'x'), large(30'000, 'y');
+      try {
+        for (int i = 0; i < 100'000; ++i) w.write(c, static_cast<std::uint32_t>(i + 1), 1'000LL * i, 0, i % 124 == 123 ? large : small);
+      } catch (const Error&) {
+        thrown = true;
+      }
+      try {
+        w.close();
+      } catch (const Error&) {
+      }
+      counted = w.message_count();
+    }
+    FILE* f = std::fopen(report.c_str(), "w");
+    std::fprintf(f, "%d %llu", thrown ? 1 : 0, static_cast<unsigned long long>(counted));
+    std::fclose(f);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  int thrown = 0;
+  unsigned long long counted = 0;
+  ASSERT_EQ(std::sscanf(read_file(report).c_str(), "%d %llu", &thrown, &counted), 2) << read_file(report);
+  EXPECT_EQ(thrown, 1) << "the failed write was never thrown";
+  Reader r(path);
+  std::vector<std::uint32_t> sequences;
+  r.for_each([&](const Message& m) {
+    sequences.push_back(m.sequence);
+    return true;
+  });
+  ASSERT_GT(sequences.size(), 300u);  // 3 pairs of chunks, at least, fit
+  EXPECT_EQ(sequences.size(), counted);
+  for (std::size_t i = 0; i < sequences.size(); ++i) ASSERT_EQ(sequences[i], i + 1) << "a hole in the file";
+}
 
 }  // namespace
 }  // namespace enact::record
