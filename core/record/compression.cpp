@@ -1,7 +1,11 @@
 #include "core/record/compression.h"
 
+#include <new>
 #include <stdexcept>
 
+#include <lz4.h>
+// LZ4F_compressFrame_usingCDict: a one-shot frame with a context kept between frames
+#define LZ4F_STATIC_LINKING_ONLY
 #include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -22,6 +26,10 @@ std::uint32_t crc32(std::uint32_t crc, const void* data, std::size_t size) {
   return crc;
 }
 
+std::uint32_t crc32_concat(std::uint32_t first, std::uint32_t second, std::uint64_t second_size) {
+  return static_cast<std::uint32_t>(::crc32_combine(first, second, static_cast<z_off_t>(second_size)));
+}
+
 std::string_view mcap_name(Compression c) {
   switch (c) {
     case Compression::lz4: return "lz4";
@@ -40,29 +48,54 @@ Compression parse_compression(std::string_view name) {
   throw std::invalid_argument("unknown compression '" + std::string(name) + "' (choose zstd, lz4 or none)");
 }
 
-void compress(Compression c, std::string_view in, std::string& out) {
+std::string_view compressor_version(Compression c) {
   switch (c) {
-    case Compression::none:
-      out.assign(in);
-      return;
+    case Compression::lz4: return LZ4_versionString();
+    case Compression::zstd: return ZSTD_versionString();
+    case Compression::none: break;
+  }
+  return "";
+}
+
+Compressor::Compressor(Compression c) : compression_(c) {
+  if (c == Compression::zstd) zstd_ = ZSTD_createCCtx();
+  if (c == Compression::lz4 && LZ4F_isError(LZ4F_createCompressionContext(&lz4_, LZ4F_VERSION))) lz4_ = nullptr;
+  if ((c == Compression::zstd && !zstd_) || (c == Compression::lz4 && !lz4_)) throw std::bad_alloc();
+}
+
+Compressor::~Compressor() {
+  ZSTD_freeCCtx(zstd_);
+  LZ4F_freeCompressionContext(lz4_);
+}
+
+char* Compressor::room(std::size_t n) {
+  if (n > capacity_) {
+    out_ = std::make_unique_for_overwrite<char[]>(n);
+    capacity_ = n;
+  }
+  return out_.get();
+}
+
+std::string_view Compressor::compress(std::string_view in) {
+  switch (compression_) {
+    case Compression::none: return in;
     case Compression::zstd: {
-      out.resize(ZSTD_compressBound(in.size()));
+      const std::size_t bound = ZSTD_compressBound(in.size());
       // level 1: the fastest standard level; recordings favour throughput
-      const std::size_t n = ZSTD_compress(out.data(), out.size(), in.data(), in.size(), 1);
+      const std::size_t n = ZSTD_compressCCtx(zstd_, room(bound), bound, in.data(), in.size(), 1);
       if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
-      out.resize(n);
-      return;
+      return {out_.get(), n};
     }
     case Compression::lz4: {
       LZ4F_preferences_t prefs{};
       prefs.frameInfo.contentSize = in.size();
-      out.resize(LZ4F_compressFrameBound(in.size(), &prefs));
-      const std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
+      const std::size_t bound = LZ4F_compressFrameBound(in.size(), &prefs);
+      const std::size_t n = LZ4F_compressFrame_usingCDict(lz4_, room(bound), bound, in.data(), in.size(), nullptr, &prefs);
       if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
-      out.resize(n);
-      return;
+      return {out_.get(), n};
     }
   }
+  return in;
 }
 
 namespace {

@@ -1,8 +1,10 @@
 #include "core/record/writer.h"
 
 #include <fcntl.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -11,16 +13,23 @@
 namespace enact::record {
 namespace {
 
+// a Message record's fields before its data: channel id, sequence, log time, publish time
+constexpr std::size_t kMessageFields = 2 + 4 + 8 + 8;
+
 std::uint64_t u64(std::int64_t t) { return static_cast<std::uint64_t>(t < 0 ? 0 : t); }
 
-void write_all(int fd, const std::string& path, const char* p, std::size_t n) {
-  while (n > 0) {
-    const ssize_t w = ::write(fd, p, n);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) throw Error(path + ": cannot write: " + std::strerror(errno) + "\n  fix: check the disk has room and the folder is writable");
-    p += w;
-    n -= static_cast<std::size_t>(w);
-  }
+// little-endian, as Out writes them, at `p`; returns the byte after
+template <class T>
+char* put(char* p, T v) {
+  for (std::size_t i = 0; i < sizeof(T); ++i) p[i] = static_cast<char>((static_cast<std::uint64_t>(v) >> (8 * i)) & 0xFF);
+  return p + sizeof(T);
+}
+
+template <class T>
+T get(const char* p) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < sizeof(T); ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(p[i])) << (8 * i);
+  return static_cast<T>(v);
 }
 
 void map_field(Out& o, const StringMap& m) {
@@ -51,7 +60,25 @@ Writer::Writer(const std::string& path, WriterOptions options) : path_(path), op
     o.str(options_.profile);
     o.str(options_.library);
   });
-  drain();
+  try {
+    drain();
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+  // one worker per CPU: compressing is most of a chunk's cost
+  const unsigned workers = std::clamp(std::thread::hardware_concurrency(), 1u, kMaxWorkers);
+  try {
+    for (unsigned k = 0; k < workers; ++k) {
+      workers_.push_back(std::make_unique<Worker>(options_.compression));
+      Worker& w = *workers_.back();
+      w.thread = std::thread([this, &w] { work(w); });
+    }
+  } catch (...) {
+    stop_workers();
+    ::close(fd_);
+    throw;
+  }
 }
 
 Writer::~Writer() {
@@ -61,13 +88,39 @@ Writer::~Writer() {
   }
 }
 
+void Writer::append_to_file(std::initializer_list<std::string_view> parts) {
+  iovec iov[4];
+  int count = 0;
+  std::size_t total = 0;
+  for (const std::string_view part : parts) {
+    iov[count++] = {const_cast<char*>(part.data()), part.size()};
+    total += part.size();
+  }
+  for (iovec* at = iov; total > 0;) {
+    const ssize_t n = ::writev(fd_, at, static_cast<int>(iov + count - at));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = errno;
+      // a full disk: the file ends at the last whole record again (readable, and closed if
+      // what is left of the room holds the summary)
+      if (::ftruncate(fd_, static_cast<off_t>(offset_)) == 0) (void)::lseek(fd_, static_cast<off_t>(offset_), SEEK_SET);
+      throw Error(path_ + ": cannot write: " + std::strerror(error) + "\n  fix: check the disk has room and the folder is writable");
+    }
+    total -= static_cast<std::size_t>(n);
+    for (std::size_t left = static_cast<std::size_t>(n); left > 0;) {
+      const std::size_t took = std::min(left, at->iov_len);
+      at->iov_base = static_cast<char*>(at->iov_base) + took;
+      at->iov_len -= took;
+      left -= took;
+      if (at->iov_len == 0) ++at;
+    }
+  }
+}
+
 void Writer::drain() {
   try {
-    write_all(fd_, path_, out_.data(), out_.size());
+    append_to_file({out_});
   } catch (...) {
-    // a full disk: the file ends at the last whole record again (readable, and closed if what
-    // is left of the room holds the summary)
-    if (::ftruncate(fd_, static_cast<off_t>(offset_)) == 0) (void)::lseek(fd_, static_cast<off_t>(offset_), SEEK_SET);
     out_.clear();
     throw;
   }
@@ -77,6 +130,7 @@ void Writer::drain() {
 }
 
 std::uint16_t Writer::add_schema(std::string_view name, std::string_view encoding, std::string_view data) {
+  wait_for_workers();
   const auto id = static_cast<std::uint16_t>(schemas_.size() + 1);
   std::string rec;
   append_record(rec, Op::schema, [&](Out& o) {
@@ -93,6 +147,7 @@ std::uint16_t Writer::add_schema(std::string_view name, std::string_view encodin
 
 std::uint16_t Writer::add_channel(std::uint16_t schema_id, std::string_view topic, std::string_view message_encoding,
                                   const StringMap& metadata) {
+  wait_for_workers();
   const auto id = static_cast<std::uint16_t>(channels_.size());
   std::string rec;
   append_record(rec, Op::channel, [&](Out& o) {
@@ -104,92 +159,205 @@ std::uint16_t Writer::add_channel(std::uint16_t schema_id, std::string_view topi
   });
   out_ += rec;
   channels_.push_back(std::move(rec));
-  tally_.channel_counts[id];
-  written_.channel_counts[id];
+  written_.channel_counts.push_back(0);
   drain();
   return id;
 }
 
+char* Writer::extend_chunk(std::size_t n) {
+  Chunk& c = open_;
+  if (c.capacity - c.size < n) {
+    // a chunk's room at first, then twice as much when a message does not fit; the next
+    // chunks keep it (a chunk closes at chunk_size_bytes: its last message is in the margin)
+    const std::size_t first = std::min(options_.chunk_size_bytes, std::size_t{64} << 20) + (std::size_t{64} << 10);
+    const std::size_t capacity = std::max({c.capacity * 2, c.size + n, first});
+    auto bigger = std::make_unique_for_overwrite<char[]>(capacity);
+    if (c.size > 0) std::memcpy(bigger.get(), c.records.get(), c.size);
+    c.records = std::move(bigger);
+    c.capacity = capacity;
+  }
+  char* at = c.records.get() + c.size;
+  c.size += n;
+  return at;
+}
+
 void Writer::write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_t log_time_ns, std::int64_t publish_time_ns,
                    std::string_view data) {
+  if (channel_id >= channels_.size()) throw Error(path_ + ": no channel " + std::to_string(channel_id) + "\n  fix: write on a channel add_channel returned");
   // a message past the open chunk's span closes it first
   flush_if_due(log_time_ns);
-  if (!chunk_open_) {
-    chunk_open_ = true;
-    chunk_start_ = chunk_end_ = log_time_ns;
-  }
-  message_index_[channel_id].emplace_back(u64(log_time_ns), chunk_.size());
-  append_record(chunk_, Op::message, [&](Out& o) {
-    o.u16(channel_id);
-    o.u32(sequence);
-    o.u64(u64(log_time_ns));
-    o.u64(u64(publish_time_ns));
-    o.s.append(data);
-  });
-  chunk_start_ = std::min(chunk_start_, log_time_ns);
-  chunk_end_ = std::max(chunk_end_, log_time_ns);
-  Tally& t = tally_;
-  t.first_time = t.messages == 0 ? log_time_ns : std::min(t.first_time, log_time_ns);
-  t.last_time = t.messages == 0 ? log_time_ns : std::max(t.last_time, log_time_ns);
-  ++t.messages;
-  ++t.channel_counts[channel_id];
-  if (chunk_.size() >= options_.chunk_size_bytes) flush();
+  Chunk& c = open_;
+  if (c.messages == 0) c.start = c.end = log_time_ns;
+  const std::uint64_t content = kMessageFields + data.size();
+  char* p = extend_chunk(kRecordPrefix + content);
+  p = put(p, static_cast<std::uint8_t>(Op::message));
+  p = put(p, content);
+  p = put(p, channel_id);
+  p = put(p, sequence);
+  p = put(p, u64(log_time_ns));
+  p = put(p, u64(publish_time_ns));
+  if (!data.empty()) std::memcpy(p, data.data(), data.size());
+  c.start = std::min(c.start, log_time_ns);
+  c.end = std::max(c.end, log_time_ns);
+  ++c.messages;
+  ++messages_;
+  if (c.size >= options_.chunk_size_bytes) close_chunk(false);
 }
 
 void Writer::flush_if_due(std::int64_t now_ns) {
-  if (chunk_open_ && now_ns - chunk_start_ >= options_.chunk_duration_ns) flush();
+  if (failed_.load(std::memory_order_relaxed)) wait_for_workers();
+  if (open_.messages > 0 && now_ns - open_.start >= options_.chunk_duration_ns) close_chunk(true);
 }
 
 void Writer::flush() {
-  if (!chunk_open_) return;
-  compress(options_.compression, chunk_, compressed_);
-  ChunkIndex ci;
-  ci.start_time = u64(chunk_start_);
-  ci.end_time = u64(chunk_end_);
-  ci.offset = offset_;
-  ci.compressed_size = compressed_.size();
-  ci.uncompressed_size = chunk_.size();
-  append_record(out_, Op::chunk, [&](Out& o) {
-    o.u64(ci.start_time);
-    o.u64(ci.end_time);
-    o.u64(ci.uncompressed_size);
-    o.u32(crc32(0, chunk_.data(), chunk_.size()));
-    o.str(mcap_name(options_.compression));
-    o.bytes64(compressed_);
-  });
-  ci.length = out_.size();
-  // one message index per channel with messages in the chunk, right after it
-  // (named pairs, not structured bindings: clang 14, the fuzz build's, cannot capture those)
-  for (auto& index : message_index_) {
-    const std::uint16_t channel = index.first;
-    auto& entries = index.second;
-    if (entries.empty()) continue;
-    ci.index_offsets.emplace_back(channel, offset_ + out_.size());
-    append_record(out_, Op::message_index, [&](Out& o) {
-      o.u16(channel);
-      const std::size_t at = o.begin_block();
-      for (const auto& [time, offset] : entries) {
-        o.u64(time);
-        o.u64(offset);
+  if (open_.messages > 0) close_chunk(true);
+  wait_for_workers();
+}
+
+void Writer::close_chunk(bool wait) {
+  if (failed_.load(std::memory_order_relaxed)) wait_for_workers();
+  // the workers take turns: this one's previous chunk is written first
+  Worker& w = *workers_[handed_ % workers_.size()];
+  {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return !w.busy; });
+    std::swap(open_, w.chunk);
+    w.turn = handed_++;
+    w.busy = true;
+  }
+  changed_.notify_all();
+  open_.size = 0;
+  open_.messages = 0;
+  ++chunks_;
+  if (wait) wait_for_workers();
+}
+
+void Writer::wait_for_workers() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return done_ == handed_; });
+  if (failure_.empty()) return;
+  const std::string failure = std::move(failure_);
+  failure_.clear();
+  failed_ = false;
+  lock.unlock();
+  open_.size = 0;
+  open_.messages = 0;
+  messages_ = written_.messages;
+  chunks_ = chunk_indexes_.size();
+  throw Error(failure);
+}
+
+void Writer::work(Worker& w) {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return w.busy || stopping_; });
+    if (!w.busy) return;
+    lock.unlock();
+    std::string failure;
+    try {
+      make_chunk(w);
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    lock.lock();
+    changed_.wait(lock, [&] { return done_ == w.turn; });
+    // after a failure the chunks behind it are given up: the file has no hole
+    if (failure.empty() && failure_.empty()) {
+      lock.unlock();
+      try {
+        append_chunk(w);
+      } catch (const std::exception& e) {
+        failure = e.what();
       }
-      o.end_block(at);
+      lock.lock();
+    }
+    if (!failure.empty() && failure_.empty()) {
+      failure_ = std::move(failure);
+      failed_ = true;
+    }
+    ++done_;
+    w.busy = false;
+    changed_.notify_all();
+  }
+}
+
+void Writer::make_chunk(Worker& w) {
+  const Chunk& chunk = w.chunk;
+  const std::string_view records = chunk.view();
+  w.records_crc = crc32(0, records.data(), records.size());
+  w.body = w.compressor.compress(records);
+  const std::string_view compression = mcap_name(options_.compression);
+  ChunkIndex& ci = w.index;
+  ci.start_time = u64(chunk.start);
+  ci.end_time = u64(chunk.end);
+  ci.compressed_size = w.body.size();
+  ci.uncompressed_size = records.size();
+  ci.index_offsets.clear();
+  // the Chunk record up to its records (which follow it in the file from where they are)
+  w.head.clear();
+  Out o{w.head};
+  o.u8(static_cast<std::uint8_t>(Op::chunk));
+  o.u64(8 + 8 + 8 + 4 + 4 + compression.size() + 8 + w.body.size());
+  o.u64(ci.start_time);
+  o.u64(ci.end_time);
+  o.u64(ci.uncompressed_size);
+  o.u32(w.records_crc);
+  o.str(compression);
+  o.u64(w.body.size());
+  ci.length = w.head.size() + w.body.size();
+  // one message index per channel with messages in the chunk, right after it: the records'
+  // (log time, offset) grouped by channel, in the order written (a counting sort)
+  std::vector<std::uint64_t>& ends = w.counts;
+  ends.assign(channels_.size() + 1, 0);
+  const auto each_record = [&](auto&& f) {
+    for (std::size_t at = 0; at < records.size(); at += kRecordPrefix + get<std::uint64_t>(records.data() + at + 1)) {
+      f(at, records.data() + at + kRecordPrefix);
+    }
+  };
+  each_record([&](std::size_t, const char* fields) { ++ends[get<std::uint16_t>(fields) + 1]; });
+  for (std::size_t k = 1; k < ends.size(); ++k) ends[k] += ends[k - 1];  // where each channel's entries start
+  w.by_channel.resize(chunk.messages);
+  each_record([&](std::size_t at, const char* fields) { w.by_channel[ends[get<std::uint16_t>(fields)]++] = {get<std::uint64_t>(fields + 2 + 4), at}; });
+  w.indexes.clear();
+  for (std::size_t channel = 0, from = 0; channel + 1 < ends.size(); from = ends[channel++]) {
+    if (ends[channel] == from) continue;
+    ci.index_offsets.emplace_back(static_cast<std::uint16_t>(channel), ci.length + w.indexes.size());
+    append_record(w.indexes, Op::message_index, [&](Out& out) {
+      out.u16(static_cast<std::uint16_t>(channel));
+      const std::size_t block = out.begin_block();
+      for (std::size_t e = from; e < ends[channel]; ++e) {
+        out.u64(w.by_channel[e].first);
+        out.u64(w.by_channel[e].second);
+      }
+      out.end_block(block);
     });
-    entries.clear();
   }
-  ci.index_length = out_.size() - ci.length;
-  chunk_.clear();
-  chunk_open_ = false;
-  try {
-    drain();
-  } catch (...) {
-    tally_ = written_;  // the chunk's messages are not in the file
-    throw;
-  }
-  chunk_indexes_.push_back(std::move(ci));
-  written_ = tally_;
+  ci.index_length = w.indexes.size();
+}
+
+void Writer::append_chunk(Worker& w) {
+  const std::string_view records = w.chunk.view();
+  append_to_file({w.head, w.body, w.indexes});
+  // in the file: where, the data-section CRC (the records' own when they went uncompressed),
+  // the statistics
+  ChunkIndex& ci = w.index;
+  ci.offset = offset_;
+  for (auto& index : ci.index_offsets) index.second += ci.offset;
+  std::uint32_t crc = crc32(data_crc_, w.head.data(), w.head.size());
+  crc = w.body.data() == records.data() ? crc32_concat(crc, w.records_crc, records.size()) : crc32(crc, w.body.data(), w.body.size());
+  data_crc_ = crc32(crc, w.indexes.data(), w.indexes.size());
+  offset_ += w.head.size() + w.body.size() + w.indexes.size();
+  Tally& t = written_;
+  const Chunk& chunk = w.chunk;
+  t.first_time = t.messages == 0 ? chunk.start : std::min(t.first_time, chunk.start);
+  t.last_time = t.messages == 0 ? chunk.end : std::max(t.last_time, chunk.end);
+  t.messages += chunk.messages;
+  for (std::size_t channel = 0, from = 0; channel < t.channel_counts.size(); from = w.counts[channel++]) t.channel_counts[channel] += w.counts[channel] - from;
+  chunk_indexes_.push_back(ci);
 }
 
 void Writer::add_metadata(std::string_view name, const StringMap& values) {
+  wait_for_workers();
   Index ix;
   ix.offset = offset_ + out_.size();
   ix.name = name;
@@ -204,6 +372,7 @@ void Writer::add_metadata(std::string_view name, const StringMap& values) {
 
 void Writer::add_attachment(std::string_view name, std::string_view media_type, std::string_view data, std::int64_t log_time_ns,
                             std::int64_t create_time_ns) {
+  wait_for_workers();
   Index ix;
   ix.offset = offset_ + out_.size();
   ix.log_time = log_time_ns;
@@ -225,15 +394,28 @@ void Writer::add_attachment(std::string_view name, std::string_view media_type, 
   attachments_.push_back(std::move(ix));
 }
 
+void Writer::stop_workers() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  for (auto& w : workers_) {
+    if (w->thread.joinable()) w->thread.join();
+  }
+}
+
 void Writer::close() {
   if (fd_ < 0) return;
   try {
     finish();
   } catch (...) {
+    stop_workers();
     ::close(fd_);
     fd_ = -1;
     throw;
   }
+  stop_workers();
   ::close(fd_);
   fd_ = -1;
 }
@@ -249,14 +431,13 @@ void Writer::append_statistics(std::string& s) {
     o.u64(u64(written_.first_time));
     o.u64(u64(written_.last_time));
     const std::size_t at = o.begin_block();
-    for (const auto& [id, n] : written_.channel_counts) {
-      o.u16(id);
-      o.u64(n);
+    for (std::size_t id = 0; id < written_.channel_counts.size(); ++id) {
+      o.u16(static_cast<std::uint16_t>(id));
+      o.u64(written_.channel_counts[id]);
     }
     o.end_block(at);
   });
 }
-
 void Writer::append_chunk_indexes(std::string& s) {
   for (const ChunkIndex& c : chunk_indexes_) {
     append_record(s, Op::chunk_index, [&](Out& o) {

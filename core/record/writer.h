@@ -4,26 +4,45 @@
 // its message indexes, metadata and attachments, and on close a summary (schemas, channels,
 // chunk / attachment / metadata indexes, statistics, summary offsets) and the footer.
 //
+// Writing a message copies it into the open chunk and allocates nothing once the chunk's
+// buffers have their size. A chunk that closes at chunk_size_bytes goes to one of the writer's
+// worker threads (one per CPU, at most kMaxWorkers), which compresses and indexes it beside the
+// others and writes it in its turn, while the next chunk fills; a chunk that closes on time
+// (chunk_duration_ns), by flush() or by close() is in the file when that call returns. The
+// bytes are the same either way.
+//
 // Durability: schemas, channels, metadata and attachments reach the file (write(2)) when
-// they are added; messages when their chunk closes: at chunk_size_bytes, or once the chunk
-// spans chunk_duration_ns of log time (checked on each message and by flush_if_due). A
-// process killed with SIGKILL so loses at most the open chunk; `enact recover` rebuilds an
-// indexed file from the rest (record::Reader reads files without a summary).
+// they are added; messages when their chunk closes: once it spans chunk_duration_ns of log
+// time (checked on each message and by flush_if_due), or at chunk_size_bytes, then within the
+// time it takes to compress it. A process killed with SIGKILL so loses at most the open chunk,
+// and those that closed full before it if the kill came while they were being compressed (one
+// per worker at most); `enact recover` rebuilds an indexed file from the rest (record::Reader
+// reads files without a summary).
 //
 // A full disk (or a file size limit): a write that fails throws record::Error and leaves the
-// file ending at the last whole record (the failed chunk's messages are lost and not
-// counted); close() then still writes the summary if the room left holds it (the failed
-// chunk's bytes were given back), else the file stays readable without one.
+// file ending at the last whole record; the failed chunk's messages are lost and not counted,
+// nor those written after it (when a worker's write fails, the error is thrown by the next
+// call: a write, flush_if_due, flush, an add or close). close() then still writes the summary
+// if the room left holds it (the failed chunk's bytes were given back), else the file stays
+// readable without one.
+#include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "core/record/compression.h"
 #include "core/record/mcap.h"
 
 namespace enact::record {
+
+// worker threads of a writer at most (one per CPU)
+inline constexpr unsigned kMaxWorkers = 4;
 
 struct WriterOptions {
   Compression compression = Compression::zstd;
@@ -37,7 +56,8 @@ using StringMap = std::map<std::string, std::string>;
 
 class Writer {
  public:
-  // creates (or truncates) `path` and writes the magic and the header; throws record::Error
+  // creates (or truncates) `path`, writes the magic and the header and starts the workers;
+  // throws record::Error
   explicit Writer(const std::string& path, WriterOptions options = {});
   // close(); errors are swallowed here (call close() to see them)
   ~Writer();
@@ -50,7 +70,8 @@ class Writer {
   // a channel of messages on `topic` (schema_id 0: no schema); returns its id (from 0)
   std::uint16_t add_channel(std::uint16_t schema_id, std::string_view topic, std::string_view message_encoding,
                             const StringMap& metadata = {});
-  // one message; log times need not increase (the chunk and statistics keep min and max)
+  // one message on a channel add_channel returned (another throws record::Error); log times
+  // need not increase (the chunk and statistics keep min and max)
   void write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_t log_time_ns, std::int64_t publish_time_ns,
              std::string_view data);
   // a Metadata record (name, key-value pairs)
@@ -66,10 +87,12 @@ class Writer {
   void close();
 
   const std::string& path() const { return path_; }
-  std::uint64_t bytes_written() const { return offset_; }
-  // messages written so far (those of a chunk that failed to reach the disk excluded)
-  std::uint64_t message_count() const { return tally_.messages; }
-  std::uint64_t chunk_count() const { return chunk_indexes_.size(); }
+  // bytes in the file so far (a chunk with a worker counts once it is written)
+  std::uint64_t bytes_written() const { return offset_.load(std::memory_order_relaxed); }
+  // messages written so far (those of a chunk that failed to reach the disk, and after it, excluded)
+  std::uint64_t message_count() const { return messages_; }
+  // chunks closed so far (those that failed excluded)
+  std::uint64_t chunk_count() const { return chunks_; }
 
  private:
   struct Index {  // summary index entry of a record in the data section
@@ -83,9 +106,54 @@ class Writer {
     std::vector<std::pair<std::uint16_t, std::uint64_t>> index_offsets;
     std::uint64_t index_length = 0, compressed_size = 0, uncompressed_size = 0;
   };
+  // a chunk's Message records and their span of log time
+  struct Chunk {
+    std::unique_ptr<char[]> records;
+    std::size_t size = 0, capacity = 0;
+    std::uint64_t messages = 0;
+    std::int64_t start = 0, end = 0;
+    std::string_view view() const { return {records.get(), size}; }
+  };
+  // a worker: the chunk handed to it and what it makes of it; its buffers keep their room
+  // from chunk to chunk
+  struct Worker {
+    explicit Worker(Compression c) : compressor(c) {}
+    Chunk chunk;
+    std::uint64_t turn = 0;  // the chunk's place in the file
+    bool busy = false;       // under mutex_: holds a chunk not yet written (or given up)
+    Compressor compressor;
+    // made from the chunk: the Chunk record up to its records, its records (compressed), the
+    // records' CRC, its Message Index records; index offsets relative to the chunk record
+    std::string head, indexes;
+    std::string_view body;
+    std::uint32_t records_crc = 0;
+    ChunkIndex index;
+    std::vector<std::uint64_t> counts;                                  // where each channel's entries end
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> by_channel;  // (log time, offset), grouped by channel
+    std::thread thread;
+  };
+  struct Tally {  // the statistics' counts, of the messages in the file
+    std::uint64_t messages = 0;
+    std::int64_t first_time = 0, last_time = 0;
+    std::vector<std::uint64_t> channel_counts;  // by channel id
+  };
+
   // appends a record built by `fill` to buffer `s`
   template <class Fill>
   void append_record(std::string& s, Op op, Fill fill);
+  // room for `n` more bytes at the end of the open chunk's records
+  char* extend_chunk(std::size_t n);
+  // closes the open chunk: hands it to the next worker; `wait`: until it is in the file
+  void close_chunk(bool wait);
+  // waits until every chunk handed on is written; throws (once) the failure of a worker's
+  // write, the open chunk then given up too (the file keeps no messages after a hole)
+  void wait_for_workers();
+  // a worker thread: makes each chunk handed to `w`, writes it in its turn
+  void work(Worker& w);
+  // compresses and indexes w.chunk (anywhere in the file)
+  void make_chunk(Worker& w);
+  // writes what make_chunk made at the file's end: the chunk, its indexes, the statistics
+  void append_chunk(Worker& w);
   // close() up to the file's end
   void finish();
   // the summary's records (MCAP: statistics, chunk, attachment and metadata indexes) appended to `s`
@@ -93,31 +161,36 @@ class Writer {
   void append_chunk_indexes(std::string& s);
   void append_attachment_indexes(std::string& s);
   void append_metadata_indexes(std::string& s);
-  // sends out_ to the file (adds it to the data-section CRC unless in the summary)
+  // writes `parts` at the file's end; a failure cuts the file back to its last whole record
+  // and throws record::Error
+  void append_to_file(std::initializer_list<std::string_view> parts);
+  // sends out_ to the file, adding it to the data-section CRC
   void drain();
+  void stop_workers();
 
   std::string path_;
   WriterOptions options_;
   int fd_ = -1;
-  std::uint64_t offset_ = 0;      // bytes in the file so far
-  std::uint32_t data_crc_ = 0;    // of every byte written before the data end
-  std::string out_;               // bytes not yet written
+  // the file: written by a worker in its turn, else (every worker idle) by the writer's thread
+  std::atomic<std::uint64_t> offset_ = 0;  // bytes in the file so far
+  std::uint32_t data_crc_ = 0;             // of every byte written before the data end
+  std::string out_;                        // bytes not yet written
   std::vector<std::string> schemas_, channels_;  // their records, repeated in the summary
-  // the open chunk
-  std::string chunk_, compressed_;
-  std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> message_index_;
-  std::int64_t chunk_start_ = 0, chunk_end_ = 0;
-  bool chunk_open_ = false;
-  // the summary
   std::vector<ChunkIndex> chunk_indexes_;
   std::vector<Index> attachments_, metadata_;
-  struct Tally {  // the statistics' counts
-    std::uint64_t messages = 0;
-    std::int64_t first_time = 0, last_time = 0;
-    std::map<std::uint16_t, std::uint64_t> channel_counts;
-  };
-  Tally tally_;    // of every message written
-  Tally written_;  // of those in chunks that reached the file
+  Tally written_;
+  // the writer's thread: the open chunk, the counts it answers
+  Chunk open_;
+  std::uint64_t messages_ = 0, chunks_ = 0;
+  std::uint64_t handed_ = 0;  // chunks handed to the workers, in turns 0, 1, ...
+  // the workers
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::mutex mutex_;
+  std::condition_variable changed_;  // a chunk handed on, or written
+  std::uint64_t done_ = 0;           // under mutex_: turns over (written, or given up after a failure)
+  bool stopping_ = false;            // under mutex_
+  std::string failure_;              // under mutex_: the failed write's error, until thrown
+  std::atomic<bool> failed_ = false;
 };
 
 }  // namespace enact::record

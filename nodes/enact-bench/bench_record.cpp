@@ -32,14 +32,19 @@ constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FI
 
 1. Writer throughput, side by side in one run: N messages of 100 bytes written as MCAP with
    zstd, lz4 and no compression, and the same payload bytes written raw to a file (the
-   floor), each 5 times interleaved; medians of messages/s and MB/s (of payload), and each
-   one's ratio to the raw write.
-2. Logger headroom: a publisher sends bridge-graph traffic (ffd/state + ffd/force, 5 kHz
-   each, about 10,000 messages/s in all) at 10x its rate for 3 s through an attach point
-   to the logger: gaps must be 0. Then as fast as it can: the logger's maximum rate.
-JSON keys: msgs_per_s_lz4, msgs_per_s_zstd, msgs_per_s_none, msgs_per_s_raw,
-ratio_vs_raw_write (lz4; and ratio_vs_raw_write_zstd, _none), logger_msgs_per_s_at_10x,
-logger_gaps_at_10x, logger_lost_at_10x, logger_max_msgs_per_s, logger_headroom (max / bridge traffic).
+   machine's floor), each 5 times interleaved; medians and ranges (min..max) of messages/s
+   and MB/s (of payload), and of each one's ratio to the raw write of the same round.
+2. Logger headroom, 3 times each: a publisher sends bridge-graph traffic (ffd/state +
+   ffd/force, 5 kHz each, about 10,000 messages/s in all) at 10x its rate for 3 s through an
+   attach point to the logger: none may be lost. Then as fast as it can for 3 s: the logger's
+   rate is what it kept over the time to its last message (messages the attach point dropped
+   past capacity are counted as lost, not waited for); median and range. And alone: the
+   publisher sends for 1 s with the logger stopped, then the logger takes the backlog.
+JSON keys (medians): msgs_per_s_lz4, msgs_per_s_zstd, msgs_per_s_none, msgs_per_s_raw,
+ratio_vs_raw_write (lz4; and ratio_vs_raw_write_zstd, _none; each with _min and _max),
+logger_msgs_per_s_at_10x, logger_gaps_at_10x, logger_lost_at_10x, logger_max_msgs_per_s
+(with _min and _max), logger_lost_flat_out, logger_headroom (max / bridge traffic),
+logger_alone_msgs_per_s (with _min and _max), logger_lost_alone.
 
 options:
   --messages N   messages per writer run (default 2000000)
@@ -60,11 +65,16 @@ void fill_payload(std::string& p, std::uint64_t i) {
 
 double seconds_since(std::int64_t t0) { return static_cast<double>(rt::now_ns() - t0) * 1e-9; }
 
+// the last round's file removed before the clock starts: giving its pages back is no cost of
+// this case's (the zstd case truncated the none case's 294 MB file, inside its time)
+void remove_before_timing(const std::string& path) { std::filesystem::remove(path); }
+
 // seconds to write n messages as MCAP
 double write_mcap(const std::string& path, record::Compression c, std::uint64_t n) {
   record::WriterOptions o;
   o.compression = c;
   std::string p;
+  remove_before_timing(path);
   const std::int64_t t0 = rt::now_ns();
   {
     record::Writer w(path, o);
@@ -81,6 +91,7 @@ double write_mcap(const std::string& path, record::Compression c, std::uint64_t 
 // seconds to write the same payload bytes raw, in 1 MiB blocks
 double write_raw(const std::string& path, std::uint64_t n) {
   std::string p, block;
+  remove_before_timing(path);
   const std::int64_t t0 = rt::now_ns();
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   bool ok = fd >= 0;
@@ -97,9 +108,23 @@ double write_raw(const std::string& path, std::uint64_t n) {
   return seconds_since(t0);
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+// the median and the range of some runs' figures
+struct Spread {
+  double median = 0.0, min = 0.0, max = 0.0;
+  explicit Spread(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    median = v[v.size() / 2];
+    min = v.front();
+    max = v.back();
+  }
+};
+
+// "1.23 (1.10..1.30)", each figure times `scale`
+std::string spread_text(const Spread& s, double scale, const char* format) {
+  char text[96], number[3][24];
+  for (int k = 0; k < 3; ++k) std::snprintf(number[k], sizeof number[k], format, (k == 0 ? s.median : k == 1 ? s.min : s.max) * scale);
+  std::snprintf(text, sizeof text, "%s (%s..%s)", number[0], number[1], number[2]);
+  return text;
 }
 
 struct LoggerRun {
@@ -108,8 +133,10 @@ struct LoggerRun {
 };
 
 // a publisher sends ffd/state and ffd/force (alternating) at `rate` messages/s (0: as fast
-// as it can) for `seconds` through an attach point; the logger records them
-LoggerRun run_logger(const std::string& dir, double rate, double seconds, int index) {
+// as it can) for `seconds` through an attach point; the logger records them. `backlog`: the
+// logger starts once the publisher is done and its messages wait in the queues (a second
+// later): its own rate, with no publisher beside it on the CPUs
+LoggerRun run_logger(const std::string& dir, double rate, double seconds, int index, bool backlog = false) {
   const std::string endpoint = bus::ipc_endpoint(dir, "bench" + std::to_string(index));
   bus::BytePublisher out(endpoint, {.node = "ffd", .send_hwm = 100000, .refuse_when_full = true});
   bus::Publisher<msgs::DeviceState> states(out, "ffd/state");
@@ -126,30 +153,51 @@ LoggerRun run_logger(const std::string& dir, double rate, double seconds, int in
   logger.attach();
   while (out.subscriber_count("ffd/state") < 1 || out.subscriber_count("ffd/force") < 1) rt::sleep_until_ns(rt::now_ns() + 1'000'000);
   std::atomic<bool> done{false};
-  std::thread recorder([&] { logger.run([&] { return done.load(); }); });
+  std::thread recorder;
+  const auto start_logger = [&] { recorder = std::thread([&] { logger.run([&] { return done.load(); }); }); };
+  if (!backlog) start_logger();
   msgs::DeviceState s;
   msgs::ForceCommand f;
   LoggerRun r;
   const std::int64_t t0 = rt::now_ns(), end = t0 + static_cast<std::int64_t>(seconds * 1e9);
   const double period_ns = rate > 0 ? 1e9 / rate : 0.0;
   while (rt::now_ns() < end) {
-    if (period_ns > 0) rt::sleep_until_ns(t0 + static_cast<std::int64_t>(static_cast<double>(r.sent) * period_ns));
+    // paced: a sleep only when ahead (on a VM even a sleep already due costs a timer's tens of
+    // microseconds: one per message held the 10x publisher near 35 000 messages/s)
+    const std::int64_t due = t0 + static_cast<std::int64_t>(static_cast<double>(r.sent) * period_ns);
+    if (period_ns > 0 && due > rt::now_ns()) rt::sleep_until_ns(due);
     s.mutable_position()->set_x(static_cast<double>(r.sent));
     // a full queue waits (flow control): what the publisher counts as sent, the logger must get
     while (!((r.sent % 2 == 0) ? states.publish(s) : forces.publish(f))) rt::sleep_until_ns(rt::now_ns() + 20'000);
     ++r.sent;
   }
-  const double sent_s = seconds_since(t0);
-  // the logger catches up (or gives up after 10 s)
-  const std::int64_t give_up = rt::now_ns() + 10'000'000'000;
-  while (logger.messages() < r.sent && rt::now_ns() < give_up) rt::sleep_until_ns(rt::now_ns() + 1'000'000);
-  const double total_s = seconds_since(t0);
+  double sent_s = seconds_since(t0);
+  std::int64_t from_ns = t0;
+  if (backlog) {
+    rt::sleep_until_ns(rt::now_ns() + 1'000'000'000);
+    sent_s = 0.0;
+    from_ns = rt::now_ns();
+    start_logger();
+  }
+  // the logger takes what is on its way; what the attach point dropped never comes: it is
+  // done with all of them, or once nothing came for half a second (waiting longer for the
+  // lost ones made a run that lost a few look 4x slower: 214 k against 900 k messages/s)
+  std::uint64_t kept = logger.messages();
+  std::int64_t last_ns = rt::now_ns();
+  while (kept < r.sent && rt::now_ns() - last_ns < 500'000'000) {
+    rt::sleep_until_ns(rt::now_ns() + 1'000'000);
+    if (logger.messages() != kept) {
+      kept = logger.messages();
+      last_ns = rt::now_ns();
+    }
+  }
+  const double kept_s = static_cast<double>(last_ns - from_ns) * 1e-9;
   done.store(true);
   recorder.join();
   logger.close();
   r.messages = logger.messages();
   for (const auto& c : logger.report()) r.gaps += c.seq.gaps;
-  r.msgs_per_s = static_cast<double>(r.messages) / std::max(sent_s, total_s);
+  r.msgs_per_s = static_cast<double>(r.messages) / std::max(sent_s, kept_s);
   return r;
 }
 
@@ -167,47 +215,84 @@ int bench_record(int argc, char** argv) {
   std::optional<graph::TempFolder> temporary;
   if (!a.has("dir")) temporary.emplace((std::filesystem::temp_directory_path() / "enact-bench-").string());
   const std::string dir = temporary ? temporary->path() : a.get("dir");
-  // 1. writer: the four cases interleaved, 5 times
+  // 1. writer: the four cases interleaved, 5 times; each one's ratio to the raw write of its round
   const char* names[4] = {"zstd", "lz4", "none", "raw"};
-  std::vector<double> secs[4];
+  std::vector<double> rates[4], ratios[4];
   for (int rep = 0; rep < 5; ++rep) {
     std::fprintf(stderr, "\rwriter: run %d of 5 ...", rep + 1);
-    secs[0].push_back(write_mcap(dir + "/w.mcap", record::Compression::zstd, n));
-    secs[1].push_back(write_mcap(dir + "/w.mcap", record::Compression::lz4, n));
-    secs[2].push_back(write_mcap(dir + "/w.mcap", record::Compression::none, n));
-    secs[3].push_back(write_raw(dir + "/w.raw", n));
+    double secs[4];
+    secs[0] = write_mcap(dir + "/w.mcap", record::Compression::zstd, n);
+    secs[1] = write_mcap(dir + "/w.mcap", record::Compression::lz4, n);
+    secs[2] = write_mcap(dir + "/w.mcap", record::Compression::none, n);
+    secs[3] = write_raw(dir + "/w.raw", n);
+    for (int k = 0; k < 4; ++k) {
+      rates[k].push_back(static_cast<double>(n) / secs[k]);
+      ratios[k].push_back(secs[3] / secs[k]);
+    }
   }
   std::fprintf(stderr, "\n");
-  double rate[4];
-  for (int k = 0; k < 4; ++k) rate[k] = static_cast<double>(n) / median(secs[k]);
-  std::printf("writer: %llu messages of %zu bytes, median of 5 interleaved runs (payload MB/s)\n", static_cast<unsigned long long>(n), kPayload);
-  std::printf("  %-6s %14s %10s %14s\n", "", "messages/s", "MB/s", "ratio vs raw");
+  std::vector<Spread> rate, ratio;
   for (int k = 0; k < 4; ++k) {
-    std::printf("  %-6s %14.0f %10.1f %14.3f\n", names[k], rate[k], rate[k] * kPayload * 1e-6, rate[k] / rate[3]);
+    rate.emplace_back(rates[k]);
+    ratio.emplace_back(ratios[k]);
   }
-  // 2. the logger at 10x the bridge graph's traffic, then flat out
-  std::fprintf(stderr, "logger: 3 s at 10x the bridge traffic, then 3 s flat out ...\n");
-  const LoggerRun at10 = run_logger(dir, 10.0 * kBridgeMsgsPerS, 3.0, 0);
-  const LoggerRun flat = run_logger(dir, 0.0, 3.0, 1);
-  std::printf("logger (zstd, through an attach point):\n");
-  std::printf("  at 10x the bridge traffic (%.0f messages/s offered): %.0f messages/s kept, %llu of %llu (lost %llu), sequence gaps %llu\n",
-              10 * kBridgeMsgsPerS, at10.msgs_per_s, static_cast<unsigned long long>(at10.messages), static_cast<unsigned long long>(at10.sent),
-              static_cast<unsigned long long>(at10.sent - at10.messages), static_cast<unsigned long long>(at10.gaps));
-  std::printf("  flat out: %.0f messages/s kept, %llu of %llu (lost %llu at the attach point: past capacity): %.1fx the bridge traffic\n",
-              flat.msgs_per_s, static_cast<unsigned long long>(flat.messages), static_cast<unsigned long long>(flat.sent),
-              static_cast<unsigned long long>(flat.sent - flat.messages), flat.msgs_per_s / kBridgeMsgsPerS);
+  std::printf("writer: %llu messages of %zu bytes, 5 interleaved runs: median (min..max)\n", static_cast<unsigned long long>(n), kPayload);
+  std::printf("  %-5s %-26s %-24s %s\n", "", "messages/s (M)", "MB/s of payload", "ratio to the raw write of its run");
+  for (int k = 0; k < 4; ++k) {
+    std::printf("  %-5s %-26s %-24s %s\n", names[k], spread_text(rate[k], 1e-6, "%.2f").c_str(), spread_text(rate[k], kPayload * 1e-6, "%.0f").c_str(),
+                k == 3 ? "1 (the machine's floor)" : spread_text(ratio[k], 1.0, "%.3f").c_str());
+  }
+  // 2. the logger at 10x the bridge graph's traffic, then flat out, 3 times each
+  std::fprintf(stderr, "logger: 3 s at 10x the bridge traffic, 3 s flat out, a backlog alone; 3 times ...\n");
+  std::vector<double> at10_rates, flat_rates, backlog_rates;
+  std::uint64_t at10_sent = 0, at10_kept = 0, at10_gaps = 0, flat_sent = 0, flat_kept = 0, backlog_sent = 0, backlog_kept = 0;
+  for (int rep = 0; rep < 3; ++rep) {
+    const LoggerRun at10 = run_logger(dir, 10.0 * kBridgeMsgsPerS, 3.0, 3 * rep);
+    const LoggerRun flat = run_logger(dir, 0.0, 3.0, 3 * rep + 1);
+    const LoggerRun backlog = run_logger(dir, 0.0, 1.0, 3 * rep + 2, true);
+    at10_rates.push_back(at10.msgs_per_s);
+    flat_rates.push_back(flat.msgs_per_s);
+    backlog_rates.push_back(backlog.msgs_per_s);
+    backlog_sent += backlog.sent;
+    backlog_kept += backlog.messages;
+    at10_sent += at10.sent;
+    at10_kept += at10.messages;
+    at10_gaps += at10.gaps;
+    flat_sent += flat.sent;
+    flat_kept += flat.messages;
+  }
+  const Spread at10(at10_rates), flat(flat_rates), alone(backlog_rates);
+  std::printf("logger (zstd, through an attach point), 3 runs each: median (min..max)\n");
+  std::printf("  at 10x the bridge traffic (%.0f messages/s offered): %s k messages/s kept, %llu of %llu (lost %llu), sequence gaps %llu\n",
+              10 * kBridgeMsgsPerS, spread_text(at10, 1e-3, "%.1f").c_str(), static_cast<unsigned long long>(at10_kept),
+              static_cast<unsigned long long>(at10_sent), static_cast<unsigned long long>(at10_sent - at10_kept), static_cast<unsigned long long>(at10_gaps));
+  std::printf("  flat out: %s k messages/s kept (%.0fx the bridge traffic), %llu of %llu (lost %llu at the attach point: past capacity)\n",
+              spread_text(flat, 1e-3, "%.0f").c_str(), flat.median / kBridgeMsgsPerS, static_cast<unsigned long long>(flat_kept),
+              static_cast<unsigned long long>(flat_sent), static_cast<unsigned long long>(flat_sent - flat_kept));
+  std::printf("  alone, through a backlog (1 s flat out, then the logger): %s k messages/s kept, %llu of %llu (lost %llu)\n",
+              spread_text(alone, 1e-3, "%.0f").c_str(), static_cast<unsigned long long>(backlog_kept), static_cast<unsigned long long>(backlog_sent),
+              static_cast<unsigned long long>(backlog_sent - backlog_kept));
   std::printf("machine: %u cores; files in %s\n", std::thread::hardware_concurrency(), dir.c_str());
   if (a.has("json")) {
     Json j;
     j.begin_object();
     j.field("messages", static_cast<long long>(n)).field("message_bytes", static_cast<long long>(kPayload));
-    j.field("msgs_per_s_zstd", rate[0]).field("msgs_per_s_lz4", rate[1]).field("msgs_per_s_none", rate[2]).field("msgs_per_s_raw", rate[3]);
-    j.field("mb_per_s_zstd", rate[0] * kPayload * 1e-6).field("mb_per_s_lz4", rate[1] * kPayload * 1e-6);
-    j.field("mb_per_s_none", rate[2] * kPayload * 1e-6).field("mb_per_s_raw", rate[3] * kPayload * 1e-6);
-    j.field("ratio_vs_raw_write", rate[1] / rate[3]).field("ratio_vs_raw_write_zstd", rate[0] / rate[3]).field("ratio_vs_raw_write_none", rate[2] / rate[3]);
+    const char* keys[4] = {"zstd", "lz4", "none", "raw"};
+    for (int k = 0; k < 4; ++k) {
+      j.field(std::string("msgs_per_s_") + keys[k], rate[k].median).field(std::string("mb_per_s_") + keys[k], rate[k].median * kPayload * 1e-6);
+      j.field(std::string("mb_per_s_") + keys[k] + "_min", rate[k].min * kPayload * 1e-6).field(std::string("mb_per_s_") + keys[k] + "_max", rate[k].max * kPayload * 1e-6);
+    }
+    const std::pair<const char*, int> ratio_keys[3] = {{"ratio_vs_raw_write", 1}, {"ratio_vs_raw_write_zstd", 0}, {"ratio_vs_raw_write_none", 2}};
+    for (const auto& [key, k] : ratio_keys) {
+      j.field(key, ratio[k].median).field(std::string(key) + "_min", ratio[k].min).field(std::string(key) + "_max", ratio[k].max);
+    }
     j.field("bridge_msgs_per_s", kBridgeMsgsPerS);
-    j.field("logger_msgs_per_s_at_10x", at10.msgs_per_s).field("logger_gaps_at_10x", static_cast<long long>(at10.gaps));
-    j.field("logger_max_msgs_per_s", flat.msgs_per_s).field("logger_headroom", flat.msgs_per_s / kBridgeMsgsPerS);
+    j.field("logger_msgs_per_s_at_10x", at10.median).field("logger_gaps_at_10x", static_cast<long long>(at10_gaps));
+    j.field("logger_lost_at_10x", static_cast<long long>(at10_sent - at10_kept));
+    j.field("logger_max_msgs_per_s", flat.median).field("logger_max_msgs_per_s_min", flat.min).field("logger_max_msgs_per_s_max", flat.max);
+    j.field("logger_lost_flat_out", static_cast<long long>(flat_sent - flat_kept)).field("logger_headroom", flat.median / kBridgeMsgsPerS);
+    j.field("logger_alone_msgs_per_s", alone.median).field("logger_alone_msgs_per_s_min", alone.min).field("logger_alone_msgs_per_s_max", alone.max);
+    j.field("logger_lost_alone", static_cast<long long>(backlog_sent - backlog_kept));
     j.field("cores", static_cast<int>(std::thread::hardware_concurrency()));
     j.end_object();
     std::ofstream(a.get("json")) << j.str() << "\n";
