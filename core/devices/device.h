@@ -37,6 +37,7 @@ struct ForceSample {
   math::Vec3 velocity_m_per_s;
   std::uint32_t buttons = 0;  // bit i: button i pressed
   std::uint32_t faults = 0;   // DeviceFault bits
+  math::Vec3 force_n;         // the force acting on the hand now (N): set by the safety layer
 };
 
 // a force-feedback device (FFD): reads the end-effector, applies a force to it

@@ -111,6 +111,7 @@ bool SafeForceDevice::read(std::int64_t now_ns, ForceSample& out) noexcept {
     send(now_ns, {});
   }
   out.faults |= command_faults_ | (in_episode_ ? bit(DeviceFault::watchdog) : 0u) | (ok ? 0u : bit(DeviceFault::device_error));
+  out.force_n = sent_n_;
   faults_ = out.faults;
   return ok;
 }

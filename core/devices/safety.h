@@ -40,7 +40,8 @@ class SafeForceDevice final : public ForceDevice {
   void configure() override;
   // activate the inner device; counters are kept, the watchdog waits for the first write
   void activate() override;
-  // the inner device's sample, with the watchdog run at now_ns and the wrapper's fault bits
+  // the inner device's sample, with the watchdog run at now_ns, the wrapper's fault bits and
+  // the force it sends to the inner device now (force_n)
   bool read(std::int64_t now_ns, ForceSample& out) noexcept override;
   // the command made safe (finite, within the peak force), sent on to the inner device
   void write(std::int64_t now_ns, const math::Vec3& force_n) noexcept override;

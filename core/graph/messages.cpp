@@ -31,6 +31,7 @@ void fill(msgs::DeviceState& m, const devices::ForceSample& s) {
   set(*m.mutable_velocity(), s.velocity_m_per_s);
   m.set_buttons(s.buttons);
   m.set_faults(device_faults(s.faults));
+  set(*m.mutable_force(), s.force_n);
 }
 
 void fill(msgs::ForceCommand& m, std::uint64_t answered_seq, const math::Vec3& force_n, bool model_fault) {

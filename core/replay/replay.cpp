@@ -33,6 +33,7 @@ struct State {
   bool cut;  // the force path was cut (the driver's watchdog, a device error): the simulator re-synchronises
   math::Vec3 velocity_m_per_s;
   std::uint32_t buttons;
+  math::Vec3 force_n;  // acting on the hand as recorded
 };
 
 struct Force {
@@ -110,7 +111,7 @@ Traffic read_traffic(record::Reader& r) {
       t.changes.push_back(change_of(ack, publisher));
     } else if (m.topic == kDeviceState && parse(state)) {
       t.states.push_back({state.header().seq(), state.header().stamp_ns(), get(state.position()), force_path_cut(state.faults()), get(state.velocity()),
-                          state.buttons()});
+                          state.buttons(), get(state.force())});
     } else if (m.topic == kForceCommand && parse(command)) {
       t.forces[command.answered_seq()] = {get(command.force()), command.zero(), command.header().seq()};
       t.sim_publisher = publisher;
@@ -304,7 +305,7 @@ struct Replay {
     const std::int64_t t_ns = s.stamp_ns - sim.origin_ns();
     if (stages) {
       staged = *o;
-      stages(s.stamp_ns, t_ns, devices::ForceSample{s.stamp_ns, s.position_m, s.velocity_m_per_s, s.buttons, 0}, staged);
+      stages(s.stamp_ns, t_ns, devices::ForceSample{s.stamp_ns, s.position_m, s.velocity_m_per_s, s.buttons, 0, s.force_n}, staged);
       o = &staged;
     }
     if (f == traffic.forces.end()) ++out.forces_missing;

@@ -311,6 +311,31 @@ TEST(Safety, NoFaultSequenceStepsTheForceBeyondTheLimit) {
   EXPECT_LE(largest_step_fraction(f.log, f.inner->profile().max_force_step_n_per_ms), 1.0 + 1e-9);
 }
 
+// each sample says the force acting on the hand as it was read: the last force the inner
+// device was sent (by the watchdog's ramp in this read, or by the last write), not the
+// command, through clamps, ramps back, the slew limit, watchdog episodes and device errors
+TEST(Safety, EachSampleCarriesTheForceActingOnTheHand) {
+  Fixture f(SafetyParams{}, true);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> force(-60.0, 60.0), u(0.0, 1.0);
+  std::int64_t t = kT0;
+  std::size_t differ = 0;
+  for (int i = 0; i < 20'000; ++i) {
+    t += static_cast<std::int64_t>(10'000 + u(rng) * (u(rng) < 0.02 ? 30 * kMs : kMs));
+    f.inner->fail = u(rng) < 0.01;
+    const ForceSample s = f.read(t);
+    const Vec3 written = f.last_write();  // (NaN: nothing written yet, the force is zero)
+    ASSERT_EQ(s.force_n, std::isnan(written.x) ? Vec3{} : written) << "read " << i;
+    if (u(rng) < 0.9) {
+      const Vec3 command{force(rng), force(rng), force(rng)};
+      f.safe->write(t, command);
+      differ += !(f.last_write() == command);
+    }
+  }
+  EXPECT_GT(f.safe->watchdog_trips(), 0u);
+  EXPECT_GT(differ, 1000u) << "the sequence hardly shaped the commands: nothing to tell apart";
+}
+
 // over the simulated device: a loop with clamps, NaN and a watchdog episode allocates nothing
 TEST(Safety, ReadAndWriteOverTheSimulatedDeviceAllocateNothing) {
   SimulatedForceParams p;

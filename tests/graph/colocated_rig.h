@@ -30,7 +30,10 @@ struct Rig {
   std::unique_ptr<ColocatedLoop> loop;
 
   // stages: the loop's, in order (they outlive the rig)
-  explicit Rig(const std::string& model, bool with_tactile = true, const std::vector<node::LoopComponent*>& stages = {}) {
+  // safety_reengage_s: the safety layer's ramp back after an interruption (the graph's: 0.1 s;
+  // 0: the force of every tick is the model's)
+  explicit Rig(const std::string& model, bool with_tactile = true, const std::vector<node::LoopComponent*>& stages = {},
+               double safety_reengage_s = 0.0) {
     sim::SimParams p;
     p.scene = test::source_path("launch/scenes/bridge.yaml");
     p.model = model;
@@ -40,8 +43,7 @@ struct Rig {
     f.start_m = {-0.0074246, -0.0222739, 0.013};
     auto inner = std::make_unique<devices::SimulatedForceDevice>(f);
     device = inner.get();
-    // no ramp back at the start: the force of every tick is the model's
-    force = std::make_unique<devices::SafeForceDevice>(std::move(inner), devices::SafetyParams{.reengage_s = 0.0});
+    force = std::make_unique<devices::SafeForceDevice>(std::move(inner), devices::SafetyParams{.reengage_s = safety_reengage_s});
     force->configure();
     tactile.configure();
     loop = std::make_unique<ColocatedLoop>(simulator, *force, with_tactile ? &tactile : nullptr, &fake_clock);

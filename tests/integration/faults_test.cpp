@@ -27,6 +27,8 @@
 namespace enact::test {
 namespace {
 
+double magnitude(const msgs::Vec3& v) { return std::hypot(v.x(), v.y(), v.z()); }
+
 constexpr double kRate_hz = 5000.0;  // bridge.yaml's
 
 // whether child `pid` exits within timeout_s (reaped); if not, it is killed (and reaped)
@@ -345,7 +347,6 @@ TEST(Faults, RespawnedSimulatorSaysSoAndItsForceStartsFromZero) {
   // machine: its largest rise is printed, and the driver's safety layer holds the device to
   // the profile's limit (tests/devices/safety_test.cpp); the smoothness of the
   // re-synchronisation itself is tested in tests/sim/reengage_test.cpp
-  const auto magnitude = [](const msgs::Vec3& f) { return std::hypot(f.x(), f.y(), f.z()); };
   double largest_rise_n = 0.0;
   for (std::size_t i = first_new + 1; i < first_new + 1000; ++i) {
     if (seen.forces[i].header().seq() != seen.forces[i - 1].header().seq() + 1) continue;
@@ -453,11 +454,12 @@ TEST(Faults, StoppedObserversCostTheLoopNothing) {
 #endif
 
 // the co-located loop's walk over the bridge (launch/bridge_rt.yaml, the scripted hand,
-// observed from its first tick): the largest |force| the model gave the hand, the ticks seen
-// and lost on the way, and the deadlines the loop missed
+// observed from its first tick): the largest |force| the device gave the hand (ffd/state's
+// force: after the safety layer), the largest the model asked for (ffd/force), the samples
+// seen and lost on the way, and the deadlines the loop missed
 struct Walk {
-  double peak_n = 0.0;
-  std::size_t forces = 0;
+  double felt_n = 0.0, asked_n = 0.0;
+  std::size_t samples = 0;
   std::uint64_t lost = 0, missed = 0;
 };
 Walk walk_the_bridge(const TempDir& dir, const std::string& name) {
@@ -471,11 +473,10 @@ Walk walk_the_bridge(const TempDir& dir, const std::string& name) {
   Observed seen;
   obs.observe(kWalk_s, seen);
   Walk w;
-  for (const msgs::ForceCommand& f : seen.forces) {
-    w.peak_n = std::max(w.peak_n, std::sqrt(f.force().x() * f.force().x() + f.force().y() * f.force().y() + f.force().z() * f.force().z()));
-  }
-  w.forces = seen.forces.size();
-  w.lost = obs.forces->counters().lost;
+  for (const msgs::DeviceState& s : seen.states) w.felt_n = std::max(w.felt_n, magnitude(s.force()));
+  for (const msgs::ForceCommand& f : seen.forces) w.asked_n = std::max(w.asked_n, magnitude(f.force()));
+  w.samples = seen.states.size();
+  w.lost = obs.states->counters().lost;
   for (const msgs::NodeStatus& st : seen.statuses) w.missed = std::max<std::uint64_t>(w.missed, st.deadlines_missed());
   EXPECT_EQ(launcher.stop(), 0) << launcher.log();
   return w;
@@ -483,8 +484,11 @@ Walk walk_the_bridge(const TempDir& dir, const std::string& name) {
 
 // two graphs on one machine, as a new user tried (#23): the co-located loop walks the bridge
 // beside a running distributed graph, their loops placed by the launcher. A late tick never
-// turns into a jolt: the largest force the model gives the hand is at most the same walk's
-// alone plus the device profile's force step limit over one millisecond (ERGOS: 10 N/ms)
+// turns into a jolt: the largest force the device gives the hand is at most the same walk's
+// alone plus the device profile's force step limit over one millisecond (ERGOS: 10 N/ms).
+// (What the model asks for may be more while the safety layer ramps the force back after a
+// cut: the hand, held back less, sinks deeper; tests/graph/colocated_no_jolt_test.cpp walks
+// seeded late ticks through the same layers without a clock)
 TEST(Faults, AnotherGraphBesideTheLoopNeverTurnsALateTickIntoAJolt) {
   constexpr double kStepLimit_n_per_ms = 10.0;  // core/devices/device_profile.cpp, ergos
   TempDir dir;
@@ -492,14 +496,15 @@ TEST(Faults, AnotherGraphBesideTheLoopNeverTurnsALateTickIntoAJolt) {
   Launcher other(dir, source_path("launch/bridge.yaml"), 60.0, {}, "", {"--name", "other"});
   ASSERT_TRUE(other.wait_log("enact launch: graph other ready", kReadyTimeout_s)) << other.log();
   const Walk beside = walk_the_bridge(dir, "beside");
-  std::printf("[ measure ] the walk alone: peak %.2f N over %zu forces seen (%llu lost), %llu deadlines missed; beside a distributed graph: "
-              "peak %.2f N over %zu (%llu lost), %llu missed\n",
-              alone.peak_n, alone.forces, static_cast<unsigned long long>(alone.lost), static_cast<unsigned long long>(alone.missed), beside.peak_n,
-              beside.forces, static_cast<unsigned long long>(beside.lost), static_cast<unsigned long long>(beside.missed));
-  ASSERT_GT(alone.forces, 10000u) << "the walk was not observed";
-  ASSERT_GT(alone.peak_n, 1.0) << "the hand never touched the bridge: nothing to compare";
-  EXPECT_GT(beside.forces, 10000u);
-  EXPECT_LE(beside.peak_n, alone.peak_n + kStepLimit_n_per_ms) << "a late tick turned into a jolt";
+  std::printf("[ measure ] the walk alone: the hand felt at most %.2f N (the model asked %.2f N) over %zu samples seen (%llu lost), "
+              "%llu deadlines missed; beside a distributed graph: felt %.2f N (asked %.2f N) over %zu (%llu lost), %llu missed\n",
+              alone.felt_n, alone.asked_n, alone.samples, static_cast<unsigned long long>(alone.lost), static_cast<unsigned long long>(alone.missed),
+              beside.felt_n, beside.asked_n, beside.samples, static_cast<unsigned long long>(beside.lost),
+              static_cast<unsigned long long>(beside.missed));
+  ASSERT_GT(alone.samples, 10000u) << "the walk was not observed";
+  ASSERT_GT(alone.felt_n, 1.0) << "the hand never touched the bridge: nothing to compare";
+  EXPECT_GT(beside.samples, 10000u);
+  EXPECT_LE(beside.felt_n, alone.felt_n + kStepLimit_n_per_ms) << "a late tick turned into a jolt";
   EXPECT_EQ(other.stop(), 0) << other.log();
 }
 
