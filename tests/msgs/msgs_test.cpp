@@ -54,6 +54,7 @@ msgs::DeviceState device_state() {
   fill(*m.mutable_velocity(), 0.5, -1.25, 0.001);
   m.set_buttons(0b101);
   m.set_faults(msgs::DEVICE_FAULT_WATCHDOG | msgs::DEVICE_FAULT_OVER_FORCE);
+  fill(*m.mutable_force(), -0.75, 0.25, 4.5);
   return m;
 }
 
