@@ -103,7 +103,9 @@ def main():
     lines = {}
     for point, condition, mean, half, n in rows:
         # the condition named unless an axis is the model (then it is that axis's value)
-        label = ", ".join([f"{ax}={v}" for ax, v in zip(axes[1:], point[1:])] + ([] if "model" in axes else [condition])) or condition
+        # (a path's file name: the table keeps the whole path)
+        label = ", ".join([f"{ax}={os.path.basename(v) if os.sep in v else v}" for ax, v in zip(axes[1:], point[1:])] +
+                          ([] if "model" in axes else [condition])) or condition
         lines.setdefault(label, []).append((xs.index(point[0]), mean, 0.0 if math.isnan(half) else half))
     fig, ax = plt.subplots(figsize=(7, 4.5))
     shift = 0.08 * (len(lines) > 1)

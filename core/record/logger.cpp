@@ -221,7 +221,7 @@ void Logger::take(const bus::RawMessage& m, std::int64_t now_ns) {
   }
   // sequence: +1 per message per publisher and topic; a jump is a loss
   c.report.seq.add(has_header ? header_.seq() : c.report.seq.last + 1, header_.stamp_ns());
-  ++messages_;
+  messages_.store(messages_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   const std::int64_t publish_ns = has_header && header_.stamp_ns() > 0 ? header_.stamp_ns() : now_ns;
   writer_->write(c.id, static_cast<std::uint32_t>(c.report.seq.last), now_ns + wall_offset_ns_, publish_ns,
                  std::string_view(static_cast<const char*>(m.payload()), m.payload_size()));
@@ -267,7 +267,7 @@ void Logger::receive(const std::function<bool()>& stop, const std::function<void
       next_progress = now + 1'000'000'000;
       LoggerProgress p;
       p.elapsed_s = static_cast<double>(now - start_ns_) * 1e-9;
-      p.messages = messages_;
+      p.messages = messages();
       for (const auto& [k, c] : channels_) p.gaps += c.report.seq.gaps;
       std::uint64_t bytes = 0;
       for (std::size_t i = 0; i + 1 < files_.size(); ++i) bytes += std::filesystem::file_size(files_[i]);
@@ -291,7 +291,7 @@ void Logger::close_file() {
         "messages " + std::to_string(c.report.seq.messages) + ", gaps " + std::to_string(c.report.seq.gaps);
     gaps += c.report.seq.gaps;
   }
-  stats["messages"] = std::to_string(messages_);
+  stats["messages"] = std::to_string(messages());
   stats["gaps"] = std::to_string(gaps);
   // after a write failure each part is tried on its own: the summary may still fit
   closed_whole_ = false;

@@ -6,6 +6,7 @@
 // in force and the files they name (scene, computer model, hand path) go in as metadata
 // and attachments. Sequence gaps (header.seq) are counted per channel. It never slows the
 // graph: the attach point queues deeply for it and drops (counted as gaps) if it stalls.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -120,7 +121,7 @@ class Logger {
   const std::string& endpoint() const { return endpoint_; }
   std::vector<ChannelReport> report() const;
   std::vector<std::string> files() const { return files_; }
-  std::uint64_t messages() const { return messages_; }
+  std::uint64_t messages() const { return messages_.load(std::memory_order_relaxed); }
 
  private:
   struct Channel {
@@ -148,7 +149,7 @@ class Logger {
   std::vector<std::string> files_;
   std::string key_;
   msgs::Header header_;
-  std::uint64_t messages_ = 0;
+  std::atomic<std::uint64_t> messages_{0};  // written by run()'s thread alone, read by any
   std::int64_t file_start_ns_ = 0, start_ns_ = 0;
   // wall clock - monotonic clock at the start: log times are dates (Foxglove shows them),
   // one offset for the whole recording so they never jump; publish times keep header.stamp_ns

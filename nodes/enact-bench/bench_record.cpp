@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "core/bus/attach.h"
+#include "core/bus/client.h"
 #include "core/bus/endpoints.h"
 #include "core/bus/typed.h"
 #include "core/record/logger.h"
@@ -38,12 +40,15 @@ constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FI
    ffd/force, 5 kHz each, about 10,000 messages/s in all) at 10x its rate for 3 s through an
    attach point to the logger: none may be lost. Then as fast as it can for 3 s: the logger's
    rate is what it kept over the time to its last message (messages the attach point dropped
-   past capacity are counted as lost, not waited for); median and range. And alone: the
-   publisher sends for 1 s with the logger stopped, then the logger takes the backlog.
+   past capacity are counted as lost, not waited for); median and range. The floor beside it:
+   the same, with a subscriber that only counts in the logger's place (what the publisher and
+   the attach point deliver on this machine). And alone: the publisher sends for 1 s with the
+   logger stopped, then the logger takes the backlog.
 JSON keys (medians): msgs_per_s_lz4, msgs_per_s_zstd, msgs_per_s_none, msgs_per_s_raw,
 ratio_vs_raw_write (lz4; and ratio_vs_raw_write_zstd, _none; each with _min and _max),
 logger_msgs_per_s_at_10x, logger_gaps_at_10x, logger_lost_at_10x, logger_max_msgs_per_s
-(with _min and _max), logger_lost_flat_out, logger_headroom (max / bridge traffic),
+(with _min and _max), logger_floor_msgs_per_s and logger_max_ratio_to_floor (each with _min
+and _max), logger_lost_flat_out, logger_headroom (max / bridge traffic),
 logger_alone_msgs_per_s (with _min and _max), logger_lost_alone.
 
 options:
@@ -132,11 +137,65 @@ struct LoggerRun {
   std::uint64_t messages = 0, gaps = 0, sent = 0;  // gaps: by header.seq (a refused, retried send also skips one)
 };
 
+// what takes the messages at the attach point: the logger, or (the machine's floor) a bare
+// subscriber that only counts them
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  virtual void run(const std::atomic<bool>& done) = 0;  // on its own thread
+  virtual std::uint64_t messages() const = 0;            // any thread
+  virtual std::uint64_t gaps() const { return 0; }       // after run
+};
+
+class LoggerSink final : public Sink {
+ public:
+  LoggerSink(const std::string& attach, const std::string& file) {
+    graph::LoggerOptions o;
+    o.attach = attach;
+    o.output = file;
+    o.writer.compression = record::Compression::zstd;
+    logger_.emplace(o);
+    logger_->attach();
+  }
+  void run(const std::atomic<bool>& done) override {
+    logger_->run([&] { return done.load(); });
+    logger_->close();
+    for (const auto& c : logger_->report()) gaps_ += c.seq.gaps;
+  }
+  std::uint64_t messages() const override { return logger_->messages(); }
+  std::uint64_t gaps() const override { return gaps_; }
+
+ private:
+  std::optional<graph::Logger> logger_;
+  std::uint64_t gaps_ = 0;
+};
+
+class CountingSink final : public Sink {
+ public:
+  explicit CountingSink(const std::string& attach) {
+    bus::attach_connect(sub_.socket(), attach, {});
+    sub_.subscribe("ffd/state");
+    sub_.subscribe("ffd/force");
+  }
+  void run(const std::atomic<bool>& done) override {
+    bus::RawMessage m;
+    while (!done.load()) {
+      for (int i = 0; i < 10000 && sub_.receive(m, i == 0 ? 50 : 0); ++i) count_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  std::uint64_t messages() const override { return count_.load(std::memory_order_relaxed); }
+
+ private:
+  bus::ByteSubscriber sub_;
+  std::atomic<std::uint64_t> count_{0};
+};
+
 // a publisher sends ffd/state and ffd/force (alternating) at `rate` messages/s (0: as fast
-// as it can) for `seconds` through an attach point; the logger records them. `backlog`: the
-// logger starts once the publisher is done and its messages wait in the queues (a second
-// later): its own rate, with no publisher beside it on the CPUs
-LoggerRun run_logger(const std::string& dir, double rate, double seconds, int index, bool backlog = false) {
+// as it can) for `seconds` through an attach point; the logger (or, `floor`, a subscriber
+// that only counts) takes them. `backlog`: the logger starts once the publisher is done and
+// its messages wait in the queues (a second later): its own rate, with no publisher beside
+// it on the CPUs
+LoggerRun run_logger(const std::string& dir, double rate, double seconds, int index, bool backlog = false, bool floor = false) {
   const std::string endpoint = bus::ipc_endpoint(dir, "bench" + std::to_string(index));
   bus::BytePublisher out(endpoint, {.node = "ffd", .send_hwm = 100000, .refuse_when_full = true});
   bus::Publisher<msgs::DeviceState> states(out, "ffd/state");
@@ -145,17 +204,14 @@ LoggerRun run_logger(const std::string& dir, double rate, double seconds, int in
   attach.add_publisher("ffd", endpoint);
   attach.declare_topic<msgs::DeviceState>("ffd/state", "ffd");
   attach.declare_topic<msgs::ForceCommand>("ffd/force", "ffd");
-  graph::LoggerOptions o;
-  o.attach = attach.endpoint();
-  o.output = dir + "/logger" + std::to_string(index) + ".mcap";
-  o.writer.compression = record::Compression::zstd;
-  graph::Logger logger(o);
-  logger.attach();
+  std::unique_ptr<Sink> sink;
+  if (floor) sink = std::make_unique<CountingSink>(attach.endpoint());
+  else sink = std::make_unique<LoggerSink>(attach.endpoint(), dir + "/logger" + std::to_string(index) + ".mcap");
   while (out.subscriber_count("ffd/state") < 1 || out.subscriber_count("ffd/force") < 1) rt::sleep_until_ns(rt::now_ns() + 1'000'000);
   std::atomic<bool> done{false};
-  std::thread recorder;
-  const auto start_logger = [&] { recorder = std::thread([&] { logger.run([&] { return done.load(); }); }); };
-  if (!backlog) start_logger();
+  std::thread taker;
+  const auto start_taking = [&] { taker = std::thread([&] { sink->run(done); }); };
+  if (!backlog) start_taking();
   msgs::DeviceState s;
   msgs::ForceCommand f;
   LoggerRun r;
@@ -177,26 +233,25 @@ LoggerRun run_logger(const std::string& dir, double rate, double seconds, int in
     rt::sleep_until_ns(rt::now_ns() + 1'000'000'000);
     sent_s = 0.0;
     from_ns = rt::now_ns();
-    start_logger();
+    start_taking();
   }
-  // the logger takes what is on its way; what the attach point dropped never comes: it is
+  // the taker takes what is on its way; what the attach point dropped never comes: it is
   // done with all of them, or once nothing came for half a second (waiting longer for the
   // lost ones made a run that lost a few look 4x slower: 214 k against 900 k messages/s)
-  std::uint64_t kept = logger.messages();
+  std::uint64_t kept = sink->messages();
   std::int64_t last_ns = rt::now_ns();
   while (kept < r.sent && rt::now_ns() - last_ns < 500'000'000) {
     rt::sleep_until_ns(rt::now_ns() + 1'000'000);
-    if (logger.messages() != kept) {
-      kept = logger.messages();
+    if (sink->messages() != kept) {
+      kept = sink->messages();
       last_ns = rt::now_ns();
     }
   }
   const double kept_s = static_cast<double>(last_ns - from_ns) * 1e-9;
   done.store(true);
-  recorder.join();
-  logger.close();
-  r.messages = logger.messages();
-  for (const auto& c : logger.report()) r.gaps += c.seq.gaps;
+  taker.join();
+  r.messages = sink->messages();
+  r.gaps = sink->gaps();
   r.msgs_per_s = static_cast<double>(r.messages) / std::max(sent_s, kept_s);
   return r;
 }
@@ -243,13 +298,16 @@ int bench_record(int argc, char** argv) {
                 k == 3 ? "1 (the machine's floor)" : spread_text(ratio[k], 1.0, "%.3f").c_str());
   }
   // 2. the logger at 10x the bridge graph's traffic, then flat out, 3 times each
-  std::fprintf(stderr, "logger: 3 s at 10x the bridge traffic, 3 s flat out, a backlog alone; 3 times ...\n");
-  std::vector<double> at10_rates, flat_rates, backlog_rates;
+  std::fprintf(stderr, "logger: 3 s at 10x the bridge traffic, 3 s flat out, the floor flat out, a backlog alone; 3 times ...\n");
+  std::vector<double> at10_rates, flat_rates, floor_rates, floor_ratios, backlog_rates;
   std::uint64_t at10_sent = 0, at10_kept = 0, at10_gaps = 0, flat_sent = 0, flat_kept = 0, backlog_sent = 0, backlog_kept = 0;
   for (int rep = 0; rep < 3; ++rep) {
-    const LoggerRun at10 = run_logger(dir, 10.0 * kBridgeMsgsPerS, 3.0, 3 * rep);
-    const LoggerRun flat = run_logger(dir, 0.0, 3.0, 3 * rep + 1);
-    const LoggerRun backlog = run_logger(dir, 0.0, 1.0, 3 * rep + 2, true);
+    const LoggerRun at10 = run_logger(dir, 10.0 * kBridgeMsgsPerS, 3.0, 4 * rep);
+    const LoggerRun flat = run_logger(dir, 0.0, 3.0, 4 * rep + 1);
+    const LoggerRun bare = run_logger(dir, 0.0, 3.0, 4 * rep + 2, false, true);
+    const LoggerRun backlog = run_logger(dir, 0.0, 1.0, 4 * rep + 3, true);
+    floor_rates.push_back(bare.msgs_per_s);
+    floor_ratios.push_back(flat.msgs_per_s / bare.msgs_per_s);
     at10_rates.push_back(at10.msgs_per_s);
     flat_rates.push_back(flat.msgs_per_s);
     backlog_rates.push_back(backlog.msgs_per_s);
@@ -261,7 +319,7 @@ int bench_record(int argc, char** argv) {
     flat_sent += flat.sent;
     flat_kept += flat.messages;
   }
-  const Spread at10(at10_rates), flat(flat_rates), alone(backlog_rates);
+  const Spread at10(at10_rates), flat(flat_rates), floor(floor_rates), floor_ratio(floor_ratios), alone(backlog_rates);
   std::printf("logger (zstd, through an attach point), 3 runs each: median (min..max)\n");
   std::printf("  at 10x the bridge traffic (%.0f messages/s offered): %s k messages/s kept, %llu of %llu (lost %llu), sequence gaps %llu\n",
               10 * kBridgeMsgsPerS, spread_text(at10, 1e-3, "%.1f").c_str(), static_cast<unsigned long long>(at10_kept),
@@ -269,6 +327,8 @@ int bench_record(int argc, char** argv) {
   std::printf("  flat out: %s k messages/s kept (%.0fx the bridge traffic), %llu of %llu (lost %llu at the attach point: past capacity)\n",
               spread_text(flat, 1e-3, "%.0f").c_str(), flat.median / kBridgeMsgsPerS, static_cast<unsigned long long>(flat_kept),
               static_cast<unsigned long long>(flat_sent), static_cast<unsigned long long>(flat_sent - flat_kept));
+  std::printf("  the floor: a subscriber that only counts, flat out at the same attach point: %s k messages/s; the logger's ratio to it %s\n",
+              spread_text(floor, 1e-3, "%.0f").c_str(), spread_text(floor_ratio, 1.0, "%.3f").c_str());
   std::printf("  alone, through a backlog (1 s flat out, then the logger): %s k messages/s kept, %llu of %llu (lost %llu)\n",
               spread_text(alone, 1e-3, "%.0f").c_str(), static_cast<unsigned long long>(backlog_kept), static_cast<unsigned long long>(backlog_sent),
               static_cast<unsigned long long>(backlog_sent - backlog_kept));
@@ -290,6 +350,8 @@ int bench_record(int argc, char** argv) {
     j.field("logger_msgs_per_s_at_10x", at10.median).field("logger_gaps_at_10x", static_cast<long long>(at10_gaps));
     j.field("logger_lost_at_10x", static_cast<long long>(at10_sent - at10_kept));
     j.field("logger_max_msgs_per_s", flat.median).field("logger_max_msgs_per_s_min", flat.min).field("logger_max_msgs_per_s_max", flat.max);
+    j.field("logger_floor_msgs_per_s", floor.median).field("logger_floor_msgs_per_s_min", floor.min).field("logger_floor_msgs_per_s_max", floor.max);
+    j.field("logger_max_ratio_to_floor", floor_ratio.median).field("logger_max_ratio_to_floor_min", floor_ratio.min).field("logger_max_ratio_to_floor_max", floor_ratio.max);
     j.field("logger_lost_flat_out", static_cast<long long>(flat_sent - flat_kept)).field("logger_headroom", flat.median / kBridgeMsgsPerS);
     j.field("logger_alone_msgs_per_s", alone.median).field("logger_alone_msgs_per_s_min", alone.min).field("logger_alone_msgs_per_s_max", alone.max);
     j.field("logger_lost_alone", static_cast<long long>(backlog_sent - backlog_kept));

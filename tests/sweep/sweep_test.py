@@ -33,6 +33,8 @@ BUILD = os.path.abspath(sys.argv[1])
 MODE = sys.argv[2]
 ENACT = os.path.join(BUILD, "nodes", "enact", "enact")
 EXPERIMENTS = os.path.join(ROOT, "launch", "experiments")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import local_dask  # noqa: E402  (scripts/local_dask.py)
 
 # the quick bridge experiment, its trials cut to 2 s (few messages: quick jobs); its subject a
 # copy in the test's folder, named by its absolute path (a worker without that folder gets it
@@ -237,26 +239,17 @@ def test_slurm(tmp, sweep_file):
         subprocess.run([os.path.join(ROOT, "scripts", "slurm_local.sh"), "stop", state], env=env)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def test_dask(tmp, sweep_file):
-    dask = shutil.which("dask")
-    if dask is None or subprocess.run(["/usr/bin/python3", "-c", "import distributed"], stderr=subprocess.DEVNULL).returncode != 0:
+    dask = local_dask.dask_executable()
+    if dask is None:
         skip("Dask distributed is not installed (apt-get install python3-distributed; scripts/setup.sh)")
     reference = local_reference(tmp, sweep_file)
-    port = free_port()
-    address = f"127.0.0.1:{port}"
     logs = open(os.path.join(tmp, "dask.log"), "w")
-    procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--dashboard-address", f"127.0.0.1:{free_port()}"],
-                              stdout=logs, stderr=logs, cwd=tmp)]
+    address, scheduler = local_dask.start_scheduler(tmp, logs)
+    procs = [scheduler]
 
     def worker(name):
-        procs.append(subprocess.Popen([dask, "worker", "tcp://" + address, "--nthreads", "1", "--no-nanny", "--name", name,
-                                       "--local-directory", os.path.join(tmp, "dask_" + name)], stdout=logs, stderr=logs, cwd=tmp))
+        procs.append(local_dask.start_worker(address, name, tmp, logs))
         return procs[-1]
 
     try:
@@ -291,32 +284,25 @@ def test_dask(tmp, sweep_file):
         if os.geteuid() != 0 or shutil.which("unshare") is None:
             print("sweep dask: the worker without the sweep's folder needs root and unshare: not tried")
             return
-        blind = free_port()
-        procs.append(subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(blind), "--dashboard-address", f"127.0.0.1:{free_port()}"],
-                                      stdout=logs, stderr=logs, cwd=tmp))
+        blind, blind_scheduler = local_dask.start_scheduler(tmp, logs)
+        procs.append(blind_scheduler)
         procs.append(subprocess.Popen(["unshare", "-m", "--propagation", "private", "sh", "-c",
-                                       f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://127.0.0.1:{blind} --nthreads 1 --no-nanny --name blind --local-directory "{tmp}"'],
+                                       f'mount -t tmpfs tmpfs "{tmp}" && exec "{dask}" worker tcp://{blind} --nthreads 1 --no-nanny --name blind --local-directory "{tmp}"'],
                                       stdout=logs, stderr=logs, cwd="/"))
         out = os.path.join(tmp, "dask_blind")
-        sweep(sweep_file, "--out", out, "--executor", f"dask://127.0.0.1:{blind}", check=0)
+        sweep(sweep_file, "--out", out, "--executor", f"dask://{blind}", check=0)
         same_as(reference, out, "dask, a worker without the sweep's folder")
         with open(os.path.join(out, "inputs.txt")) as f:
             travelled = f.read().split()
         for name in (sweep_file, os.path.join(tmp, "experiment.yaml"), os.path.join(tmp, "subjects", "quick.yaml")):
             if name not in travelled:
                 fail(f"{name} did not travel with the jobs (inputs.txt: {travelled})")
-        code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind_shared"), "--executor", f"dask://127.0.0.1:{blind}", "--dask-files", "shared")
+        code, err = sweep(sweep_file, "--out", os.path.join(tmp, "dask_blind_shared"), "--executor", f"dask://{blind}", "--dask-files", "shared")
         host = socket.gethostname()
         if code != 1 or f"on host {host}: the sweep file {sweep_file} is missing here" not in err:
             fail(f"a worker without the shared folder: exit {code}, expected 1 and the host and the sweep file's path in:\n{err}")
     finally:
-        for p in reversed(procs):
-            p.terminate()
-        for p in procs:
-            try:
-                p.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                p.kill()
+        local_dask.stop(procs)
         logs.close()
 
 
