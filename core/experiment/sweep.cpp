@@ -172,6 +172,7 @@ std::vector<SweepJob> sweep_jobs(const SweepSpec& spec) {
       SweepJob j;
       j.index = jobs.size();
       j.values = values;
+      j.written = seed_texts;
       j.replicate = r;
       std::string coords, name;
       for (std::size_t i = 0; i < values.size(); ++i) {
@@ -314,7 +315,7 @@ std::size_t merge_sweep(const SweepSpec& spec, const std::vector<SweepJob>& jobs
     std::string line;
     bool first = true;
     std::string prefix;
-    for (const std::string& v : j.values) prefix += v + ",";
+    for (const std::string& v : j.written) prefix += v + ",";
     prefix += std::to_string(j.replicate) + "," + std::to_string(j.seed) + ",";
     while (std::getline(lines, line)) {
       if (line.empty()) continue;

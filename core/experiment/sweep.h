@@ -50,7 +50,9 @@ struct SweepSpec {
 // one job: a grid point and a replicate
 struct SweepJob {
   std::size_t index = 0;            // in the sweep's order, from 0 (a Slurm array's task id)
-  std::vector<std::string> values;  // one per axis
+  std::vector<std::string> values;  // one per axis, as the job uses it ($(dirname) and $(share) resolved)
+  std::vector<std::string> written; // one per axis, as the sweep file writes it (SweepAxis::seed_texts):
+                                    // the merged table's coordinates, the same wherever the files are
   int replicate = 1;                // from 1
   std::uint64_t seed = 0;           // the experiment's seed (under 10^9), from the values as written
                                     // (SweepAxis::seed_texts): the same wherever the sweep's files are

@@ -144,6 +144,22 @@ def test_local(tmp, sweep_file):
     elif commit != "unknown":
         fail(f"the manifest's enact_commit {commit!r} for a source outside git: expected 'unknown'")
 
+    # a path in the grid, the sweep's files in two folders: the merged table names the value
+    # as the sweep file writes it, so the two tables are the same bytes (the seeds too)
+    tables = []
+    for place in ("one", "two"):
+        folder = os.path.join(tmp, "moved_" + place)
+        os.makedirs(folder)
+        shutil.copy(os.path.join(tmp, "experiment.yaml"), folder)
+        shutil.copy(os.path.join(ROOT, "launch", "scenes", "bridge.yaml"), os.path.join(folder, "scene.yaml"))
+        with open(os.path.join(folder, "sweep.yaml"), "w") as f:
+            f.write(SWEEP.replace("replicates: 2", "replicates: 1").replace("rate_hz: [1000, 2000]", "rate_hz: [1000]\n  scene: [$(dirname)/scene.yaml]"))
+        sweep(os.path.join(folder, "sweep.yaml"), "--out", os.path.join(folder, "out"), check=0)
+        tables.append(read(os.path.join(folder, "out", "results.csv")).decode())
+    if tables[0] != tables[1] or ",$(dirname)/scene.yaml,1," not in tables[0]:
+        fail("a path in the grid: the merged tables of the same sweep in two folders differ, or name the path otherwise than the sweep "
+             f"file:\n{tables[0]}\n{tables[1]}")
+
     # resume: a job gone, another's folder left partial by a killed run: only those run again,
     # the partial one never merged
     jobs = sorted(n for n in os.listdir(os.path.join(again, "jobs")) if not n.endswith(".lock"))
