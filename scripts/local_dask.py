@@ -1,6 +1,7 @@
 """A Dask scheduler and its workers on 127.0.0.1, started as processes and stopped by pid, for
 the sweep tests and scripts/bench_sweep.py (a lab starts its own: `dask scheduler`, `dask
-worker HOST:PORT`). Needs `dask` on PATH (Debian's python3-distributed)."""
+worker HOST:PORT`). Needs `dask` on PATH (Debian's python3-distributed): callers ask
+dask_executable() once first."""
 import os
 import shutil
 import socket
@@ -25,7 +26,7 @@ def dask_executable():
 def start_scheduler(folder, logs):
     """a scheduler on a free port, its output into the open file `logs`: (HOST:PORT, process)"""
     port = free_port()
-    proc = subprocess.Popen([dask_executable() or "dask", "scheduler", "--host", "127.0.0.1", "--port", str(port), "--dashboard-address",
+    proc = subprocess.Popen([shutil.which("dask") or "dask", "scheduler", "--host", "127.0.0.1", "--port", str(port), "--dashboard-address",
                              f"127.0.0.1:{free_port()}"], stdout=logs, stderr=logs, cwd=folder)
     return f"127.0.0.1:{port}", proc
 
@@ -33,7 +34,7 @@ def start_scheduler(folder, logs):
 def start_worker(address, name, folder, logs):
     """a one-thread worker named `name` (no nanny: killing it kills the worker) of the
     scheduler at HOST:PORT, its files under folder/dask_NAME"""
-    return subprocess.Popen([dask_executable() or "dask", "worker", "tcp://" + address, "--nthreads", "1", "--no-nanny", "--name", name,
+    return subprocess.Popen([shutil.which("dask") or "dask", "worker", "tcp://" + address, "--nthreads", "1", "--no-nanny", "--name", name,
                              "--local-directory", os.path.join(folder, "dask_" + name)], stdout=logs, stderr=logs, cwd=folder)
 
 

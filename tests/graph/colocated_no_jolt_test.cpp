@@ -314,8 +314,7 @@ BusyWalk walk_on_a_busy_machine(std::uint64_t seed, bool late_ticks, double safe
       t += lateness_ns(rng);
       ++w.late;
     }
-    rig::g_clock_ns = t + 1000;  // the force is written 1 us after the sample
-    const Observation& o = rig.loop->tick(t);
+    const Observation& o = rig.tick_at(t);
     w.felt_n = std::max(w.felt_n, math::norm(o.sample.force_n));
     w.asked_n = std::max(w.asked_n, math::norm(o.step.force_n));
     w.cuts += o.cut && !was_cut;

@@ -51,9 +51,11 @@ struct Rig {
     loop->activate();
   }
 
-  const Observation& tick(std::int64_t n) {
-    g_clock_ns = n * kPeriod_ns + 1000;  // the force is written 1 us after the sample
-    return loop->tick(n * kPeriod_ns);
+  // the tick of period n (5 kHz), or of a sample at t_ns
+  const Observation& tick(std::int64_t n) { return tick_at(n * kPeriod_ns); }
+  const Observation& tick_at(std::int64_t t_ns) {
+    g_clock_ns = t_ns + 1000;  // the force is written 1 us after the sample
+    return loop->tick(t_ns);
   }
 };
 
