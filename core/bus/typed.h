@@ -17,6 +17,8 @@
 #include "core/rt/clock.h"
 #include "msgs/common.pb.h"
 
+#include <google/protobuf/arena.h>
+
 namespace enact::bus {
 
 // publishes Msg on one topic. One Publisher per topic and node: it owns the topic's sequence.
@@ -51,6 +53,13 @@ class Publisher {
     return bytes_.send(topic_, type_, buffer_.data(), size);
   }
 
+  // as publish(msg), numbered `seq` (the number the loop gave it, which a copy sent over its
+  // own hop carries too); the next publish() counts on from it
+  bool publish(Msg& msg, std::uint64_t seq) {
+    seq_ = seq - 1;
+    return publish(msg);
+  }
+
   // every message published from now on goes over `hop` too (the loop's same-host link,
   // which must outlive this publisher), before the bus; nullptr: the bus alone
   void also_over(LoopLink* hop) { hop_ = hop; }
@@ -70,6 +79,40 @@ class Publisher {
   std::uint64_t seq_ = 0;
   std::vector<std::uint8_t> buffer_;
   LoopLink* hop_ = nullptr;
+};
+
+// a message a loop parses again and again without allocating. Parsing into a reused message
+// frees its parts first (Protobuf's Clear() deletes the sub-messages: header, vectors) and
+// makes them again, a few allocations a message; this one lives on an arena with a block of
+// its own, emptied before each parse. Use the message fresh() returns until the next call.
+// The first parse on a thread other than the constructor's may allocate (the arena's part
+// for that thread), none after.
+template <class Msg, std::size_t kBlockBytes = 8192>
+class ReusedMessage {
+ public:
+  ReusedMessage() : arena_(options(block_)), msg_(google::protobuf::Arena::CreateMessage<Msg>(&arena_)) {}
+  ReusedMessage(const ReusedMessage&) = delete;
+  ReusedMessage& operator=(const ReusedMessage&) = delete;
+
+  // an empty message to parse into (the one before is gone)
+  Msg& fresh() {
+    arena_.Reset();
+    msg_ = google::protobuf::Arena::CreateMessage<Msg>(&arena_);
+    return *msg_;
+  }
+  const Msg& operator*() const { return *msg_; }
+  const Msg* operator->() const { return msg_; }
+
+ private:
+  static google::protobuf::ArenaOptions options(char* block) {
+    google::protobuf::ArenaOptions o;
+    o.initial_block = block;
+    o.initial_block_size = kBlockBytes;
+    return o;
+  }
+  alignas(16) char block_[kBlockBytes];
+  google::protobuf::Arena arena_;
+  Msg* msg_;
 };
 
 // receives Msg on one topic. Counters live on the ByteSubscriber, per topic.

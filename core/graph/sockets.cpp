@@ -56,7 +56,7 @@ bool wait_for_loop_peer(bus::LoopLink& link, const std::string& node, const std:
   return link.connected();
 }
 
-void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in) {
+void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const std::vector<std::pair<std::string, bus::TopicCounters>>& received) {
   status.clear_topics();
   for (const auto& [topic, c] : out.all_counters()) {
     auto* t = status.add_topics();
@@ -64,8 +64,7 @@ void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const
     t->set_sent(c.sent);
     t->set_dropped(c.dropped);
   }
-  if (!in) return;
-  for (const auto& [topic, c] : in->all_counters()) {
+  for (const auto& [topic, c] : received) {
     auto* t = status.add_topics();
     t->set_topic(topic);
     t->set_received(c.received);

@@ -3,6 +3,8 @@
 // node waits for, the loop link's peer; and the sockets' counters in a NodeStatus.
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <zmq.hpp>
 
@@ -35,6 +37,6 @@ bool await_subscribers(bus::BytePublisher& out, const char* topic, int count, st
 bool wait_for_loop_peer(bus::LoopLink& link, const std::string& node, const std::string& peer);
 
 // per-topic counters of a node's sockets into its NodeStatus
-void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const bus::ByteSubscriber* in);
+void add_counters(msgs::NodeStatus& status, const bus::BytePublisher& out, const std::vector<std::pair<std::string, bus::TopicCounters>>& received);
 
 }  // namespace enact::graph

@@ -41,7 +41,8 @@ const Observation& ColocatedLoop::tick(std::int64_t now_ns) {
   force_.write(now_ns, obs_.step.force_n);
   obs_.force_ns = clock_ ? clock_() : now_ns;
   // pins only at the down-sampled rate the cells can follow
-  if (tactile_ && obs_.step.frame_due) tactile_->apply(now_ns, obs_.step.frame, ++frames_);
+  obs_.frame_seq = obs_.step.frame_due ? ++frames_ : 0;
+  if (tactile_ && obs_.step.frame_due) tactile_->apply(now_ns, obs_.step.frame, frames_);
   // a virtual subject's fingertip feels what the pins show
   if (hand_) {
     tactile_->levels(now_ns, felt_);

@@ -32,6 +32,7 @@ struct Observation {
   // the time of the last tick before the cut that read the device well
   bool cut = false;
   std::int64_t cut_since_ns = 0;
+  std::uint64_t frame_seq = 0;  // the step's tactile frame, numbered from 1 (0: none due)
 };
 
 // reads the monotonic clock (ns) when the force is written (the tick's latency); a parameter
@@ -79,7 +80,7 @@ class ColocatedLoop {
   std::vector<node::LoopComponent*> stages_;
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
   float felt_[32] = {};  // what the virtual subject's fingertip feels
-  std::uint64_t frames_ = 0;  // tactile frames written
+  std::uint64_t frames_ = 0;  // tactile frames made
   Observation obs_;
   std::int64_t whole_ns_ = 0;   // the last tick whose sample said the force path was whole
 };

@@ -1,5 +1,4 @@
 #include "core/node/container.h"
-#include "core/node/sim_topics.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +13,7 @@
 #include "core/devices/hand.h"
 #include "core/node/colocated.h"
 #include "core/node/components.h"
+#include "core/node/sim_feed.h"
 #include "core/graph/messages.h"
 #include "core/graph/process.h"
 #include "core/graph/sockets.h"
@@ -30,6 +30,7 @@
 #include "core/rt/loop_stats.h"
 #include "core/rt/probe.h"
 #include "core/rt/profile.h"
+#include "core/rt/rt_section.h"
 #include "core/rt/spsc_queue.h"
 
 namespace enact::node {
@@ -94,11 +95,6 @@ struct Felt {
   }
 };
 
-struct Scene {
-  std::int64_t tick_ns;  // the tick it was taken at (names its computer model)
-  graph::SceneSnapshot snap;
-};
-
 }  // namespace
 
 const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--library=PATH...] [--component=NAME:PLUGIN...] --param NAME=VALUE...
@@ -123,22 +119,20 @@ lock-free queue, applied at the top of a tick, and answered on param/ack.
 container parameters (--param NAME=VALUE; rate_hz is the simulator's rate too):
 )", .plugins = true, .send_hwm = 10000, .more_help = plugin_help};
 
-struct Container::Io : SimTopics {
+struct Container::Io {
   Io(Container& c)
-      : SimTopics(c.host_.out()),
-        out(c.host_.out()),
+      : out(c.host_.out()),
+        rows(c.tactile_ ? c.tactile_->rows() : c.simulator_.model().proxies[0].rows),
+        cols(c.tactile_ ? c.tactile_->cols() : c.simulator_.model().proxies[0].cols),
         state_pub(out, graph::kDeviceState),
         shown_pub(out, graph::kTactileShown),
-        params(c.simulator_, c.sim_name_, out, event_pub, &c.host_.board()),
-        task_state(out),
-        loop(c.simulator_, c.force_->device(), c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr),
-        rows(c.tactile_ ? c.tactile_->rows() : c.simulator_.model().proxies[0].rows),
-        cols(c.tactile_ ? c.tactile_->cols() : c.simulator_.model().proxies[0].cols) {}
+        feed(c.simulator_, c.sim_name_, out, &c.host_.board(), rows, cols, c.clock_ == rt::GraphClock::simulated),
+        loop(c.simulator_, c.force_->device(), c.tactile_.get(), c.clock_ == rt::GraphClock::real ? &rt::now_ns : nullptr) {}
   bus::BytePublisher& out;
+  const int rows, cols;  // the tactile display's (none: the model's body grid)
   bus::Publisher<msgs::DeviceState> state_pub;
   bus::Publisher<msgs::TactileShown> shown_pub;
-  graph::ParamPort params;
-  graph::TaskStateTracker task_state;
+  SimFeed feed;  // the simulator's topics, its parameter requests and acks
   graph::ColocatedLoop loop;
   // real-time thread -> publisher thread: every tick, scene snapshots, pin levels, loop stats
   rt::SpscQueue<graph::Observation, 16384> queue;
@@ -147,28 +141,15 @@ struct Container::Io : SimTopics {
   rt::SpscQueue<rt::LoopSummary, 8> summaries;
   graph::ParamQueue changes;
   graph::AppliedQueue applied;
-  // a keyframe the real-time thread saved (sized before it starts) after the step of tick
-  // keyframe_tick, for the publisher thread once `keyframe_full`
-  sim::Keyframe keyframe;
-  std::uint64_t keyframe_tick = 0;
-  std::atomic<bool> keyframe_full{false};
+  KeyframeSlot keyframes;  // the real-time thread's, once a second, for the publisher thread
   std::atomic<int> fifo_in_force{-1};  // the loop thread's FIFO priority, once it has set up
   rt::LoopStats stats;
   std::atomic<std::uint64_t> dropped{0};
   rt::RtReport report;
-  // each cut of the force path (a late tick, a device error) said once, counted
-  const int rows, cols;  // the tactile display's (none: the model's body grid)
   // the publisher thread's
   msgs::DeviceState state_msg;
-  msgs::ForceCommand force_msg;
-  msgs::TactileFrame frame_msg;
   msgs::TactileShown shown_msg;
-  msgs::SceneState scene_msg;
-  msgs::TaskEvent event_msg;
   msgs::NodeStatus status_msg;
-  msgs::SimKeyframe keyframe_msg;
-  std::uint64_t frame_seq = 0;
-  sim::ParamApplied done;
   Felt felt;
   graph::Observation o;
   Scene scene;
@@ -257,16 +238,10 @@ void Container::plan_wait(double spin_us) {
   spin_floor_ = wait.spin_floor;
 }
 
-// into a queue to the publisher thread: in real time what does not fit is lost (counted by
-// the caller); in simulated time the loop waits for room, so observers see every tick
+// into a queue to the publisher thread (in simulated time waiting for room)
 template <typename Queue, typename Item>
 bool Container::deliver(Queue& queue, const Item& item) {
-  if (clock_ == rt::GraphClock::real) return queue.try_push(item);
-  while (!queue.try_push(item)) {
-    if (graph::stop_requested()) return false;
-    std::this_thread::yield();
-  }
-  return true;
+  return node::deliver(queue, item, clock_ == rt::GraphClock::simulated);
 }
 
 // the real-time thread: set up, then tick on absolute deadlines
@@ -299,10 +274,11 @@ void Container::rt_main() {
       break;
     }
     last_ns = tick_ns;
+    const rt::RtSection section;  // the tick and its hand-over: nothing allocated, nothing read
     const graph::Observation& o = io.loop.tick(tick_ns);
     io.stats.latency.record(o.force_ns - woke);  // from the device read to the force written
     // the keyframe before its tick's observation: the publisher thread sends it right after
-    if (n % status_every == 0 && !io.keyframe_full.load(std::memory_order_acquire)) save_keyframe(o);
+    if (n % status_every == 0) io.keyframes.save(simulator_, o.seq);
     if (!deliver(io.queue, o)) io.dropped.fetch_add(1, std::memory_order_relaxed);
     // in simulated time nobody is there after the bridge is completed: the run ends with it
     if (clock_ == rt::GraphClock::simulated && o.step.event.kind == task::TaskEventKind::completed) break;
@@ -328,35 +304,9 @@ void Container::rt_main() {
   rt_done_.store(true);
 }
 
-// on the real-time thread, after a tick's step: allocates nothing (the keyframe is sized)
-void Container::save_keyframe(const graph::Observation& o) {
-  Io& io = *io_;
-  simulator_.save(io.keyframe);
-  io.keyframe_tick = o.seq;
-  io.keyframe_full.store(true, std::memory_order_release);
-}
-
-// on the publisher thread, after tick io.o was published: its keyframe, if one was saved
-// (one whose tick's observation was dropped is let go)
-void Container::publish_keyframe() {
-  Io& io = *io_;
-  if (!io.keyframe_full.load(std::memory_order_acquire) || io.keyframe_tick > io.o.seq) return;
-  if (io.keyframe_tick == io.o.seq) {
-    graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
-    io.keyframe_pub.publish(io.keyframe_msg);
-  }
-  io.keyframe_full.store(false, std::memory_order_release);
-}
-
 // what the real-time thread applied, before anything it did after: a tick's messages name
 // the computer model in force at that tick
-void Container::take_applied() {
-  Io& io = *io_;
-  while (io.applied.try_pop(io.done)) {
-    io.params.applied(io.done);
-    io.task_state.applied(io.done.kind);
-  }
-}
+void Container::take_applied() { io_->feed.take_applied(io_->applied); }
 
 // one tick (io.o) for observers
 void Container::publish_tick() {
@@ -364,17 +314,7 @@ void Container::publish_tick() {
   const graph::Observation& o = io.o;
   graph::fill(io.state_msg, o.sample);
   io.state_pub.publish(io.state_msg);
-  io.params.stepped(o.seq, io.state_msg.header().seq(), io.state_msg.header().stamp_ns());
-  graph::fill(io.force_msg, io.state_msg.header().seq(), o.step.force_n, o.step.fault);
-  io.force_msg.mutable_header()->set_stamp_ns(o.force_ns);
-  io.force_pub.publish(io.force_msg);
-  if (o.step.frame_due) {
-    graph::fill(io.frame_msg, io.rows, io.cols, o.step.frame);
-    io.frame_msg.mutable_header()->set_stamp_ns(o.sample.time_ns);
-    io.frame_pub.publish(io.frame_msg);
-    io.frame_seq = io.frame_msg.header().seq();
-  }
-  if (graph::fill(io.event_msg, o.step.event, io.params.model_name_at(o.sample.time_ns))) io.event_pub.publish(io.event_msg);
+  io.feed.step(o, io.state_msg.header().seq());
 }
 
 void Container::publish_status() {
@@ -382,7 +322,7 @@ void Container::publish_status() {
   graph::fill(io.status_msg, host_.name(), io.summary, io.felt.device_faults + io.felt.sim_faults, "");
   force_->cuts().fill(io.status_msg);
   graph::fill_verdict(io.status_msg, sched_.rate_hz, io.summary.ticks, io.summary.overruns, force_->cuts());
-  host_.publish_status(io.status_msg, &io.params.subscriber());
+  host_.publish_status(io.status_msg, io.feed.params().subscriber().all_counters());
 }
 
 // the publisher thread's round: parameter changes to the real-time thread (never more than
@@ -392,24 +332,22 @@ std::size_t Container::drain() {
   std::size_t ticks = 0;
   // the parameter in force is what the loop runs at (a profile may have set it, FIFO refused)
   if (const int fifo = io.fifo_in_force.exchange(-1); fifo >= 0) host_.board().set(host_.name() + ".fifo_priority", std::to_string(fifo));
-  while (const auto change = io.params.next()) io.changes.try_push(*change);
+  io.feed.intake(io.changes);
   for (; io.queue.try_pop(io.o); ++ticks) {
     take_applied();
     io.felt.add(io.o);
     force_->path_cut(io.o.cut, io.o.cut ? io.o.cut_since_ns : io.o.sample.time_ns);
-    io.task_state.step(io.o.sample.time_ns, io.o.step);
     publish_tick();
-    publish_keyframe();
+    io.keyframes.after(io.o.seq, [&](const sim::Keyframe& k) { io.feed.keyframe(k, simulator_.model()); });
   }
-  io.task_state.publish_due(rt::now_ns(), io.params.model_name());
+  io.feed.due(rt::now_ns());
   while (io.scenes.try_pop(io.scene)) {
     take_applied();
-    graph::fill(io.scene_msg, io.scene.snap, io.params.model_name_at(io.scene.tick_ns));
-    io.scene_pub.publish(io.scene_msg);
+    io.feed.scene(io.scene);
   }
   take_applied();
   while (io.shown_queue.try_pop(io.levels)) {
-    graph::fill(io.shown_msg, io.rows, io.cols, io.levels.level, io.frame_seq, io.levels.moves ? &io.levels.motion : nullptr);
+    graph::fill(io.shown_msg, io.rows, io.cols, io.levels.level, io.feed.frame_seq(), io.levels.moves ? &io.levels.motion : nullptr);
     io.shown_msg.mutable_header()->set_stamp_ns(io.levels.time_ns);
     io.shown_pub.publish(io.shown_msg);
   }
@@ -419,16 +357,7 @@ std::size_t Container::drain() {
 
 // the trial stopped at duration_s, said as a live `sim.trial stop` is (TRIAL_END "stopped",
 // at the last tick): whoever runs the trial stops the graph at once, on either clock
-void Container::publish_limit() {
-  Io& io = *io_;
-  io.event_msg.Clear();
-  io.event_msg.mutable_header()->set_stamp_ns(limit_ns_.load());
-  io.event_msg.set_kind(msgs::TaskEvent::TRIAL_END);
-  io.event_msg.set_time_ns(limit_ns_.load());
-  io.event_msg.set_detail("stopped");
-  io.event_msg.set_condition(io.params.model_name());
-  io.event_pub.publish(io.event_msg);
-}
+void Container::publish_limit() { io_->feed.stopped(limit_ns_.load()); }
 
 void Container::print_summary() {
   Io& io = *io_;
@@ -471,7 +400,7 @@ void Container::open_ports() {
   // real-time thread starts
   io_ = std::make_unique<Io>(*this);
   for (const auto& stage : stages_) io_->loop.add_stage(*stage);
-  simulator_.save(io_->keyframe);
+  io_->keyframes.size(simulator_);
 }
 
 void Container::activate() {

@@ -44,8 +44,6 @@ class Container {
   std::size_t drain();
   void publish_tick();
   void take_applied();
-  void save_keyframe(const graph::Observation& o);
-  void publish_keyframe();
   void publish_status();
   void print_summary();
   void publish_limit();

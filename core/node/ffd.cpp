@@ -264,7 +264,7 @@ void Ffd::publish_status() {
   graph::fill_verdict(io.status, sched_.rate_hz, io.answers.requests() + io.scheduler->skipped(),
                       io.answers.unanswered() + io.scheduler->skipped(), driver_->cuts());
   io.status.mutable_header()->set_stamp_ns(0);
-  host_.publish_status(io.status, &io.in);
+  host_.publish_status(io.status, io.in.all_counters());
 }
 
 void Ffd::say_summary() {

@@ -42,8 +42,8 @@ void Host::announce() {
 
 void Host::ready() { graph::report_ready(); }
 
-void Host::publish_status(msgs::NodeStatus& status, const bus::ByteSubscriber* in) {
-  graph::add_counters(status, *out_, in);
+void Host::publish_status(msgs::NodeStatus& status, const std::vector<std::pair<std::string, bus::TopicCounters>>& received) {
+  graph::add_counters(status, *out_, received);
   status_->publish(status);
 }
 

@@ -15,6 +15,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/bus/bytes.h"
 #include "core/bus/typed.h"
@@ -60,9 +62,9 @@ class Host {
   void announce();
   // the component is active: the launcher is told so (the one "ready" of the process)
   void ready();
-  // the node's status, once a second: the counters of its publisher and of `in` (its
-  // subscriber, if any) added, published on node/status
-  void publish_status(msgs::NodeStatus& status, const bus::ByteSubscriber* in);
+  // the node's status, once a second: the counters of its publisher and `received` (its
+  // subscriber's: ByteSubscriber::all_counters) added, published on node/status
+  void publish_status(msgs::NodeStatus& status, const std::vector<std::pair<std::string, bus::TopicCounters>>& received = {});
 
  private:
   const NodeKind& kind_;

@@ -19,7 +19,11 @@
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
 #include "core/config/env.h"
-#include "core/node/sim_topics.h"
+#include "core/node/sim_feed.h"
+#include "core/rt/rt_section.h"
+#include "core/rt/rt_setup.h"
+#include "core/rt/spsc_queue.h"
+#include "core/rt/wakeup.h"
 #include "core/rt/clock.h"
 #include "core/rt/loop_stats.h"
 
@@ -28,19 +32,19 @@ namespace enact::node {
 const NodeKind kSim{.executable = "enact-sim", .default_name = "sim", .help = R"(usage: enact-sim [--name NAME] --param NAME=VALUE...
 
 The simulator of a distributed graph: for every ffd/state it steps the model and answers
-on ffd/force (answered_seq = the state's seq); publishes tactile/frame (down-sampled),
-sim/scene (scene_rate_hz), task/event, task/state (10 Hz and on change) and node/status
-(1 Hz). Parameter changes on
-param/set (NAME.model, NAME.stiffness_n_per_m, ...: docs/parameters.md) are applied
-between two DeviceStates and answered on param/ack.
+on ffd/force (answered_seq = the state's seq), over the driver's same-host link when it has
+one; publishes tactile/frame (down-sampled), sim/scene (scene_rate_hz), task/event,
+task/state (10 Hz and on change) and node/status (1 Hz) from a thread beside its loop.
+Parameter changes on param/set (NAME.model, NAME.stiffness_n_per_m, ...: docs/parameters.md)
+are planned on that side, applied between two DeviceStates and answered on param/ack.
 
 parameters (--param NAME=VALUE; live: enact param set NAME.PARAM VALUE while it runs):
 )", .loop = true};
 
 namespace {
 
-// how often parameter requests are looked for while states flow
-constexpr std::int64_t kParamPoll_ns = 10'000'000;
+// the feed's round when nothing wakes it sooner
+constexpr std::int64_t kFeedRound_ns = 1'000'000;
 
 // the launcher's respawn count ($ENACT_RESPAWN), 0 for a first start
 int respawn_count() {
@@ -50,18 +54,30 @@ int respawn_count() {
 
 }  // namespace
 
-struct Sim::Io : SimTopics {
+struct Sim::Io {
+  // one step of the loop, for the feed: what it made, and the device state it answered
+  struct Answered {
+    graph::Observation o;
+    std::uint64_t state_seq = 0;
+  };
+  // the loop's status, once a second
+  struct LoopStatus {
+    rt::LoopSummary loop;
+    bus::TopicCounters states;  // ffd/state received (over the link too), lost
+    std::uint64_t faults = 0;
+    physics::Fault last_fault = physics::Fault::none;
+  };
+
   explicit Io(Sim& s)
-      : SimTopics(s.host_.out()),
-        out(s.host_.out()),
+      : out(s.host_.out()),
+        feed(s.simulator_, s.host_.name(), out, &s.host_.board(), s.simulator_.model().proxies[0].rows, s.simulator_.model().proxies[0].cols,
+             s.simulated_),
         states(in, graph::kDeviceState),
         ffd_endpoint(graph::node_endpoint(s.config_.ffd_node)),
-        link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.config_.ffd_node) : ""),
-        params(s.simulator_, s.host_.name(), out, event_pub, &s.host_.board()),
-        task_state(out) {
-    force_pub.also_over(&link);
-  }
+        link_path(s.local_hop_ ? bus::loop_link_path(graph::graph_dir(), s.config_.ffd_node) : "") {}
   bus::BytePublisher& out;
+  SimFeed feed;  // the simulator's topics, its parameter requests and acks: this thread's
+  // the loop thread's
   bus::ByteSubscriber in;
   bus::Subscriber<msgs::DeviceState> states;
   // the hop from the FFD driver: its same-host link once it listens (tried each time no
@@ -69,19 +85,29 @@ struct Sim::Io : SimTopics {
   // node feeding the simulator has no link (`enact play` of a recording, a remote driver)
   const std::string ffd_endpoint, link_path;
   bus::LoopLink link;
-  bool on_bus = true;  // subscribed to the driver's states on the bus too
+  bool on_bus = true;      // subscribed to the driver's states on the bus too
+  bool over_link = false;  // the state in hand came over the link
   char sample[bus::LoopLink::kMaxMessage];
-  graph::ParamPort params;
-  graph::TaskStateTracker task_state;
+  std::uint8_t answer[bus::LoopLink::kMaxMessage];
+  bus::ReusedMessage<msgs::DeviceState> state;  // the state in hand
   msgs::ForceCommand command;
-  msgs::TactileFrame frame;
-  msgs::SceneState scene;
-  graph::SceneSnapshot snap;
-  msgs::TaskEvent event;
-  msgs::NodeStatus status;
-  sim::Keyframe keyframe;  // sized by a first save before the loop
-  msgs::SimKeyframe keyframe_msg;
+  Answered step;
   rt::LoopStats stats;
+  // loop -> feed
+  rt::SpscQueue<Answered, 16384> steps;
+  rt::SpscQueue<Scene, 64> scenes;
+  rt::SpscQueue<LoopStatus, 8> statuses;
+  KeyframeSlot keyframes;
+  std::atomic<std::uint64_t> dropped{0};
+  rt::Wakeup wake;  // the feed, at once: an answer on the bus hop, a frame, a task event
+  // feed <-> loop: parameter changes planned, and applied
+  graph::ParamQueue changes;
+  graph::AppliedQueue applied;
+  // the feed's
+  Answered taken;
+  Scene scene;
+  LoopStatus status_taken;
+  msgs::NodeStatus status;
 };
 
 Sim::Sim(Host& host)
@@ -92,19 +118,26 @@ Sim::Sim(Host& host)
   simulator_.configure(graph::sim_params(host.params()));
 }
 
-Sim::~Sim() = default;
+Sim::~Sim() {
+  if (loop_.joinable()) loop_.join();
+}
 
-// the next state within timeout_ns, into state_: false when none came
-bool Sim::next_state(std::int64_t timeout_ns) {
+// the next state before deadline_ns, into io.state: false when none came. One that came over
+// the link opens the loop's real-time section (rt/rt_section.h): it is answered from here
+bool Sim::next_state(std::int64_t deadline_ns) {
   Io& io = *io_;
-  const std::int64_t deadline = rt::now_ns() + timeout_ns;
   if (local_hop_ && !io.link.connected() && rt::now_ns() >= next_link_try_ns_) {
     next_link_try_ns_ = rt::now_ns() + 100'000'000;  // tried every 100 ms while there is none
     io.link = bus::LoopLink::connect(io.link_path, 0);
   }
-  if (!io.link.connected()) return io.states.receive(state_, static_cast<int>(timeout_ns / 1'000'000));
-  for (long n; (n = io.link.receive(io.sample, sizeof io.sample, deadline)) > 0;) {
-    if (!io.states.accept_payload(io.sample, static_cast<std::size_t>(n), state_)) continue;
+  io.over_link = false;
+  if (!io.link.connected()) return io.states.receive(io.state.fresh(), static_cast<int>((deadline_ns - rt::now_ns()) / 1'000'000));
+  for (long n; (n = io.link.receive(io.sample, sizeof io.sample, deadline_ns)) > 0;) {
+    rt::enter_rt_section();
+    if (!io.states.accept_payload(io.sample, static_cast<std::size_t>(n), io.state.fresh())) {
+      rt::leave_rt_section();
+      continue;
+    }
     // the states come over the link alone now (the bus would deliver each twice). Left only
     // now: until the driver's loop starts it counts this subscription with its observers, as
     // on the bus hop, so the count it waits for does not change under it. Unsubscribed, not
@@ -113,12 +146,13 @@ bool Sim::next_state(std::int64_t timeout_ns) {
     // waits for room, in simulated time)
     if (io.on_bus) io.in.unsubscribe(graph::kDeviceState);
     io.on_bus = false;
+    io.over_link = true;
     return true;
   }
   if (!io.link.connected() && !io.on_bus) {
     // the driver left: back to the bus, less what it queued there before this node left it
     // (states answered over the link already)
-    while (io.states.receive(state_, 0)) {
+    while (io.states.receive(io.state.fresh(), 0)) {
     }
     io.in.subscribe(graph::kDeviceState);
     io.on_bus = true;
@@ -126,73 +160,96 @@ bool Sim::next_state(std::int64_t timeout_ns) {
   return false;
 }
 
-// step on state_ and answer it at once; after an interruption (the driver's watchdog or a
-// device error cut the force) from a body re-synchronised with the device
+// step on io.state and answer it at once, the parameter changes planned since the last step
+// swapped in first; after an interruption (the driver's watchdog or a device error cut the
+// force) from a body re-synchronised with the device
 void Sim::answer(std::int64_t received_ns) {
   Io& io = *io_;
-  if (steps_ == 0) next_scene_ = next_status_ = next_keyframe_ = received_ns;
-  const std::int64_t sample_ns = state_.header().stamp_ns();
-  const sim::StepOutput& o = simulator_.step_sample(sample_ns, graph::get(state_.position()), graph::force_path_cut(state_.faults()));
-  graph::fill(io.command, state_.header().seq(), o.force_n, o.fault);
-  io.command.set_tactile_frame_seq(o.frame_due ? io.frame_pub.last_seq() + 1 : 0);  // published just after
-  io.command.set_run_over(simulated_ && o.event.kind == task::TaskEventKind::completed);
-  io.force_pub.publish(io.command);
+  graph::Observation& o = io.step.o;
+  o.sample.time_ns = io.state->header().stamp_ns();
+  o.sample.position_m = graph::get(io.state->position());
+  sim::ParamChange change;
+  while (io.changes.try_pop(change)) io.applied.try_push(simulator_.apply(change, o.sample.time_ns));
+  o.cut = graph::force_path_cut(io.state->faults());
+  o.step = simulator_.step_sample(o.sample.time_ns, o.sample.position_m, o.cut);
+  o.seq = ++steps_;
+  o.frame_seq = o.step.frame_due ? ++frames_ : 0;
+  o.force_ns = rt::now_ns();
+  io.step.state_seq = io.state->header().seq();
+  if (io.over_link) {
+    SimFeed::answer(io.command, o, io.step.state_seq, simulated_);
+    const std::size_t size = io.command.ByteSizeLong();
+    io.command.SerializeWithCachedSizesToArray(io.answer);
+    io.link.send(io.answer, size);
+  }
   io.stats.latency.record(rt::now_ns() - received_ns);
-  io.params.stepped(simulator_.steps(), state_.header().seq(), sample_ns);
-  ++steps_;
-  io.task_state.step(sample_ns, o);
-  publish_outputs(o, received_ns);
 }
 
-// what observers see of a step: its frame, task event, the scene and status when due
-void Sim::publish_outputs(const sim::StepOutput& o, std::int64_t received_ns) {
+// the step to the feed (which publishes the answer on the bus too), and when due the
+// scene, a keyframe and the loop's status
+void Sim::hand_over(std::int64_t received_ns) {
   Io& io = *io_;
-  const physics::Proxy& body = simulator_.model().proxies[0];
-  if (o.frame_due) {
-    graph::fill(io.frame, body.rows, body.cols, o.frame);
-    // in simulated time the tactile driver takes its time from the frames: the sample's
-    if (simulated_) io.frame.mutable_header()->set_stamp_ns(state_.header().stamp_ns());
-    io.frame_pub.publish(io.frame);
+  const graph::Observation& o = io.step.o;
+  if (o.seq == 1) next_scene_ = next_status_ = next_keyframe_ = received_ns;
+  if (!deliver(io.steps, io.step, simulated_)) io.dropped.fetch_add(1, std::memory_order_relaxed);
+  if (received_ns >= next_keyframe_) {
+    next_keyframe_ = received_ns + graph::kKeyframePeriod_ns;
+    io.keyframes.save(simulator_, o.seq);
   }
-  if (graph::fill(io.event, o.event, simulator_.computer_model().name)) io.event_pub.publish(io.event);
   if (received_ns >= next_scene_) {
     next_scene_ = received_ns + scene_period_ns_;
-    graph::snapshot(simulator_, o.pins, o.force_n, io.snap);
-    graph::fill(io.scene, io.snap, simulator_.computer_model().name);
-    io.scene_pub.publish(io.scene);
-  }
-  if (received_ns >= next_keyframe_) {
-    // after this step's outputs: replay continues from here with the next state
-    next_keyframe_ = received_ns + graph::kKeyframePeriod_ns;
-    simulator_.save(io.keyframe);
-    graph::fill(io.keyframe_msg, io.keyframe, simulator_.model());
-    io.keyframe_pub.publish(io.keyframe_msg);
+    Scene& scene = io.scene;
+    scene.tick_ns = o.sample.time_ns;
+    graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
+    deliver(io.scenes, scene, simulated_);
   }
   if (received_ns >= next_status_) {
     next_status_ = received_ns + 1'000'000'000;
     io.stats.ticks = steps_;
-    graph::fill(io.status, host_.name(), rt::summarize(io.stats, simulator_.model().rate_hz), simulator_.state().faults,
-                physics::to_string(simulator_.state().last_fault));
-    host_.publish_status(io.status, &io.in);
+    const Io::LoopStatus status{rt::summarize(io.stats, simulator_.model().rate_hz), io.states.counters(), simulator_.state().faults,
+                            simulator_.state().last_fault};
+    deliver(io.statuses, status, simulated_);
   }
+  // the driver waits for an answer on the bus; the tactile driver for a frame
+  if (!io.over_link || o.frame_seq != 0 || o.step.event.kind != task::TaskEventKind::none) io.wake.notify();
 }
 
-// parameter changes (planned on the port's thread), between two steps
-void Sim::apply_params() {
+// the answering thread: a state, its answer, its record handed over; nothing else
+void Sim::loop_main() {
   Io& io = *io_;
-  while (const auto change = io.params.next()) {
-    const sim::ParamApplied done = simulator_.apply(*change, rt::now_ns());
-    io.params.applied(done);
-    io.task_state.applied(done.kind);
+  rt::prefault_stack();
+  while (!graph::stop_requested()) {
+    if (!next_state(rt::now_ns() + 100'000'000)) continue;
+    const std::int64_t received = rt::now_ns();
+    rt::enter_rt_section();  // a state from the bus: from here
+    answer(received);
+    hand_over(received);
+    rt::leave_rt_section();
   }
-  // a new simulator's trial start, recorded once the attach point listens
-  if (!restart_event_due_) return;
-  restart_event_due_ = false;
-  io.event.set_kind(msgs::TaskEvent::TRIAL_START);
-  io.event.set_time_ns(restart_ns_);
-  io.event.set_condition(simulator_.computer_model().name);
-  io.event.set_detail("simulator restarted (respawn " + std::to_string(respawn_) + "): physics and task start over");
-  io.event_pub.publish(io.event);
+  loop_done_.store(true);
+  io.wake.notify();
+}
+
+// the feed's round: parameter requests to the loop, and everything the loop handed over
+// published; the steps it took
+std::size_t Sim::drain() {
+  Io& io = *io_;
+  io.feed.intake(io.changes);
+  std::size_t n = 0;
+  for (; io.steps.try_pop(io.taken); ++n) {
+    io.feed.take_applied(io.applied);
+    io.feed.step(io.taken.o, io.taken.state_seq);
+    io.keyframes.after(io.taken.o.seq, [&](const sim::Keyframe& k) { io.feed.keyframe(k, simulator_.model()); });
+  }
+  io.feed.take_applied(io.applied);
+  io.feed.due(rt::now_ns());
+  while (io.scenes.try_pop(io.scene)) io.feed.scene(io.scene);
+  while (io.statuses.try_pop(io.status_taken)) {
+    const Io::LoopStatus& s = io.status_taken;
+    graph::fill(io.status, host_.name(), s.loop, s.faults, physics::to_string(s.last_fault));
+    host_.publish_status(io.status, {{graph::kDeviceState, s.states}});
+  }
+  return n;
 }
 
 // a new simulator: physics and task start over, said now and recorded. The attach point
@@ -201,9 +258,8 @@ void Sim::apply_params() {
 // every observer would miss the new stream's start
 void Sim::restart_begins() {
   respawn_ = respawn_count();
-  restart_event_due_ = respawn_ > 0;
   restart_ns_ = rt::now_ns();
-  if (!restart_event_due_) return;
+  if (respawn_ == 0) return;
   graph::await_subscribers(io_->out, graph::kForceCommand, local_hop_ ? 1 : 2, restart_ns_ + 1'000'000'000);
   graph::say(host_.name(), "simulator restarted (respawn " + std::to_string(respawn_) + "): physics and task start over");
 }
@@ -220,46 +276,50 @@ std::string Sim::summary() const {
 void Sim::open_ports() {
   io_ = std::make_unique<Io>(*this);
   scene_period_ns_ = static_cast<std::int64_t>(1e9 / config_.scene_rate_hz);
+  // the answer's parts made once, before the loop: it fills them in place
+  io_->command.mutable_header()->set_source(host_.name());
+  SimFeed::answer(io_->command, io_->step.o, 0, simulated_);
 }
 
 void Sim::activate() {
   restart_begins();
   simulator_.activate(0);
-  simulator_.save(io_->keyframe);  // sized before the loop
+  io_->keyframes.size(simulator_);  // before the loop
 }
 
 void Sim::run() {
+  Io& io = *io_;
   // observers asked for (a logger recording a replay from its first step) listen before the
   // first answer (on the bus hop the driver subscribes too). After "ready": the launcher
   // starts the rest of the graph meanwhile; the driver waits for the simulator on the loop
   // link, so its loop starts after this wait
   const int subscribers = config_.observers > 0 ? config_.observers + (local_hop_ ? 0 : 1) : 0;
-  graph::wait_for_subscribers(io_->out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
+  graph::wait_for_subscribers(io.out, graph::kForceCommand, subscribers, host_.name(), "observer (logger)", false);
   // only now the states: a player (`enact play` of a recording) waits for this subscription,
   // so no state waits in a queue meanwhile to be answered later in a burst, faster than the
   // observers take the answers (red CI: a late logger lost 2,000 forces of a replay)
-  io_->in.connect(io_->ffd_endpoint);
+  io.in.connect(io.ffd_endpoint);
   // in simulated time the driver waits for the pins of each frame: the tactile driver (started
   // before it) listens before the first, where there is one
-  if (simulated_) graph::await_subscribers(io_->out, graph::kTactileFrame, 1, rt::now_ns() + 2'000'000'000);
-  while (!graph::stop_requested()) {
-    io_->task_state.publish_due(rt::now_ns(), simulator_.computer_model().name);
-    if (!next_state(100'000'000)) {
-      apply_params();
-      continue;
-    }
-    const std::int64_t received = rt::now_ns();
-    answer(received);
-    // answered and every output of this step sent: now is between two steps (a change
-    // applied earlier would alter this step's tactile frame, which replay would not see)
-    if (received >= next_params_) {
-      next_params_ = received + kParamPoll_ns;
-      apply_params();
-    }
+  if (simulated_) graph::await_subscribers(io.out, graph::kTactileFrame, 1, rt::now_ns() + 2'000'000'000);
+  // the loop thread takes the process's real-time profile; this one then leaves it
+  loop_ = std::thread([this] { loop_main(); });
+  rt::leave_fifo();
+  // a new simulator's trial start, recorded now that the attach point listens
+  if (respawn_ > 0) {
+    io.feed.say_event(msgs::TaskEvent::TRIAL_START, restart_ns_,
+                      "simulator restarted (respawn " + std::to_string(respawn_) + "): physics and task start over");
+  }
+  while (!loop_done_.load()) {
+    const std::int64_t round_end = rt::now_ns() + kFeedRound_ns;
+    // in simulated time the loop may wait for this thread: no pause while there is work
+    if (drain() == 0 || !simulated_) io.wake.wait(round_end);
   }
 }
 
 int Sim::deactivate() {
+  if (loop_.joinable()) loop_.join();
+  drain();  // what the loop handed over last
   simulator_.deactivate();
   graph::say(host_.name(), summary());
   graph::say(host_.name(), simulator_.summary());

@@ -1,17 +1,21 @@
 #pragma once
-// The simulator of a distributed graph (enact-sim). It steps once per DeviceState and
-// answers at once with the ForceCommand carrying the sequence number it answers, over the
-// FFD driver's same-host link when it has one, the bus otherwise; it also publishes the
-// down-sampled tactile frames, the scene (decimated), task events and status. Live
-// parameter changes are planned on the ParamPort's thread and applied between two steps.
+// The simulator of a distributed graph (enact-sim). Its loop thread steps once per
+// DeviceState and answers at once with the ForceCommand carrying the sequence number it
+// answers, over the FFD driver's same-host link when it has one; between two steps it swaps
+// in the parameter changes planned beside it. Everything else is done on the process's other
+// thread by the simulator's feed, as in the co-located container (node/sim_feed.h): the
+// answers on the bus (the answer itself on the bus hop, woken at once), the down-sampled
+// tactile frames, the scene (decimated), keyframes, task events and state, parameter requests
+// and acks, status.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "core/node/host.h"
 #include "core/params/device_config.h"
 #include "core/sim/simulator.h"
-#include "msgs/device_state.pb.h"
 
 namespace enact::node {
 
@@ -28,11 +32,12 @@ class Sim {
   int deactivate();
 
  private:
-  struct Io;  // sockets, publishers, parameter port: made by open_ports()
-  bool next_state(std::int64_t timeout_ns);
+  struct Io;  // sockets, queues, the feed: made by open_ports()
+  void loop_main();
+  bool next_state(std::int64_t deadline_ns);
   void answer(std::int64_t received_ns);
-  void publish_outputs(const sim::StepOutput& o, std::int64_t received_ns);
-  void apply_params();
+  void hand_over(std::int64_t received_ns);
+  std::size_t drain();
   void restart_begins();
   std::string summary() const;
 
@@ -42,12 +47,15 @@ class Sim {
   bool local_hop_;
   bool simulated_;  // the graph's clock: the frames carry the sample's time
   std::unique_ptr<Io> io_;
-  msgs::DeviceState state_;
-  std::int64_t next_scene_ = 0, next_status_ = 0, next_params_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
-  std::int64_t scene_period_ns_ = 0, restart_ns_ = 0;
-  std::uint64_t steps_ = 0;
+  std::thread loop_;  // the answering thread, from run() to deactivate()
+  std::atomic<bool> loop_done_{false};
+  // the loop thread's
+  std::int64_t next_scene_ = 0, next_status_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
+  std::int64_t scene_period_ns_ = 0;
+  std::uint64_t steps_ = 0, frames_ = 0;
+  // the feed's: a restarted simulator's trial start, said once the loop runs
+  std::int64_t restart_ns_ = 0;
   int respawn_ = 0;
-  bool restart_event_due_ = false;
 };
 
 }  // namespace enact::node

@@ -70,7 +70,7 @@ void Tactile::publish_status(std::int64_t now) {
   graph::fill(io.status, host_.name(), rt::LoopSummary{.rate_hz = config_.shown_rate_hz}, 0, "");
   io.watchdog.update(io.watchdog.tripped(), now);
   io.watchdog.fill(io.status);
-  host_.publish_status(io.status, &io.in);
+  host_.publish_status(io.status, io.in.all_counters());
 }
 
 // real time: frames applied as they come, the pins shown at shown_rate_hz, every pin down

@@ -114,7 +114,13 @@ RtReport apply_rt_setup(const RtParams& params) {
   return report;
 }
 
-__attribute__((noinline)) std::size_t prefault_stack(std::size_t bytes) {
+__attribute__((noinline)) void leave_fifo() noexcept {
+  if (!running_fifo()) return;
+  sched_param none{};
+  pthread_setschedparam(pthread_self(), SCHED_OTHER, &none);
+}
+
+std::size_t prefault_stack(std::size_t bytes) {
   // room left on this thread's stack, below this frame
   pthread_attr_t attr;
   if (pthread_getattr_np(pthread_self(), &attr) == 0) {

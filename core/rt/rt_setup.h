@@ -42,6 +42,10 @@ bool running_fifo();
 // runs at, whatever asked for it (its parameter, a graph's profile) and whatever was refused
 int fifo_priority_now();
 
+// the calling thread back to normal scheduling (SCHED_OTHER): a loop process's helper thread,
+// which the graph's profile made FIFO with the process, yields to the loop thread beside it
+void leave_fifo() noexcept;
+
 // touch `bytes` of stack below the caller so the loop never page-faults on it (call it from
 // the loop thread, after locking memory, so the pages stay resident). Stops short of the end
 // of the thread's stack; returns the bytes touched.

@@ -23,6 +23,7 @@
 #include "core/graph/stop.h"
 #include "core/rt/clock.h"
 #include "core/rt/profile.h"
+#include "core/rt/spsc_queue.h"
 #include "core/sim/simulator.h"
 #include "nodes/enact/args.h"
 #include "nodes/enact-bench/bench_loop.h"
@@ -67,8 +68,9 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
   // graph's simulator waits on its link (the process's CPU and priority, inherited)
   std::atomic<bool> done{false};
   std::thread link_arm([&] {
-    // answered like the graph's simulator: a step of its own simulator, the answer on the link
-    // first, then on a bus without subscribers
+    // answered like the graph's simulator (node::Sim): a step of its own simulator, the answer
+    // over the link at once, the step handed to a second thread that publishes it on a bus
+    // without subscribers (node::SimFeed: every millisecond, or at once when woken)
     sim::Simulator own;
     own.configure(p);
     own.activate(0);
@@ -77,17 +79,42 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
     bus::ByteSubscriber link_in;
     bus::Subscriber<msgs::DeviceState> link_states(link_in, "ffd/state");
     bus::LoopLink link = bus::LoopLink::connect(setup.link_path, rt::now_ns() + 10'000'000'000);
-    link_forces.also_over(&link);
+    struct Step {
+      std::uint64_t seq;
+      math::Vec3 force_n;
+      bool fault;
+    };
+    rt::SpscQueue<Step, 16384> steps;
+    std::atomic<bool> link_done{false};
+    std::thread feed([&] {
+      msgs::ForceCommand published;
+      for (Step s; !link_done.load();) {
+        while (steps.try_pop(s)) {
+          graph::fill(published, s.seq, s.force_n, s.fault);
+          link_forces.publish(published, s.seq);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    });
     char buffer[bus::LoopLink::kMaxMessage];
-    msgs::DeviceState state;
+    std::uint8_t answer[bus::LoopLink::kMaxMessage];
+    bus::ReusedMessage<msgs::DeviceState> state;
     msgs::ForceCommand command;
+    command.mutable_header()->set_source("sim");
     while (!done.load() && link.connected()) {
       const long n = link.receive(buffer, sizeof buffer, rt::now_ns() + 100'000'000);
-      if (n <= 0 || !link_states.accept_payload(buffer, static_cast<std::size_t>(n), state)) continue;
-      const sim::StepOutput& o = own.step(state.header().stamp_ns(), graph::get(state.position()));
-      graph::fill(command, state.header().seq(), o.force_n, o.fault);
-      link_forces.publish(command);
+      if (n <= 0 || !link_states.accept_payload(buffer, static_cast<std::size_t>(n), state.fresh())) continue;
+      const sim::StepOutput& o = own.step(state->header().stamp_ns(), graph::get(state->position()));
+      graph::fill(command, state->header().seq(), o.force_n, o.fault);
+      command.mutable_header()->set_seq(state->header().seq());
+      command.mutable_header()->set_stamp_ns(rt::now_ns());
+      const std::size_t size = command.ByteSizeLong();
+      command.SerializeWithCachedSizesToArray(answer);
+      link.send(answer, size);
+      steps.try_push({state->header().seq(), o.force_n, o.fault});
     }
+    link_done.store(true);
+    feed.join();
   });
   std::thread pipe_arm([&] {
     char buffer[4096];

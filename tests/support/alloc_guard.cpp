@@ -1,15 +1,20 @@
 #include "tests/support/alloc_guard.h"
 
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
+
+#include "core/rt/rt_section.h"
 
 namespace {
 
 thread_local bool counting = false;
 thread_local std::size_t count = 0;
+std::atomic<std::size_t> in_sections{0};
 
 void note() {
   if (counting) ++count;
+  if (enact::rt::in_rt_section) in_sections.fetch_add(1, std::memory_order_relaxed);
 }
 
 }  // namespace
@@ -94,5 +99,7 @@ AllocGuard::AllocGuard() : start_(count), was_counting_(counting) { counting = t
 AllocGuard::~AllocGuard() { counting = was_counting_; }
 
 std::size_t AllocGuard::allocations() const { return count - start_; }
+
+std::size_t AllocGuard::in_rt_sections() { return in_sections.load(); }
 
 }  // namespace enact::test

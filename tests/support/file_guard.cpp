@@ -7,15 +7,19 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "core/rt/rt_section.h"
+
 namespace {
 
 thread_local bool counting = false;
 thread_local std::size_t count = 0;
 std::atomic<std::size_t> everyone{0};
+std::atomic<std::size_t> in_sections{0};
 
 void note() {
   everyone.fetch_add(1, std::memory_order_relaxed);
   if (counting) ++count;
+  if (enact::rt::in_rt_section) in_sections.fetch_add(1, std::memory_order_relaxed);
 }
 
 // the next definition of `name` after this program's (the C library's, or a sanitizer's)
@@ -84,5 +88,7 @@ FileGuard::~FileGuard() { counting = was_counting_; }
 std::size_t FileGuard::opens() const { return count - start_; }
 
 std::size_t FileGuard::opens_by_any_thread() { return everyone.load(); }
+
+std::size_t FileGuard::opens_in_rt_sections() { return in_sections.load(); }
 
 }  // namespace enact::test

@@ -17,6 +17,8 @@ class FileGuard {
   std::size_t opens() const;
   // files any thread opened since the program started
   static std::size_t opens_by_any_thread();
+  // files any thread opened inside a real-time section (core/rt/rt_section.h)
+  static std::size_t opens_in_rt_sections();
 
  private:
   std::size_t start_;
