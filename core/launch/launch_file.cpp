@@ -185,12 +185,28 @@ struct Loader {
     }
   }
 
+  // a component list (component: [{name, plugin, library, param, param_file}, ...])
+  std::vector<ComponentSpec> components(const Scope& scope, const Map& m) {
+    std::vector<ComponentSpec> list;
+    std::set<std::string> names;
+    for (const auto& c : m.list("component")) {
+      const Map cm(c, scope.file, "component", {"name", "plugin", "library", "param", "param_file"});
+      ComponentSpec spec{scalar(scope, cm.get("name"), "name"), scalar(scope, cm.get("plugin"), "plugin"),
+                         cm.has("library") ? scalar(scope, cm.get("library"), "library") : "", params(scope, cm), cm.line()};
+      if (!names.insert(spec.name).second) cm.fail("name", "two components are named '" + spec.name + "'", "give every component its own name");
+      list.push_back(spec);
+    }
+    return list;
+  }
+
+  // a node; enact-sim's may list stages of a user's (component:), which run in its answer
   void node(const Scope& scope, const YAML::Node& y) {
-    const Map m(y, scope.file, "node", {"name", "exec", "param", "param_file", "args", "env", "required", "respawn", "respawn_delay", "respawn_max"});
+    const Map m(y, scope.file, "node", {"name", "exec", "param", "param_file", "component", "args", "env", "required", "respawn", "respawn_delay", "respawn_max"});
     NodeSpec n;
     common(scope, m, n);
     executable(scope, m, n, "");
     n.params = params(scope, m);
+    n.components = components(scope, m);
     out.nodes.push_back(n);
   }
 
@@ -201,14 +217,7 @@ struct Loader {
     executable(scope, m, n, "enact-rt");
     n.params = params(scope, m);
     n.container = true;
-    std::set<std::string> component_names;
-    for (const auto& c : m.list("component")) {
-      const Map cm(c, scope.file, "component", {"name", "plugin", "library", "param", "param_file"});
-      ComponentSpec spec{scalar(scope, cm.get("name"), "name"), scalar(scope, cm.get("plugin"), "plugin"),
-                         cm.has("library") ? scalar(scope, cm.get("library"), "library") : "", params(scope, cm), cm.line()};
-      if (!component_names.insert(spec.name).second) cm.fail("name", "two components are named '" + spec.name + "'", "give every component its own name");
-      n.components.push_back(spec);
-    }
+    n.components = components(scope, m);
     // none named: the default three, their parameters given as the container's (sim.scene, ...)
     if (!m.has("component")) {
       for (const char* plugin : kDefaultComponents) n.components.push_back({plugin, plugin, "", {}, m.line()});

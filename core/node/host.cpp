@@ -52,7 +52,7 @@ int run_node(const NodeKind& kind, int argc, char** argv, const std::function<in
     graph::NodeArgs args = graph::parse_node_args(argc, argv, kind.default_name);
     // a container's plugin libraries first: their stages' parameters are in its --help
     if (!args.libraries.empty() && !kind.plugins) {
-      throw config::Error(std::string(kind.default_name) + ": --library is for a container's stages\n  fix: give it to enact-rt (launch file: the component's library:)");
+      throw config::Error(std::string(kind.default_name) + ": --library is for the stages of enact-rt or enact-sim\n  fix: give it to one of those (launch file: the component's library:)");
     }
     for (const std::string& library : args.libraries) load_plugin_library(library);
     if (args.help) {

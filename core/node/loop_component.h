@@ -1,13 +1,13 @@
 #pragma once
-// Loop components a user writes: a stage of the co-located tick (enact-rt) between the model's
-// step and the force's write. Each tick the loop reads the device, steps the model, then calls
+// Loop components a user writes: a stage between the model's step and the force's write, in
+// the co-located tick (enact-rt) or in the distributed simulator's answer (enact-sim). Each tick the loop reads the device, steps the model, then calls
 // every stage in the order of the launch file's component list, then writes the force and
 // the pins the stages leave: a stage may add a guiding spring, filter the force, gate the
 // pins, or just watch. The device's safety layer (force and step limits, NaN, watchdog) still
 // holds after the stages, and observers see the force that was written.
 //
 // A stage is a class with configure (its constructor, from its parameters), activate, step and
-// deactivate, built into a shared library that enact-rt loads (launch file: component entry
+// deactivate, built into a shared library that enact-rt or enact-sim loads (launch file: component entry
 // `library:`; command line: --library=PATH). The library exports two C functions:
 //
 //   extern "C" int enact_plugin_abi() { return enact::node::kPluginAbi; }

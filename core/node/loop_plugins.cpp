@@ -39,7 +39,7 @@ void load_plugin_library(const std::string& path) {
   if (!lib) {
     const char* why = dlerror();
     refuse(path, std::string("cannot load the plugin library: ") + (why ? why : "unknown reason"),
-           "build it against this enact (an undefined symbol: it uses a function enact-rt does not hold; a wrong ELF class: built for another machine)");
+           "build it against this enact (an undefined symbol: it uses a function this program does not hold; a wrong ELF class: built for another machine)");
   }
   using Abi = int (*)();
   using Register = void (*)(PluginRegistry&);

@@ -9,6 +9,7 @@
 #include "core/node/components.h"
 #include "core/params/device_config.h"
 #include "core/params/node_params.h"
+#include "core/params/param_table.h"
 #include "core/params/param_binding.h"
 #include "core/graph/messages.h"
 #include "core/graph/graph_dir.h"
@@ -20,6 +21,7 @@
 #include "core/graph/topics.h"
 #include "core/config/env.h"
 #include "core/node/sim_feed.h"
+#include "core/config/yaml.h"
 #include "core/rt/rt_section.h"
 #include "core/rt/rt_setup.h"
 #include "core/rt/spsc_queue.h"
@@ -29,7 +31,20 @@
 
 namespace enact::node {
 
-const NodeKind kSim{.executable = "enact-sim", .default_name = "sim", .help = R"(usage: enact-sim [--name NAME] --param NAME=VALUE...
+namespace {
+
+// the --help text after the simulator's parameters: the stages of the libraries given
+std::string stage_help() {
+  std::string out;
+  for (const graph::ComponentKind& k : graph::component_kinds()) {
+    if (k.role == graph::ComponentRole::stage) out += std::string(" plugin ") + k.plugin + ":\n" + graph::help_lines(k.table(), std::string(k.plugin) + ".");
+  }
+  return out.empty() ? "" : "stage parameters (--param COMPONENT.NAME=VALUE; the plugin libraries given by --library):\n" + out;
+}
+
+}  // namespace
+
+const NodeKind kSim{.executable = "enact-sim", .default_name = "sim", .help = R"(usage: enact-sim [--name NAME] [--library=PATH... --component=NAME:PLUGIN...] --param NAME=VALUE...
 
 The simulator of a distributed graph: for every ffd/state it steps the model and answers
 on ffd/force (answered_seq = the state's seq), over the driver's same-host link when it has
@@ -37,9 +52,12 @@ one; publishes tactile/frame (down-sampled), sim/scene (scene_rate_hz), task/eve
 task/state (10 Hz and on change) and node/status (1 Hz) from a thread beside its loop.
 Parameter changes on param/set (NAME.model, NAME.stiffness_n_per_m, ...: docs/parameters.md)
 are planned on that side, applied between two DeviceStates and answered on param/ack.
+Stages of a user's (plugin libraries: --library=PATH, --component=NAME:PLUGIN, their
+parameters --param NAME.PARAM=VALUE; docs/components.md) step after the model, in order,
+before the answer is sent, as in enact-rt's tick.
 
 parameters (--param NAME=VALUE; live: enact param set NAME.PARAM VALUE while it runs):
-)", .loop = true};
+)", .loop = true, .plugins = true, .more_help = stage_help};
 
 namespace {
 
@@ -116,6 +134,26 @@ Sim::Sim(Host& host)
       local_hop_(config_.loop_transport != "zeromq"),
       simulated_(graph::graph_clock() == rt::GraphClock::simulated) {
   simulator_.configure(graph::sim_params(host.params()));
+  make_stages();
+}
+
+// the stages the node was given (--component NAME:PLUGIN, each from a plugin library),
+// configured: bad input refused here, with the component named
+void Sim::make_stages() {
+  const graph::NodeArgs& args = host_.args();
+  graph::Params& p = host_.params();
+  if (const auto problem = graph::stage_list_problem(kSim.executable, args.components)) throw config::Error(args.name + ": " + problem->text);
+  for (const auto& [name, plugin] : args.components) {
+    Stage& s = stages_.emplace_back(Stage{name, plugin, p.scoped(name), nullptr});
+    s.params.declare(*graph::component_table(plugin));
+    try {
+      s.stage = make_stage(plugin, s.params);
+    } catch (const std::exception& e) {
+      throw config::Error(args.name + ": component '" + name + "' (plugin " + plugin + "): " + e.what());
+    }
+    s.params.refuse_unknown();
+  }
+  p.refuse_unknown();
 }
 
 Sim::~Sim() {
@@ -172,6 +210,14 @@ void Sim::answer(std::int64_t received_ns) {
   while (io.changes.try_pop(change)) io.applied.try_push(simulator_.apply(change, o.sample.time_ns));
   o.cut = graph::force_path_cut(io.state->faults());
   o.step = simulator_.step_sample(o.sample.time_ns, o.sample.position_m, o.cut);
+  if (!stages_.empty()) {
+    // a user's stages, between the model and the answer, on the sample as the device read it
+    o.sample.velocity_m_per_s = graph::get(io.state->velocity());
+    o.sample.buttons = io.state->buttons();
+    o.sample.force_n = graph::get(io.state->force());
+    Tick tick{o.sample.time_ns, o.sample.time_ns - simulator_.origin_ns(), &o.sample, &o.step};
+    for (Stage& s : stages_) s.stage->step(tick);
+  }
   o.seq = ++steps_;
   o.frame_seq = o.step.frame_due ? ++frames_ : 0;
   o.force_ns = rt::now_ns();
@@ -218,6 +264,7 @@ void Sim::hand_over(std::int64_t received_ns) {
 void Sim::loop_main() {
   Io& io = *io_;
   rt::prefault_stack();
+  for (Stage& s : stages_) s.stage->activate();
   while (!graph::stop_requested()) {
     if (!next_state(rt::now_ns() + 100'000'000)) continue;
     const std::int64_t received = rt::now_ns();
@@ -226,6 +273,7 @@ void Sim::loop_main() {
     hand_over(received);
     rt::leave_rt_section();
   }
+  for (Stage& s : stages_) s.stage->deactivate();
   loop_done_.store(true);
   io.wake.notify();
 }
@@ -274,6 +322,7 @@ std::string Sim::summary() const {
 }
 
 void Sim::open_ports() {
+  for (const Stage& s : stages_) host_.board().add(s.params, s.name, s.name + ".");
   io_ = std::make_unique<Io>(*this);
   scene_period_ns_ = static_cast<std::int64_t>(1e9 / config_.scene_rate_hz);
   // the answer's parts made once, before the loop: it fills them in place

@@ -6,14 +6,18 @@
 // thread by the simulator's feed, as in the co-located container (node/sim_feed.h): the
 // answers on the bus (the answer itself on the bus hop, woken at once), the down-sampled
 // tactile frames, the scene (decimated), keyframes, task events and state, parameter requests
-// and acks, status.
+// and acks, status. Stages a user writes (node/loop_component.h, --component and --library as
+// for enact-rt) step after the model and before the answer, in their order, as in the
+// co-located tick.
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 #include <thread>
 
 #include "core/node/host.h"
+#include "core/node/loop_component.h"
 #include "core/params/device_config.h"
 #include "core/sim/simulator.h"
 
@@ -40,12 +44,20 @@ class Sim {
   std::size_t drain();
   void restart_begins();
   std::string summary() const;
+  void make_stages();
 
   Host& host_;
   sim::Simulator simulator_;
   graph::SimNodeConfig config_;
   bool local_hop_;
   bool simulated_;  // the graph's clock: the frames carry the sample's time
+  // a user's stages, in their order (each with its parameters: COMPONENT.PARAM)
+  struct Stage {
+    std::string name, plugin;
+    graph::Params params;
+    std::unique_ptr<LoopComponent> stage;
+  };
+  std::deque<Stage> stages_;
   std::unique_ptr<Io> io_;
   std::thread loop_;  // the answering thread, from run() to deactivate()
   std::atomic<bool> loop_done_{false};

@@ -91,9 +91,9 @@ void check_against(const launch::NodeSpec& n, const std::string& owner, const st
   }
 }
 
-// a container's component list: the problem with it at the line of the entry it is about
-// (of the container for the list as a whole); a stage from a plugin library is left to the
-// container's own --check, which loads the library
+// a container's or enact-sim's component list: the problem with it at the line of the entry
+// it is about (of the node for the list as a whole); a stage from a plugin library is left to
+// the node's own --check, which loads the library
 void check_components(const launch::NodeSpec& n, std::vector<std::string>& problems) {
   auto line_of = [&](const launch::ComponentSpec& c) {
     return c.line > 0 ? n.source.substr(0, n.source.rfind(':')) + ":" + std::to_string(c.line) : n.source;
@@ -109,7 +109,7 @@ void check_components(const launch::NodeSpec& n, std::vector<std::string>& probl
     list.emplace_back(c.name, c.plugin);
     listed.push_back(&c);
   }
-  const auto problem = component_list_problem(list);
+  const auto problem = n.container ? component_list_problem(list) : stage_list_problem(n.path, list);
   if (!problem) return;
   const std::string at = problem->entry < listed.size() ? line_of(*listed[problem->entry]) : n.source;
   problems.push_back(at + ": node '" + n.name + "': " + problem->text);
@@ -367,6 +367,26 @@ std::optional<ComponentProblem> component_list_problem(const std::vector<std::pa
   return std::nullopt;
 }
 
+std::optional<ComponentProblem> stage_list_problem(const std::string& exec, const std::vector<std::pair<std::string, std::string>>& components) {
+  const std::string file = std::filesystem::path(exec).filename().string();
+  if (file != "enact-sim") {
+    return ComponentProblem{static_cast<std::size_t>(-1), file + " runs no components\n  fix: a stage of your own runs in enact-sim (after its model's step) or in "
+                                                                 "enact-rt's tick: list it under one of those (component: [{name, plugin, library}])"};
+  }
+  for (std::size_t i = 0; i < components.size(); ++i) {
+    const auto& [name, plugin] = components[i];
+    const ComponentKind* kind = find_component_kind(plugin);
+    if (!kind) {
+      return ComponentProblem{i, "component '" + name + "': unknown plugin '" + plugin + "'\n  fix: give its plugin library (library: PATH in the launch file, --library=PATH to enact-sim)"};
+    }
+    if (kind->role != ComponentRole::stage) {
+      return ComponentProblem{i, "component '" + name + "' is a " + kind->what + " (plugin " + plugin + "): enact-sim runs its own simulator, its drivers and observers are "
+                                 "nodes of their own\n  fix: list only stages of a user's (plugin libraries) under enact-sim; a " + kind->what + " is a node, or a component of enact-rt"};
+    }
+  }
+  return std::nullopt;
+}
+
 const ParamTable* node_table(const std::string& exec) {
   static const ParamTable sim = sim_node_table(), ffd = ffd_node_table(), tactile = tactile_node_table(), rt = rt_table();
   const std::string file = std::filesystem::path(exec).filename().string();
@@ -387,7 +407,7 @@ std::vector<std::string> check_params(const launch::LaunchDescription& graph) {
     std::vector<std::string> components;
     for (const launch::ComponentSpec& c : n.components) components.push_back(c.name);
     check_against(n, n.name, n.params, *table, components, problems);
-    if (n.container) check_components(n, problems);
+    if (!n.components.empty()) check_components(n, problems);
     for (const launch::ComponentSpec& c : n.components) {
       if (const ParamTable* ct = component_table(c.plugin)) check_against(n, c.name, c.params, *ct, {}, problems);
     }

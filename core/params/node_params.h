@@ -84,6 +84,10 @@ struct ComponentProblem {
   std::string text;
 };
 std::optional<ComponentProblem> component_list_problem(const std::vector<std::pair<std::string, std::string>>& components);
+// the component list of a node (not a container) run by executable `exec`: only enact-sim
+// hosts components, and only stages (it runs its own simulator; its driver is another
+// process): the first problem, as above
+std::optional<ComponentProblem> stage_list_problem(const std::string& exec, const std::vector<std::pair<std::string, std::string>>& components);
 
 // a node's own table by executable name (enact-sim: its component's and its own, enact-rt:
 // the container's own); nullptr for an executable that declares none

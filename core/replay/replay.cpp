@@ -203,7 +203,7 @@ Params recorded_sim_params(record::Reader& r, const ResimOptions& options, const
 }
 
 // the stages of the loop whose simulator answered the states (node `sim_publisher`: a
-// container), in their order, with their parameters as recorded
+// container, or enact-sim), in their order, with their parameters as recorded
 std::vector<RecordedStage> recorded_stages(record::Reader& r, const std::string& sim_publisher) {
   const record::StringMap params = r.metadata("enact.params");
   std::vector<RecordedStage> out;

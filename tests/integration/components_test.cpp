@@ -187,11 +187,36 @@ TEST(ContainerComponents, AVirtualSubjectWithoutATactileDisplayIsRefused) {
 }
 
 
-// a container with the example guide spring (examples/plugins/guide_spring.cpp, loaded from
-// its library) and a logger component; `extra`: more of the guide's parameter list
-std::string guided(const std::string& recording, const std::string& guide_params, const std::string& plugin = "guide_spring",
+// the host of a user's stage: the co-located container's tick, or enact-sim's answer in a
+// distributed graph (a process a component)
+enum class StageHost { container, process };
+std::string host_name(const ::testing::TestParamInfo<StageHost>& info) { return info.param == StageHost::container ? "InTheContainer" : "InEnactSim"; }
+
+// a graph with the example guide spring (examples/plugins/guide_spring.cpp, loaded from its
+// library) beside the model, and a logger that records from the first tick
+std::string guided(StageHost host, const std::string& recording, const std::string& guide_params, const std::string& plugin = "guide_spring",
                    const std::string& library = ENACT_GUIDE_SPRING) {
   const std::string scene = source_path("launch/scenes/bridge.yaml");
+  const std::string guide = "          - name: guide\n"
+                            "            plugin: " + plugin + "\n"
+                            "            library: " + library + "\n"
+                            "            param: [" + guide_params + "]\n";
+  if (host == StageHost::process) {
+    return "launch:\n"
+           "  - node: {name: rec, exec: enact-logger, param: [{name: output, value: " + recording + "}]}\n"
+           "  - node:\n"
+           "        name: sim\n"
+           "        exec: enact-sim\n"
+           "        required: true\n"
+           "        param: [{name: scene, value: " + scene + "}, {name: rate_hz, value: \"5000\"}, {name: observers, value: \"1\"}]\n"
+           "        component:\n" + guide +
+           "  - node: {name: tactile, exec: enact-tactile, required: true}\n"
+           "  - node:\n"
+           "        name: ffd\n"
+           "        exec: enact-ffd\n"
+           "        required: true\n"
+           "        param: [{name: start_scene, value: " + scene + "}, {name: rate_hz, value: \"5000\"}, {name: observers, value: \"1\"}]\n";
+  }
   return "launch:\n"
          "  - container:\n"
          "      name: rt\n"
@@ -211,14 +236,17 @@ std::string guided(const std::string& recording, const std::string& guide_params
 // scene's start, above the bridge, where the model pushes nothing; the guide pulls it toward
 // an anchor 8 mm away. Every recorded force is the guide's law of the state it answers
 // (spring and damper, capped at max_force_n), and the device moved toward the anchor
-TEST(ContainerStages, AStageFromAPluginLibraryGivesTheForceOfEveryTick) {
+class Stages : public ::testing::TestWithParam<StageHost> {};
+INSTANTIATE_TEST_SUITE_P(EitherHost, Stages, ::testing::Values(StageHost::container, StageHost::process), host_name);
+
+TEST_P(Stages, AStageFromAPluginLibraryGivesTheForceOfEveryTick) {
   TempDir dir;
   const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap");
   const math::Vec3 start{-0.0074246, -0.0222739, 0.013}, anchor{start.x + 0.008, start.y, start.z};
   const double k = 150.0, b = 2.0, cap = 1.0;
   char anchor_text[128];
   std::snprintf(anchor_text, sizeof anchor_text, "%.17g,%.17g,%.17g", anchor.x, anchor.y, anchor.z);
-  write_file(file, guided(rec, "{name: anchor_m, value: \"" + std::string(anchor_text) +
+  write_file(file, guided(GetParam(), rec, "{name: anchor_m, value: \"" + std::string(anchor_text) +
                                    "\"}, {name: stiffness_n_per_m, value: \"150\"}, {name: damping_n_s_per_m, value: \"2\"}, {name: max_force_n, value: \"1\"}"));
   const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -261,11 +289,11 @@ TEST(ContainerStages, AStageFromAPluginLibraryGivesTheForceOfEveryTick) {
 // names, with its recorded parameters); a library moved away is named with the fix, and
 // --library gives it where it is now. A replay without the stage gives the model's force
 // alone (none, where this hand holds the device) and diverges at the first tick
-TEST(ContainerStages, AReplayStepsTheRecordedStagesAgain) {
+TEST_P(Stages, AReplayStepsTheRecordedStagesAgain) {
   TempDir dir;
   const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap"), moved = dir.file("libenact_guide_spring.so");
   std::filesystem::copy_file(ENACT_GUIDE_SPRING, moved);
-  write_file(file, guided(rec, "{name: anchor_m, value: \"0.0006,-0.0222739,0.013\"}, {name: stiffness_n_per_m, value: \"120\"}", "guide_spring", moved));
+  write_file(file, guided(GetParam(), rec, "{name: anchor_m, value: \"0.0006,-0.0222739,0.013\"}, {name: stiffness_n_per_m, value: \"120\"}", "guide_spring", moved));
   const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const RunResult resim = run(std::string(ENACT_CLI) + " resim " + rec);
@@ -288,6 +316,22 @@ TEST(ContainerStages, AReplayStepsTheRecordedStagesAgain) {
   EXPECT_NE(given.out.find("\"identical\": true"), std::string::npos) << given.out;
 }
 
+// a graph refused before anything ran: what it said, with the fix
+struct Refusal {
+  std::string graph, said, fix;
+};
+void expect_refused(const std::string& file, const std::vector<Refusal>& cases) {
+  for (const Refusal& c : cases) {
+    write_file(file, c.graph);
+    const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
+    const std::string said = r.out + r.err;
+    EXPECT_NE(r.exit_code, 0) << said;
+    EXPECT_NE(said.find(c.said), std::string::npos) << "expected: " << c.said << "\n" << said;
+    EXPECT_NE(said.find(c.fix), std::string::npos) << "expected: " << c.fix << "\n" << said;
+    EXPECT_EQ(said.find(" ready"), std::string::npos) << "nothing started\n" << said;
+  }
+}
+
 // a plugin library's stage is refused before anything moves, with the file and the fix: a
 // library that is not there (the launch file's line), a file that is not a shared library, a
 // plugin the library does not hold (the plugins it has named), a parameter out of range
@@ -295,25 +339,29 @@ TEST(ContainerStages, ABadPluginLibraryOrStageIsRefusedWithTheFix) {
   TempDir dir;
   const std::string file = dir.file("g.yaml"), rec = dir.file("g.mcap"), junk = dir.file("junk.so");
   write_file(junk, "not a shared library\n");
-  struct Case {
-    std::string graph, said, fix;
-  };
-  const std::vector<Case> cases{
-      {guided(rec, "", "guide_spring", dir.file("none.so")), file + ":9: node 'rt': component 'guide': there is no plugin library '" + dir.file("none.so") + "'",
+  expect_refused(file, {
+      {guided(StageHost::container, rec, "", "guide_spring", dir.file("none.so")), file + ":9: node 'rt': component 'guide': there is no plugin library '" + dir.file("none.so") + "'",
        "fix: build it (" + source_path("docs/components.md") + ")"},  // the docs where they are (enact run from the build)
-      {guided(rec, "", "guide_spring", junk), junk + ": cannot load the plugin library", "fix: build it against this enact"},
-      {guided(rec, "", "guide_sprung"), "component 'guide': unknown plugin 'guide_sprung'", "guide_spring (guiding spring toward anchor_m"},
-      {guided(rec, "{name: stiffness_n_per_m, value: \"-1\"}"), "stiffness_n_per_m", "fix:"},
-  };
-  for (const Case& c : cases) {
-    write_file(file, c.graph);
-    const RunResult r = run(std::string(ENACT_CLI) + " launch " + file + " --clock simulated --duration 1");
-    const std::string said = r.out + r.err;
-    EXPECT_NE(r.exit_code, 0) << said;
-    EXPECT_NE(said.find(c.said), std::string::npos) << "expected: " << c.said << "\n" << said;
-    EXPECT_NE(said.find(c.fix), std::string::npos) << "expected: " << c.fix << "\n" << said;
-    EXPECT_EQ(said.find("the hand felt"), std::string::npos) << "nothing ran\n" << said;
-  }
+      {guided(StageHost::container, rec, "", "guide_spring", junk), junk + ": cannot load the plugin library", "fix: build it against this enact"},
+      {guided(StageHost::container, rec, "", "guide_sprung"), "component 'guide': unknown plugin 'guide_sprung'", "guide_spring (guiding spring toward anchor_m"},
+      {guided(StageHost::container, rec, "{name: stiffness_n_per_m, value: \"-1\"}"), "stiffness_n_per_m", "fix:"},
+  });
+}
+
+// only enact-sim and enact-rt host components, and enact-sim only stages (it runs its own
+// simulator; drivers and observers are nodes of their own): refused before anything starts,
+// at the entry's line, with the fix
+TEST(Stages, AComponentANodeCannotHostIsRefusedWithTheFix) {
+  TempDir dir;
+  const std::string file = dir.file("g.yaml"), scene = source_path("launch/scenes/bridge.yaml");
+  expect_refused(file, {
+      {"launch:\n  - node:\n      name: sim\n      exec: enact-sim\n      param: [{name: scene, value: " + scene +
+           "}]\n      component:\n        - {name: rec, plugin: logger}\n",
+       file + ":7: node 'sim': component 'rec' is a ", "fix: list only stages of a user's (plugin libraries) under enact-sim"},
+      {"launch:\n  - node:\n      name: ffd\n      exec: enact-ffd\n      component:\n        - {name: guide, plugin: guide_spring, library: " +
+           std::string(ENACT_GUIDE_SPRING) + "}\n",
+       "node 'ffd': enact-ffd runs no components", "fix: a stage of your own runs in enact-sim (after its model's step) or in enact-rt's tick"},
+  });
 }
 
 }  // namespace
