@@ -110,6 +110,7 @@ struct Sim::Io {
   bus::ReusedMessage<msgs::DeviceState> state;  // the state in hand
   msgs::ForceCommand command;
   Answered step;
+  Scene scene_taken;  // a snapshot the loop takes
   rt::LoopStats stats;
   // loop -> feed
   rt::SpscQueue<Answered, 16384> steps;
@@ -123,7 +124,7 @@ struct Sim::Io {
   graph::AppliedQueue applied;
   // the feed's
   Answered taken;
-  Scene scene;
+  Scene scene;  // a snapshot the feed publishes
   LoopStatus status_taken;
   msgs::NodeStatus status;
 };
@@ -237,14 +238,15 @@ void Sim::hand_over(std::int64_t received_ns) {
   Io& io = *io_;
   const graph::Observation& o = io.step.o;
   if (o.seq == 1) next_scene_ = next_status_ = next_keyframe_ = received_ns;
-  if (!deliver(io.steps, io.step, simulated_)) io.dropped.fetch_add(1, std::memory_order_relaxed);
+  // the keyframe before its step: the feed publishes it right after the step's messages
   if (received_ns >= next_keyframe_) {
     next_keyframe_ = received_ns + graph::kKeyframePeriod_ns;
     io.keyframes.save(simulator_, o.seq);
   }
+  if (!deliver(io.steps, io.step, simulated_)) io.dropped.fetch_add(1, std::memory_order_relaxed);
   if (received_ns >= next_scene_) {
     next_scene_ = received_ns + scene_period_ns_;
-    Scene& scene = io.scene;
+    Scene& scene = io.scene_taken;
     scene.tick_ns = o.sample.time_ns;
     graph::snapshot(simulator_, o.step.pins, o.step.force_n, scene.snap);
     deliver(io.scenes, scene, simulated_);
@@ -318,7 +320,9 @@ std::string Sim::summary() const {
   auto us = [](std::int64_t ns) { return static_cast<double>(ns) * 1e-3; };
   std::snprintf(latency, sizeof latency, "receive-to-answer p50 %.2f us, p99 %.2f us, p99.9 %.2f us, max %.2f us", us(s.latency_p50_ns),
                 us(s.latency_p99_ns), us(s.latency_p999_ns), us(s.latency_max_ns));
-  return std::to_string(steps_) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + "; " + latency + ".";
+  const std::uint64_t dropped = io_->dropped.load();
+  const std::string unpublished = dropped ? "; " + std::to_string(dropped) + " steps not published (the feed's queue was full)" : "";
+  return std::to_string(steps_) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + unpublished + "; " + latency + ".";
 }
 
 void Sim::open_ports() {
