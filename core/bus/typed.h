@@ -87,6 +87,17 @@ class Publisher {
 // its own, emptied before each parse. Use the message fresh() returns until the next call.
 // The first parse on a thread other than the constructor's may allocate (the arena's part
 // for that thread), none after.
+// msg sent over a same-host link, serialised into `buffer` (LoopLink::kMaxMessage bytes, the
+// most a link message holds): false when it was not sent (larger than that, no peer, the
+// peer's queue full). Allocates nothing, never blocks: the loop's answer
+template <class Msg>
+bool send_over(LoopLink& link, const Msg& msg, std::uint8_t (&buffer)[LoopLink::kMaxMessage]) {
+  const std::size_t size = msg.ByteSizeLong();
+  if (size > sizeof buffer) return false;
+  msg.SerializeWithCachedSizesToArray(buffer);
+  return link.send(buffer, size);
+}
+
 template <class Msg, std::size_t kBlockBytes = 8192>
 class ReusedMessage {
  public:

@@ -12,37 +12,16 @@
 #include <vector>
 
 #include "core/devices/device.h"
-#include "core/node/loop_component.h"
+#include "core/node/sim_step.h"
 #include "core/node/tactile_driver.h"
 #include "core/rt/clock.h"
-#include "core/rt/spsc_queue.h"
-#include "core/sim/params.h"
 #include "core/sim/simulator.h"
 
 namespace enact::graph {
 
-// one tick, for observers (pushed through an SPSC queue to the publisher thread)
-struct Observation {
-  std::uint64_t seq = 0;        // tick number, from 1
-  std::int64_t force_ns = 0;    // force written (latency from the tick's deadline = force_ns - sample.time_ns)
-  devices::ForceSample sample;  // what the device read (position, velocity, buttons, fault bits)
-  sim::StepOutput step;         // what the model made of it: force, pins, frame, contacts, task
-  // whether the force path is cut (the device's watchdog tripped, i.e. this tick came later
-  // than its watchdog time after the last, or the device could not be read), and since when:
-  // the time of the last tick before the cut that read the device well
-  bool cut = false;
-  std::int64_t cut_since_ns = 0;
-  std::uint64_t frame_seq = 0;  // the step's tactile frame, numbered from 1 (0: none due)
-};
-
 // reads the monotonic clock (ns) when the force is written (the tick's latency); a parameter
 // so tests can drive time; nullptr in simulated time: the force is written at the tick's time
 using Clock = rt::ClockFn;
-
-// parameter changes into the tick, and what it applied back out (a ParamPort never has
-// more than sim::kMaxParamsInFlight in flight, so neither queue overflows)
-using ParamQueue = rt::SpscQueue<sim::ParamChange, sim::kMaxParamsInFlight>;
-using AppliedQueue = rt::SpscQueue<sim::ParamApplied, sim::kMaxParamsInFlight>;
 
 class ColocatedLoop {
  public:
@@ -51,7 +30,7 @@ class ColocatedLoop {
   ColocatedLoop(sim::Simulator& simulator, devices::ForceDevice& force, devices::TactileDevice* tactile, Clock clock);
 
   // a stage of the tick, after those added before (it outlives the loop); before activate()
-  void add_stage(node::LoopComponent& stage) { stages_.push_back(&stage); }
+  void add_stage(node::LoopComponent& stage) { step_.add_stage(stage); }
   // activate the devices, the simulator and the stages; zero force, pins down. The first tick is the
   // simulator's time 0 (as a distributed simulator's first sample), so a recording of the
   // device states replays exactly (enact resim)
@@ -59,7 +38,7 @@ class ColocatedLoop {
   // from now on, take the changes waiting in `changes` at the top of each tick, apply them
   // and report them in `applied` (both outlive the loop; this thread pops `changes` and
   // pushes `applied`)
-  void connect_params(ParamQueue& changes, AppliedQueue& applied);
+  void connect_params(ParamQueue& changes, AppliedQueue& applied) { step_.connect_params(changes, applied); }
   // one tick of the zero-delay loop at now_ns, the tick's time on the graph clock (its
   // deadline: the model, the devices and a virtual subject take their time from it alone): parameter changes first, between two steps; after a cut
   // of the force path (the sample's watchdog or device error bit) the body is re-synchronised
@@ -75,12 +54,9 @@ class ColocatedLoop {
   devices::ForceDevice& force_;
   std::optional<node::TactileDriver> tactile_;  // none: no tactile display
   Clock clock_;
-  ParamQueue* changes_ = nullptr;
-  AppliedQueue* applied_ = nullptr;
-  std::vector<node::LoopComponent*> stages_;
+  node::SimStep step_;  // the simulator's step, the stages after it
   devices::HandSource* hand_ = nullptr;  // a simulated hand that feels the pins, if any
   float felt_[32] = {};  // what the virtual subject's fingertip feels
-  std::uint64_t frames_ = 0;  // tactile frames made
   Observation obs_;
   std::int64_t whole_ns_ = 0;   // the last tick whose sample said the force path was whole
 };

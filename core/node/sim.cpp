@@ -153,6 +153,7 @@ void Sim::make_stages() {
       throw config::Error(args.name + ": component '" + name + "' (plugin " + plugin + "): " + e.what());
     }
     s.params.refuse_unknown();
+    step_.add_stage(*s.stage);
   }
   p.refuse_unknown();
 }
@@ -207,27 +208,16 @@ void Sim::answer(std::int64_t received_ns) {
   graph::Observation& o = io.step.o;
   o.sample.time_ns = io.state->header().stamp_ns();
   o.sample.position_m = graph::get(io.state->position());
-  sim::ParamChange change;
-  while (io.changes.try_pop(change)) io.applied.try_push(simulator_.apply(change, o.sample.time_ns));
+  o.sample.velocity_m_per_s = graph::get(io.state->velocity());
+  o.sample.buttons = io.state->buttons();
+  o.sample.force_n = graph::get(io.state->force());
   o.cut = graph::force_path_cut(io.state->faults());
-  o.step = simulator_.step_sample(o.sample.time_ns, o.sample.position_m, o.cut);
-  if (!stages_.empty()) {
-    // a user's stages, between the model and the answer, on the sample as the device read it
-    o.sample.velocity_m_per_s = graph::get(io.state->velocity());
-    o.sample.buttons = io.state->buttons();
-    o.sample.force_n = graph::get(io.state->force());
-    Tick tick{o.sample.time_ns, o.sample.time_ns - simulator_.origin_ns(), &o.sample, &o.step};
-    for (Stage& s : stages_) s.stage->step(tick);
-  }
-  o.seq = ++steps_;
-  o.frame_seq = o.step.frame_due ? ++frames_ : 0;
+  step_.step(o.sample.time_ns, o);
   o.force_ns = rt::now_ns();
   io.step.state_seq = io.state->header().seq();
   if (io.over_link) {
     SimFeed::answer(io.command, o, io.step.state_seq, simulated_);
-    const std::size_t size = io.command.ByteSizeLong();
-    io.command.SerializeWithCachedSizesToArray(io.answer);
-    io.link.send(io.answer, size);
+    bus::send_over(io.link, io.command, io.answer);
   }
   io.stats.latency.record(rt::now_ns() - received_ns);
 }
@@ -253,7 +243,7 @@ void Sim::hand_over(std::int64_t received_ns) {
   }
   if (received_ns >= next_status_) {
     next_status_ = received_ns + 1'000'000'000;
-    io.stats.ticks = steps_;
+    io.stats.ticks = step_.steps();
     const Io::LoopStatus status{rt::summarize(io.stats, simulator_.model().rate_hz), io.states.counters(), simulator_.state().faults,
                             simulator_.state().last_fault};
     deliver(io.statuses, status, simulated_);
@@ -266,7 +256,12 @@ void Sim::hand_over(std::int64_t received_ns) {
 void Sim::loop_main() {
   Io& io = *io_;
   rt::prefault_stack();
-  for (Stage& s : stages_) s.stage->activate();
+  // the simulator from its time 0, then the stages, on this thread before the feed takes a
+  // request (planning reads the model the activation resets)
+  step_.activate();
+  io.keyframes.size(simulator_);
+  loop_active_.store(true);
+  io.wake.notify();
   while (!graph::stop_requested()) {
     if (!next_state(rt::now_ns() + 100'000'000)) continue;
     const std::int64_t received = rt::now_ns();
@@ -275,7 +270,7 @@ void Sim::loop_main() {
     hand_over(received);
     rt::leave_rt_section();
   }
-  for (Stage& s : stages_) s.stage->deactivate();
+  step_.deactivate();
   loop_done_.store(true);
   io.wake.notify();
 }
@@ -322,7 +317,7 @@ std::string Sim::summary() const {
                 us(s.latency_p99_ns), us(s.latency_p999_ns), us(s.latency_max_ns));
   const std::uint64_t dropped = io_->dropped.load();
   const std::string unpublished = dropped ? "; " + std::to_string(dropped) + " steps not published (the feed's queue was full)" : "";
-  return std::to_string(steps_) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + unpublished + "; " + latency + ".";
+  return std::to_string(step_.steps()) + " steps, device states lost (seq gaps): " + std::to_string(io_->states.counters().lost) + unpublished + "; " + latency + ".";
 }
 
 void Sim::open_ports() {
@@ -332,12 +327,11 @@ void Sim::open_ports() {
   // the answer's parts made once, before the loop: it fills them in place
   io_->command.mutable_header()->set_source(host_.name());
   SimFeed::answer(io_->command, io_->step.o, 0, simulated_);
+  step_.connect_params(io_->changes, io_->applied);
 }
 
 void Sim::activate() {
   restart_begins();
-  simulator_.activate(0);
-  io_->keyframes.size(simulator_);  // before the loop
 }
 
 void Sim::run() {
@@ -358,6 +352,7 @@ void Sim::run() {
   // the loop thread takes the process's real-time profile; this one then leaves it
   loop_ = std::thread([this] { loop_main(); });
   rt::leave_fifo();
+  while (!loop_active_.load() && !loop_done_.load()) io.wake.wait(rt::now_ns() + kFeedRound_ns);
   // a new simulator's trial start, recorded now that the attach point listens
   if (respawn_ > 0) {
     io.feed.say_event(msgs::TaskEvent::TRIAL_START, restart_ns_,
@@ -373,7 +368,6 @@ void Sim::run() {
 int Sim::deactivate() {
   if (loop_.joinable()) loop_.join();
   drain();  // what the loop handed over last
-  simulator_.deactivate();
   graph::say(host_.name(), summary());
   graph::say(host_.name(), simulator_.summary());
   return 0;

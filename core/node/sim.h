@@ -18,6 +18,7 @@
 
 #include "core/node/host.h"
 #include "core/node/loop_component.h"
+#include "core/node/sim_step.h"
 #include "core/params/device_config.h"
 #include "core/sim/simulator.h"
 
@@ -48,6 +49,7 @@ class Sim {
 
   Host& host_;
   sim::Simulator simulator_;
+  SimStep step_{simulator_};  // the loop's: the model's step and the stages after it
   graph::SimNodeConfig config_;
   bool local_hop_;
   bool simulated_;  // the graph's clock: the frames carry the sample's time
@@ -60,11 +62,10 @@ class Sim {
   std::deque<Stage> stages_;
   std::unique_ptr<Io> io_;
   std::thread loop_;  // the answering thread, from run() to deactivate()
-  std::atomic<bool> loop_done_{false};
+  std::atomic<bool> loop_active_{false}, loop_done_{false};
   // the loop thread's
   std::int64_t next_scene_ = 0, next_status_ = 0, next_link_try_ns_ = 0, next_keyframe_ = 0;
   std::int64_t scene_period_ns_ = 0;
-  std::uint64_t steps_ = 0, frames_ = 0;
   // the feed's: a restarted simulator's trial start, said once the loop runs
   std::int64_t restart_ns_ = 0;
   int respawn_ = 0;

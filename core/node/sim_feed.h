@@ -16,7 +16,7 @@
 #include "core/graph/stop.h"
 #include "core/graph/task_state.h"
 #include "core/graph/topics.h"
-#include "core/node/colocated.h"
+#include "core/node/sim_step.h"
 #include "core/params/param_bus.h"
 #include "msgs/force_command.pb.h"
 #include "msgs/scene_state.pb.h"

@@ -108,9 +108,7 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
       graph::fill(command, state->header().seq(), o.force_n, o.fault);
       command.mutable_header()->set_seq(state->header().seq());
       command.mutable_header()->set_stamp_ns(rt::now_ns());
-      const std::size_t size = command.ByteSizeLong();
-      command.SerializeWithCachedSizesToArray(answer);
-      link.send(answer, size);
+      bus::send_over(link, command, answer);
       steps.try_push({state->header().seq(), o.force_n, o.fault});
     }
     link_done.store(true);
