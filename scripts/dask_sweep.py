@@ -161,7 +161,12 @@ def main():
     else:
         futures = [client.submit(run_job_shared, a.enact, a.sweep, a.out, k, key=f"{key}-{k}", pure=False) for k in jobs]
     lost = 0
-    for f in as_completed(futures):
+    pending = as_completed(futures)
+    # each task's result let go once taken: a worker keeps a result while a future names it,
+    # and by content each is a job's whole folder (713 MB for the 48-trial protocol): the list
+    # kept to the end held every job's folder in the workers' memory until the sweep ended
+    del futures
+    for f in pending:
         try:
             k, code, host, output, folder = f.result()
         except Exception as e:  # the task could not run (e.g. KilledWorker: its workers kept dying)
