@@ -28,13 +28,14 @@ bool unix_address(const std::string& path, sockaddr_un& out) {
 
 int seqpacket_socket() { return socket(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0); }
 
-// waits for `events` on fd until deadline_ns: true when ready (or hung up)
-bool wait_fd(int fd, short events, std::int64_t deadline_ns) noexcept {
+// waits for `events` on fd until deadline_ns, or until stop_fd (>= 0) is readable: true when
+// fd is ready (or hung up)
+bool wait_fd(int fd, short events, std::int64_t deadline_ns, int stop_fd = -1) noexcept {
   const std::int64_t left = deadline_ns - rt::now_ns();
   if (left <= 0) return false;
-  pollfd p{fd, events, 0};
+  pollfd p[2] = {{fd, events, 0}, {stop_fd, POLLIN, 0}};
   const timespec ts{static_cast<time_t>(left / 1'000'000'000), static_cast<long>(left % 1'000'000'000)};
-  return ppoll(&p, 1, &ts, nullptr) > 0;
+  return ppoll(p, stop_fd >= 0 ? 2 : 1, &ts, nullptr) > 0 && p[0].revents != 0;
 }
 
 void close_fd(int& fd) noexcept {
@@ -123,7 +124,7 @@ bool LoopLink::send(const void* data, std::size_t size) noexcept {
   return true;
 }
 
-long LoopLink::receive(void* buffer, std::size_t capacity, std::int64_t deadline_ns) noexcept {
+long LoopLink::receive(void* buffer, std::size_t capacity, std::int64_t deadline_ns, int stop_fd) noexcept {
   while (peer_ >= 0) {
     const ssize_t n = recv(peer_, buffer, capacity, MSG_DONTWAIT);
     if (n > 0) {
@@ -135,7 +136,7 @@ long LoopLink::receive(void* buffer, std::size_t capacity, std::int64_t deadline
       drop_peer();
       return -1;
     }
-    if (!wait_fd(peer_, POLLIN, deadline_ns)) return 0;
+    if (!wait_fd(peer_, POLLIN, deadline_ns, stop_fd)) return 0;
   }
   return -1;
 }

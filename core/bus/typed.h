@@ -81,12 +81,6 @@ class Publisher {
   LoopLink* hop_ = nullptr;
 };
 
-// a message a loop parses again and again without allocating. Parsing into a reused message
-// frees its parts first (Protobuf's Clear() deletes the sub-messages: header, vectors) and
-// makes them again, a few allocations a message; this one lives on an arena with a block of
-// its own, emptied before each parse. Use the message fresh() returns until the next call.
-// The first parse on a thread other than the constructor's may allocate (the arena's part
-// for that thread), none after.
 // msg sent over a same-host link, serialised into `buffer` (LoopLink::kMaxMessage bytes, the
 // most a link message holds): false when it was not sent (larger than that, no peer, the
 // peer's queue full). Allocates nothing, never blocks: the loop's answer
@@ -98,6 +92,12 @@ bool send_over(LoopLink& link, const Msg& msg, std::uint8_t (&buffer)[LoopLink::
   return link.send(buffer, size);
 }
 
+// a message a loop parses again and again without allocating. Parsing into a reused message
+// frees its parts first (Protobuf's Clear() deletes the sub-messages: header, vectors) and
+// makes them again, a few allocations a message; this one lives on an arena with a block of
+// its own, emptied before each parse. Use the message fresh() returns until the next call.
+// The first parse on a thread other than the constructor's may allocate (the arena's part
+// for that thread), none after.
 template <class Msg, std::size_t kBlockBytes = 8192>
 class ReusedMessage {
  public:

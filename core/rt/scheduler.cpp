@@ -1,5 +1,11 @@
 #include "core/rt/scheduler.h"
 
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 #include "core/rt/loop_stats.h"
 
 #include <algorithm>
@@ -45,6 +51,38 @@ PeriodicScheduler::PeriodicScheduler(SchedulerParams params) : params_(params) {
   period_rem_ = kPeriodScale % rate_mhz_;
   period_ns_ = (kPeriodScale + rate_mhz_ / 2) / rate_mhz_;
   spin_ns_ = params_.sleep_every_tick ? std::min(params_.spin_ns, period_ns_ / 2) : params_.spin_ns;
+  if (params_.wake_fd && !params_.simulated) {
+    timer_fd_ = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC);
+    if (timer_fd_ < 0) throw config::Error(std::string("the loop's timer (timerfd_create): ") + std::strerror(errno));
+  }
+}
+
+PeriodicScheduler::~PeriodicScheduler() {
+  if (timer_fd_ >= 0) close(timer_fd_);
+}
+
+void PeriodicScheduler::arm(std::int64_t t) {
+  const itimerspec when{{0, 0}, {static_cast<time_t>(t / 1'000'000'000), static_cast<long>(t % 1'000'000'000)}};
+  armed_ns_ = timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME, &when, nullptr) == 0 ? t : -1;
+}
+
+void PeriodicScheduler::sleep_until(std::int64_t t) {
+  if (timer_fd_ < 0) {
+    sleep_until_ns(t);
+    return;
+  }
+  // the timer fires at t (armed while the tick before spun), or is set for it now (a tick
+  // skipped); a read waits for it to fire (at once when it has)
+  while (now_ns() < t) {
+    if (armed_ns_ != t) arm(t);
+    std::uint64_t fired = 0;
+    if (armed_ns_ < 0 || read(timer_fd_, &fired, sizeof fired) < 0) {
+      if (armed_ns_ < 0 || errno != EINTR) {
+        sleep_until_ns(t);  // no timer: sleep as without one
+        return;
+      }
+    }
+  }
 }
 
 void PeriodicScheduler::start(std::int64_t first_deadline_ns) {
@@ -90,9 +128,14 @@ std::int64_t PeriodicScheduler::wait() {
   std::int64_t woke = now_ns();
   last_sleep_late_ns_ = -1;
   if (woke < sleep_to) {
-    sleep_until_ns(sleep_to);
+    sleep_until(sleep_to);
     woke = now_ns();
     last_sleep_late_ns_ = woke - sleep_to;
+  }
+  // the timer for the next sleep, set within this spin window, before the tick's work
+  if (timer_fd_ >= 0) {
+    arm(deadline_at(index_ + 1) - spin_ns_);
+    woke = now_ns();
   }
   while (woke < deadline_ns_) {
     cpu_relax();
@@ -107,6 +150,7 @@ std::int64_t PeriodicScheduler::wait() {
     const auto skipped = static_cast<std::uint64_t>(next_index_ - index_ - 1);
     skipped_ += skipped;
     overruns_ += 1 + skipped;
+    if (timer_fd_ >= 0) arm(deadline_at(next_index_) - spin_ns_);  // a later sleep than the one armed
   }
   return woke;
 }

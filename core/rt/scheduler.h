@@ -32,6 +32,8 @@ struct SchedulerParams {
   bool sleep_every_tick = false;
   // simulated time: never wait, never late (see above)
   bool simulated = false;
+  // sleep on a timer the loop can wait on beside its sockets (wake_fd_for(), below)
+  bool wake_fd = false;
 
   // throws config::Error naming the parameter and the fix
   void validate() const;
@@ -41,6 +43,9 @@ class PeriodicScheduler {
  public:
   // validates the params (config::Error) and allocates the jitter histogram
   explicit PeriodicScheduler(SchedulerParams params);
+  ~PeriodicScheduler();
+  PeriodicScheduler(const PeriodicScheduler&) = delete;
+  PeriodicScheduler& operator=(const PeriodicScheduler&) = delete;
 
   // (re)start: deadline 0 is first_deadline_ns; counters and the histogram are cleared
   void start(std::int64_t first_deadline_ns);
@@ -73,10 +78,19 @@ class PeriodicScheduler {
   std::int64_t deadline_index() const { return index_; }
   // the deadline the next wait() will wait for
   std::int64_t next_deadline_ns() const { return deadline_at(next_index_); }
+  // with SchedulerParams::wake_fd: a timer descriptor (timerfd) that becomes readable at t,
+  // when the next wait() is due to stop sleeping (t = next_deadline_ns() - spin_ns()): armed
+  // while this tick spun, so a loop that waits for a reply until then (a poll on it beside its
+  // socket) arms no timer of its own, which on a VM costs each wait some us as the timer is
+  // set and again as it is cancelled. -1 when it is not armed for t (or without wake_fd)
+  int wake_fd_for(std::int64_t t) const { return armed_ns_ == t ? timer_fd_ : -1; }
 
  private:
   // the first index whose deadline is after t
   std::int64_t first_index_after(std::int64_t t) const;
+  // sleeps until t (the timer armed for it unless it already is)
+  void sleep_until(std::int64_t t);
+  void arm(std::int64_t t);
 
   SchedulerParams params_;
   // 1e12 / rate_mhz_ = period_whole_ns_ + period_rem_ / rate_mhz_: the exact period
@@ -96,6 +110,8 @@ class PeriodicScheduler {
   std::uint64_t overruns_ = 0;
   std::uint64_t skipped_ = 0;
   LatencyHistogram jitter_;
+  int timer_fd_ = -1;
+  std::int64_t armed_ns_ = -1;  // when the timer fires next (-1: not armed)
 };
 
 // the scheduler's timing (jitter histogram, overruns, ticks) into a loop's stats

@@ -72,9 +72,10 @@ int bench_loop(int argc, char** argv) {
   r.seconds = seconds;
   r.jitter_ticks = jitter_ticks;
   r.fifo_priority = fifo;
-  // the graph's profile: this thread and the peer are the loop
+  // the graph's profile: the peer and this thread are the loop, ordered as the graph's [sim, ffd]: the
+  // answering side above the clock master (it runs as soon as a request comes)
   loop::Machine& machine = r.machine;
-  const rt::GraphProfile graph_profile{.enabled = !a.flag("no-profile"), .loop = {"bench", "peer"}, .fifo_priority = fifo, .cpu_latency = true, .other_loops = {}};
+  const rt::GraphProfile graph_profile{.enabled = !a.flag("no-profile"), .loop = {"peer", "bench"}, .fifo_priority = fifo, .cpu_latency = true, .other_loops = {}};
   const rt::LauncherProfile profile(graph_profile);
   const rt::NodeProfileReport self = rt::apply_node_profile(profile.node("bench"));
   bus::set_io_threads({self.io_cpus, self.io_fifo_priority});

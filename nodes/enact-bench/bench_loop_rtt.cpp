@@ -86,19 +86,19 @@ class RttCase {
     bool ok[kArms] = {};
     const auto all_ok = [&] { return std::all_of(ok, ok + arms_, [](bool b) { return b; }); };
     while (!all_ok() && rt::now_ns() < give_up) {
-      for (int a = 0; a < arms_; ++a) ok[a] = ok[a] || exchange(a, rt::now_ns(), rt::now_ns() + 2'000'000, handshake_[a]);
+      for (int a = 0; a < arms_; ++a) ok[a] = ok[a] || exchange(a, rt::now_ns(), rt::now_ns() + 2'000'000, -1, handshake_[a]);
     }
     if (!all_ok()) throw std::runtime_error("bench loop: the peer did not answer within 10 s");
     // replies to the handshake's unanswered pings come back as stale: let them arrive now
     rt::sleep_until_ns(rt::now_ns() + 20'000'000);
-    for (int a = 0; a < arms_; ++a) exchange(a, rt::now_ns(), rt::now_ns(), handshake_[a]);
+    for (int a = 0; a < arms_; ++a) exchange(a, rt::now_ns(), rt::now_ns(), -1, handshake_[a]);
   }
 
   RttResult run(double seconds, bool fifo) {
     RttResult r;
     rt::LatencyHistogram block[kArms];
     loop_thread([&] {
-      rt::PeriodicScheduler s({.rate_hz = kRate_hz, .spin_ns = 50'000, .sleep_every_tick = fifo});
+      rt::PeriodicScheduler s({.rate_hz = kRate_hz, .spin_ns = 50'000, .sleep_every_tick = fifo, .wake_fd = true});
       const std::int64_t start = rt::now_ns() + 1'000'000;
       const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
       s.start(start);
@@ -108,7 +108,8 @@ class RttCase {
         // tick by tick, the order of each round of arms flipped every other round
         const int a = arms_ == 2 ? arm_of(n, 1) : (n / kArms) % 2 == 0 ? static_cast<int>(n % kArms) : kArms - 1 - static_cast<int>(n % kArms);
         // the answer to this tick's request, until just before the next tick
-        if (exchange(a, now, s.next_deadline_ns() - s.spin_ns(), r.arm[a])) block[a].record(r.arm[a].last_rtt_ns());
+        const std::int64_t answer_by = s.next_deadline_ns() - s.spin_ns();
+        if (exchange(a, now, answer_by, s.wake_fd_for(answer_by), r.arm[a])) block[a].record(r.arm[a].last_rtt_ns());
         if (n % (arms_ * kBlockTicks) == arms_ * kBlockTicks - 1) {
           r.p50.add_block(block[kBus], block[kRaw]);
           if (arms_ == kArms) r.floor.add_block(block[kLink], block[kPipe]);
@@ -123,14 +124,17 @@ class RttCase {
 
  private:
   // one arm: send request, wait for the reply carrying its number until answer_by; replies
-  // to earlier requests are counted stale by `trip`
-  bool exchange(int arm, std::int64_t now, std::int64_t answer_by, rt::RoundTrip& trip) {
+  // to earlier requests are counted stale by `trip`. The local arms wait as the graph's FFD
+  // driver does: until the scheduler's timer (stop_fd, readable at answer_by) where it is
+  // armed, with a far backstop, so their wait sets no timer of its own
+  bool exchange(int arm, std::int64_t now, std::int64_t answer_by, int stop_fd, rt::RoundTrip& trip) {
+    const std::int64_t local_by = stop_fd >= 0 ? answer_by + 2'000'000 : answer_by;
     if (arm == kLink) {
       // as the graph's FFD driver: published (the link first, then the bus), answered on the link
       state_.mutable_header()->set_stamp_ns(now);
       link_states_.publish(state_);
       trip.sent(link_states_.last_seq(), now);
-      for (long n; (n = link_.receive(link_buffer_, sizeof link_buffer_, answer_by)) > 0;) {
+      for (long n; (n = link_.receive(link_buffer_, sizeof link_buffer_, local_by, stop_fd)) > 0;) {
         if (link_forces_.accept_payload(link_buffer_, static_cast<std::size_t>(n), command_) && trip.reply(command_.answered_seq(), rt::now_ns())) return true;
       }
     } else if (arm == kPipe) {
@@ -139,10 +143,10 @@ class RttCase {
       trip.sent(pipe_seq_, now);
       if (write(pipe_out_, raw_.data(), raw_.size()) == static_cast<ssize_t>(raw_.size())) {
         for (;;) {
-          const std::int64_t left_ns = answer_by - rt::now_ns();
-          pollfd p{pipe_in_, POLLIN, 0};
+          const std::int64_t left_ns = local_by - rt::now_ns();
+          pollfd p[2] = {{pipe_in_, POLLIN, 0}, {stop_fd, POLLIN, 0}};
           const timespec left{static_cast<time_t>(left_ns / 1'000'000'000), static_cast<long>(left_ns % 1'000'000'000)};
-          if (left_ns <= 0 || ppoll(&p, 1, &left, nullptr) <= 0) break;
+          if (left_ns <= 0 || ppoll(p, stop_fd >= 0 ? 2 : 1, &left, nullptr) <= 0 || p[0].revents == 0) break;
           std::array<char, kRawSize> reply{};
           if (read(pipe_in_, reply.data(), reply.size()) != static_cast<ssize_t>(reply.size())) break;
           std::uint64_t seq = 0;

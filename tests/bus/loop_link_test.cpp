@@ -1,5 +1,7 @@
 // LoopLink: the loop's same-host hop between the FFD driver (it listens) and the simulator.
 #include <gtest/gtest.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <string>
@@ -65,6 +67,37 @@ TEST(LoopLink, ReceiveWaitsUntilItsDeadlineAndNoLonger) {
   });
   EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + 10 * kSecond_ns), 1);
   later.join();
+}
+
+TEST(LoopLink, AWaitEndsWhenItsStopDescriptorIsReadableLongBeforeItsDeadline) {
+  TempDir dir;
+  Pair p(dir);
+  char buf[64];
+  const int stop = eventfd(0, EFD_CLOEXEC);
+  ASSERT_GE(stop, 0);
+  // a message waiting is read whatever the stop descriptor says
+  ASSERT_TRUE(p.follower.send("x", 1));
+  std::uint64_t one = 1;
+  ASSERT_EQ(write(stop, &one, sizeof one), static_cast<ssize_t>(sizeof one));
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + 10 * kSecond_ns, stop), 1);
+  // none waiting: the readable stop descriptor ends the wait at once, not the deadline 10 s on
+  const std::int64_t before = rt::now_ns();
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, before + 10 * kSecond_ns, stop), 0);
+  EXPECT_LT(rt::now_ns() - before, 5 * kSecond_ns);
+  EXPECT_TRUE(p.master.connected());
+  // one that becomes readable while it waits ends it then
+  std::uint64_t taken = 0;
+  ASSERT_EQ(read(stop, &taken, sizeof taken), static_cast<ssize_t>(sizeof taken));
+  std::thread later([&] {
+    rt::sleep_until_ns(rt::now_ns() + 20'000'000);
+    ASSERT_EQ(write(stop, &one, sizeof one), static_cast<ssize_t>(sizeof one));
+  });
+  const std::int64_t waited = rt::now_ns();
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, waited + 10 * kSecond_ns, stop), 0);
+  EXPECT_GE(rt::now_ns() - waited, 20'000'000);
+  EXPECT_LT(rt::now_ns() - waited, 5 * kSecond_ns);
+  later.join();
+  close(stop);
 }
 
 TEST(LoopLink, AFollowerThatLeavesIsSeenAndANewOneTakesItsPlace) {

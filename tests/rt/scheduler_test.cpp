@@ -4,6 +4,7 @@
 #include "core/rt/scheduler.h"
 
 #include <gtest/gtest.h>
+#include <poll.h>
 
 #include <cstdint>
 #include <string>
@@ -94,6 +95,54 @@ TEST(PeriodicScheduler, EverySkippedDeadlineCountsAsAnOverrun) {
   EXPECT_EQ(s.ticks(), 1u);
   EXPECT_GE(s.skipped(), 9u);
   EXPECT_EQ(s.overruns(), 1 + s.skipped());
+}
+
+// whether fd is readable within timeout_ms
+bool readable(int fd, int timeout_ms) {
+  pollfd p{fd, POLLIN, 0};
+  return poll(&p, 1, timeout_ms) == 1;
+}
+
+TEST(PeriodicScheduler, ItsWakeTimerIsReadableWhenTheNextSleepEndsAndTheDeadlinesStayTheSame) {
+  // 100 Hz, a 2 ms spin window: the next sleep ends 8 ms after a tick
+  PeriodicScheduler s({.rate_hz = 100.0, .spin_ns = 2'000'000, .wake_fd = true});
+  PeriodicScheduler plain({.rate_hz = 100.0, .spin_ns = 2'000'000});
+  const std::int64_t first = now_ns() + 5'000'000;
+  s.start(first);
+  plain.start(first);
+  for (int tick = 0; tick < 5; ++tick) {
+    const std::int64_t woke = s.wait();
+    ASSERT_GE(woke, s.deadline_ns());  // never before its deadline
+    ASSERT_EQ(s.deadline_ns(), first + tick * 10'000'000);
+    const std::int64_t ends = s.next_deadline_ns() - s.spin_ns();
+    const int fd = s.wake_fd_for(ends);
+    ASSERT_GE(fd, 0) << "armed for the next sleep's end while the tick spun";
+    EXPECT_EQ(s.wake_fd_for(ends + 1), -1);
+    // not before its time (a tick takes far less than 8 ms here), then at it
+    if (now_ns() + 1'000'000 < ends) EXPECT_FALSE(readable(fd, 0));
+    ASSERT_TRUE(readable(fd, 1000));
+    EXPECT_GE(now_ns(), ends);
+  }
+  EXPECT_EQ(s.overruns(), 0u);
+  // a late tick: the deadlines passed are skipped as without the timer, and the timer is
+  // armed for the sleep before the first deadline still ahead, not the one skipped
+  sleep_until_ns(now_ns() + 35'000'000);
+  s.wait();
+  EXPECT_GE(s.skipped(), 2u);
+  EXPECT_GE(s.wake_fd_for(s.next_deadline_ns() - s.spin_ns()), 0);
+  EXPECT_GT(s.next_deadline_ns(), now_ns());
+  // what it returns is the plain scheduler's: the same deadlines
+  for (std::int64_t n = 0; n < 20; ++n) EXPECT_EQ(s.deadline_at(n), plain.deadline_at(n));
+}
+
+TEST(PeriodicScheduler, WithoutAWakeTimerThereIsNoneToWaitOn) {
+  PeriodicScheduler s({.rate_hz = 1000.0, .spin_ns = 100'000});
+  s.start(now_ns());
+  s.wait();
+  EXPECT_EQ(s.wake_fd_for(s.next_deadline_ns() - s.spin_ns()), -1);
+  PeriodicScheduler simulated({.rate_hz = 1000.0, .simulated = true, .wake_fd = true});
+  simulated.wait();
+  EXPECT_EQ(simulated.wake_fd_for(simulated.next_deadline_ns() - simulated.spin_ns()), -1);
 }
 
 TEST(PeriodicScheduler, SimulatedTimeReturnsEveryDeadlineAtOnceAndMissesNone) {
