@@ -56,10 +56,10 @@ class LoopLink {
   // waits until a message comes or the monotonic clock reaches deadline_ns, and reads it into
   // buffer (at most capacity bytes). Returns its size; 0 on timeout (or a signal); -1 when
   // there is no peer or the peer left (the link is then unconnected).
-  // With stop_fd (>= 0) it also returns 0 once stop_fd is readable: a loop whose own timer
-  // (rt::PeriodicScheduler::wake_fd) ends the wait gives a far deadline as a backstop, and its
-  // wait then arms no timer of its own (on a VM a timer due before any other costs the round
-  // trip some 10 us: tools/bench loop's link arm).
+  // With stop_fd (>= 0) it also returns 0 once stop_fd is readable: a loop whose scheduler's
+  // timer ends the wait (rt::PeriodicScheduler::reply_wait) gives a far deadline as a backstop,
+  // and its wait then arms no timer of its own (on a VM a timer due before any other costs the
+  // round trip some 10 us: enact bench loop's link arm).
   long receive(void* buffer, std::size_t capacity, std::int64_t deadline_ns, int stop_fd = -1) noexcept;
 
   // the connected socket, to wait on it with poll() beside other sockets (-1: no peer)

@@ -41,10 +41,6 @@ namespace {
 
 // simulated time: how long the driver waits for the pins of a frame the simulator sent
 constexpr std::int64_t kShownWait_ns = 2'000'000'000;
-// an answer awaited until the scheduler's timer also ends by then, should that timer fail
-// (a wait's timeout due before any other timer costs this VM ~10 us a round trip; 1 ms later
-// none measurable: enact bench loop)
-constexpr std::int64_t kBackstop_ns = 2'000'000;
 
 }  // namespace
 
@@ -164,11 +160,9 @@ bool Ffd::next_answer(std::int64_t deadline_ns) {
     }
     return false;
   }
-  // until the scheduler's timer for deadline_ns where it is armed for it (then the deadline
-  // given the link is a far backstop: no timer set and cancelled by this wait)
-  const int stop = io.scheduler->wake_fd_for(deadline_ns);
-  const std::int64_t until = stop >= 0 ? deadline_ns + kBackstop_ns : deadline_ns;
-  for (long n; (n = io.link.receive(io.answer, sizeof io.answer, until, stop)) > 0;) {
+  // until the scheduler's timer where it is armed for deadline_ns (no timer of this wait's own)
+  const rt::PeriodicScheduler::ReplyWait wait = io.scheduler->reply_wait(deadline_ns);
+  for (long n; (n = io.link.receive(io.answer, sizeof io.answer, wait.until, wait.stop_fd)) > 0;) {
     if (io.commands.accept_payload(io.answer, static_cast<std::size_t>(n), io.command)) return true;
   }
   return false;

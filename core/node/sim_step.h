@@ -61,7 +61,6 @@ class SimStep {
   void deactivate() noexcept;
 
   std::uint64_t steps() const { return steps_; }
-  std::uint64_t frames() const { return frames_; }
 
  private:
   sim::Simulator& sim_;

@@ -76,11 +76,10 @@ void PeriodicScheduler::sleep_until(std::int64_t t) {
   while (now_ns() < t) {
     if (armed_ns_ != t) arm(t);
     std::uint64_t fired = 0;
-    if (armed_ns_ < 0 || read(timer_fd_, &fired, sizeof fired) < 0) {
-      if (armed_ns_ < 0 || errno != EINTR) {
-        sleep_until_ns(t);  // no timer: sleep as without one
-        return;
-      }
+    const bool slept = armed_ns_ == t && (read(timer_fd_, &fired, sizeof fired) >= 0 || errno == EINTR);
+    if (!slept) {
+      sleep_until_ns(t);  // no timer: sleep as without one
+      return;
     }
   }
 }

@@ -86,12 +86,12 @@ class RttCase {
     bool ok[kArms] = {};
     const auto all_ok = [&] { return std::all_of(ok, ok + arms_, [](bool b) { return b; }); };
     while (!all_ok() && rt::now_ns() < give_up) {
-      for (int a = 0; a < arms_; ++a) ok[a] = ok[a] || exchange(a, rt::now_ns(), rt::now_ns() + 2'000'000, -1, handshake_[a]);
+      for (int a = 0; a < arms_; ++a) ok[a] = ok[a] || exchange(a, rt::now_ns(), rt::now_ns() + 2'000'000, {rt::now_ns() + 2'000'000, -1}, handshake_[a]);
     }
     if (!all_ok()) throw std::runtime_error("bench loop: the peer did not answer within 10 s");
     // replies to the handshake's unanswered pings come back as stale: let them arrive now
     rt::sleep_until_ns(rt::now_ns() + 20'000'000);
-    for (int a = 0; a < arms_; ++a) exchange(a, rt::now_ns(), rt::now_ns(), -1, handshake_[a]);
+    for (int a = 0; a < arms_; ++a) exchange(a, rt::now_ns(), rt::now_ns(), {rt::now_ns(), -1}, handshake_[a]);
   }
 
   RttResult run(double seconds, bool fifo) {
@@ -109,7 +109,7 @@ class RttCase {
         const int a = arms_ == 2 ? arm_of(n, 1) : (n / kArms) % 2 == 0 ? static_cast<int>(n % kArms) : kArms - 1 - static_cast<int>(n % kArms);
         // the answer to this tick's request, until just before the next tick
         const std::int64_t answer_by = s.next_deadline_ns() - s.spin_ns();
-        if (exchange(a, now, answer_by, s.wake_fd_for(answer_by), r.arm[a])) block[a].record(r.arm[a].last_rtt_ns());
+        if (exchange(a, now, answer_by, s.reply_wait(answer_by), r.arm[a])) block[a].record(r.arm[a].last_rtt_ns());
         if (n % (arms_ * kBlockTicks) == arms_ * kBlockTicks - 1) {
           r.p50.add_block(block[kBus], block[kRaw]);
           if (arms_ == kArms) r.floor.add_block(block[kLink], block[kPipe]);
@@ -125,10 +125,11 @@ class RttCase {
  private:
   // one arm: send request, wait for the reply carrying its number until answer_by; replies
   // to earlier requests are counted stale by `trip`. The local arms wait as the graph's FFD
-  // driver does: until the scheduler's timer (stop_fd, readable at answer_by) where it is
-  // armed, with a far backstop, so their wait sets no timer of its own
-  bool exchange(int arm, std::int64_t now, std::int64_t answer_by, int stop_fd, rt::RoundTrip& trip) {
-    const std::int64_t local_by = stop_fd >= 0 ? answer_by + 2'000'000 : answer_by;
+  // driver does: until the scheduler's timer where it is armed for answer_by (`local`), so
+  // their wait sets no timer of its own
+  bool exchange(int arm, std::int64_t now, std::int64_t answer_by, rt::PeriodicScheduler::ReplyWait local, rt::RoundTrip& trip) {
+    const std::int64_t local_by = local.until;
+    const int stop_fd = local.stop_fd;
     if (arm == kLink) {
       // as the graph's FFD driver: published (the link first, then the bus), answered on the link
       state_.mutable_header()->set_stamp_ns(now);

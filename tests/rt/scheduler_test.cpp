@@ -115,9 +115,11 @@ TEST(PeriodicScheduler, ItsWakeTimerIsReadableWhenTheNextSleepEndsAndTheDeadline
     ASSERT_GE(woke, s.deadline_ns());  // never before its deadline
     ASSERT_EQ(s.deadline_ns(), first + tick * 10'000'000);
     const std::int64_t ends = s.next_deadline_ns() - s.spin_ns();
-    const int fd = s.wake_fd_for(ends);
+    const int fd = s.reply_wait(ends).stop_fd;
     ASSERT_GE(fd, 0) << "armed for the next sleep's end while the tick spun";
-    EXPECT_EQ(s.wake_fd_for(ends + 1), -1);
+    EXPECT_EQ(s.reply_wait(ends).until, ends + PeriodicScheduler::kReplyBackstop_ns);  // the timer ends it: a far backstop
+    EXPECT_EQ(s.reply_wait(ends + 1).stop_fd, -1);
+    EXPECT_EQ(s.reply_wait(ends + 1).until, ends + 1);
     // not before its time (a tick takes far less than 8 ms here), then at it
     if (now_ns() + 1'000'000 < ends) EXPECT_FALSE(readable(fd, 0));
     ASSERT_TRUE(readable(fd, 1000));
@@ -129,7 +131,7 @@ TEST(PeriodicScheduler, ItsWakeTimerIsReadableWhenTheNextSleepEndsAndTheDeadline
   sleep_until_ns(now_ns() + 35'000'000);
   s.wait();
   EXPECT_GE(s.skipped(), 2u);
-  EXPECT_GE(s.wake_fd_for(s.next_deadline_ns() - s.spin_ns()), 0);
+  EXPECT_GE(s.reply_wait(s.next_deadline_ns() - s.spin_ns()).stop_fd, 0);
   EXPECT_GT(s.next_deadline_ns(), now_ns());
   // what it returns is the plain scheduler's: the same deadlines
   for (std::int64_t n = 0; n < 20; ++n) EXPECT_EQ(s.deadline_at(n), plain.deadline_at(n));
@@ -139,10 +141,10 @@ TEST(PeriodicScheduler, WithoutAWakeTimerThereIsNoneToWaitOn) {
   PeriodicScheduler s({.rate_hz = 1000.0, .spin_ns = 100'000});
   s.start(now_ns());
   s.wait();
-  EXPECT_EQ(s.wake_fd_for(s.next_deadline_ns() - s.spin_ns()), -1);
+  EXPECT_EQ(s.reply_wait(s.next_deadline_ns() - s.spin_ns()).stop_fd, -1);
   PeriodicScheduler simulated({.rate_hz = 1000.0, .simulated = true, .wake_fd = true});
   simulated.wait();
-  EXPECT_EQ(simulated.wake_fd_for(simulated.next_deadline_ns() - simulated.spin_ns()), -1);
+  EXPECT_EQ(simulated.reply_wait(simulated.next_deadline_ns() - simulated.spin_ns()).stop_fd, -1);
 }
 
 TEST(PeriodicScheduler, SimulatedTimeReturnsEveryDeadlineAtOnceAndMissesNone) {
