@@ -221,6 +221,8 @@ void AttachPoint::forward_data() {
   if (lossless_.load() != nodrop_) {
     nodrop_ = lossless_.load();
     xpub_.set(zmq::sockopt::xpub_nodrop, nodrop_);
+    // ... and a graph that ended still delivers what its observers have not taken (bytes.h)
+    xpub_.set(zmq::sockopt::linger, nodrop_ ? kFullLinger_ms : kPublisherLinger_ms);
   }
   // publishers -> observers, whole messages, a batch at a time; the last of a state topic kept
   for (int i = 0; i < kForwardBatch; ++i) {

@@ -12,7 +12,8 @@
 // Observers are lossy: a slow observer loses messages at the attach point (it sees gaps,
 // and counts them by header.seq), and never slows the publishers. Except in simulated time
 // (the launch info's clock): then the attach point waits for a full observer, as the nodes'
-// publishers wait for it (bus::PublisherOptions::wait_when_full), and nobody loses anything. Each observer's queue
+// publishers wait for it (bus::PublisherOptions::wait_when_full), and nobody loses anything,
+// the graph's last messages included (closing, it delivers them for up to kFullLinger_ms). Each observer's queue
 // holds at most kObserverQueue messages, and the nodes' messages in it at most
 // observer_queue_bytes: the message limit is those bytes over an assumed mean message cost
 // (kMeanCost_bytes, frames and their overhead; a 5 kHz graph's stream averages less), set

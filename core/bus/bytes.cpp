@@ -55,6 +55,7 @@ BytePublisher::BytePublisher(const std::string& endpoint, PublisherOptions optio
   socket_.set(zmq::sockopt::sndhwm, options.send_hwm);
   socket_.set(zmq::sockopt::xpub_nodrop, options.refuse_when_full || options.wait_when_full);
   wait_when_full_ = options.wait_when_full;
+  if (wait_when_full_) socket_.set(zmq::sockopt::linger, kFullLinger_ms);
   // every subscriber's subscribe and unsubscribe notice, not just the first and last: counted
   socket_.set(zmq::sockopt::xpub_verboser, true);
   try {

@@ -49,6 +49,11 @@ struct PublisherOptions {
 
 // the longest a wait_when_full publisher waits for a full subscriber before it drops
 inline constexpr double kFullWait_s = 2.0;
+// how long a closing wait_when_full publisher still delivers what it queued, ms (others:
+// kPublisherLinger_ms, context.h). A node in simulated time ends with its last messages still
+// queued toward a slow observer; 100 ms dropped the end of a trial's recording on a loaded
+// machine. A subscriber gone ends the wait at once
+inline constexpr int kFullLinger_ms = 10000;
 
 // sends one frame without blocking; while the socket refuses it (a full subscriber of an XPUB
 // socket with ZMQ_XPUB_NODROP) and `wait` is set, tries again every 20 us for at most

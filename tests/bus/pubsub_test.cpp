@@ -5,6 +5,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstring>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -225,6 +227,38 @@ TEST_P(Transport, FlowControlRefusesWhileAQueueIsFull) {
   EXPECT_GT(c.sent, 0u);
   EXPECT_EQ(c.sent + c.dropped, static_cast<std::uint64_t>(kAttempts));
   EXPECT_EQ(c.dropped, static_cast<std::uint64_t>(refused));
+}
+
+// simulated time: a node that ends (its publisher closed) with messages still queued toward a
+// subscriber that is not reading (a starved observer) still delivers them once it reads,
+// however long after the close. With the 100 ms linger of other publishers the end of a
+// trial's recording was lost on a loaded machine
+TEST(Bus, AClosedPublisherInSimulatedTimeStillDeliversWhatItQueued) {
+  enact::test::TempDir dir;
+  bus::ByteSubscriber slow;
+  slow.set_receive_hwm(10);
+  auto pub = std::make_unique<bus::BytePublisher>(enact::test::bind_endpoint("ipc", dir), bus::PublisherOptions{.node = "rt", .send_hwm = 200, .wait_when_full = true});
+  slow.connect(pub->endpoint());
+  slow.subscribe("ffd/state");
+  ASSERT_TRUE(eventually([&] { return pub->has_subscribers("ffd/state"); }));
+  // 200 messages of 20 kB (4 MB: more than the socket buffers hold, less than the queues)
+  constexpr int kMessages = 200;
+  std::vector<char> payload(20'000, 'x');
+  for (int i = 0; i < kMessages; ++i) {
+    std::memcpy(payload.data(), &i, sizeof i);
+    ASSERT_TRUE(pub->send("ffd/state", "enact.msgs.DeviceState", payload.data(), payload.size())) << i;
+  }
+  pub.reset();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // 5x the other publishers' linger
+  bus::RawMessage m;
+  int received = 0;
+  while (received < kMessages && slow.receive(m, kWait_ms)) {
+    int index = -1;
+    std::memcpy(&index, m.payload(), sizeof index);
+    ASSERT_EQ(index, received) << "messages out of order or lost";
+    ++received;
+  }
+  EXPECT_EQ(received, kMessages);
 }
 
 TEST_P(Transport, GapsAndLostMessagesAreCountedPerSource) {

@@ -292,6 +292,54 @@ TEST(Recording, InSimulatedTimeTheDistributedGraphIsTheColocatedGraphsTwin) {
   std::printf("[ twin ] %zu ticks of the distributed graph equal to the co-located graph's\n", n);
 }
 
+// in simulated time nothing is lost however slow the observers' path is, up to the graph's
+// end: the attach point (in the launcher) is stopped 300 ms at a time, running 20 ms between,
+// from the start until after the loop's process ended (the scripted hand completed the task,
+// several seconds of the model; at most its duration_s). The loop waits for
+// its observer as it goes; what it still had queued when it ended reaches the recording too,
+// and so does what the attach point held when the graph stopped: every tick, the last one
+// included. A publisher that gave its queue up 100 ms after it closed lost the recording's end
+TEST(Recording, InSimulatedTimeAStarvedObserverStillGetsTheLastTick) {
+  TempDir dir;
+  const std::string file = dir.file("starved.mcap");
+  std::string loop_said;  // the launcher's output
+  {
+    Launcher graph(dir, source_path("launch/bridge_rt.yaml"), 120.0, {"observers=1", "duration_s=20"}, "", {"--clock", "simulated"});
+    const pid_t launcher = graph.pid();
+    ASSERT_GT(launcher, 0);
+    const RunResult rec = run(kCli + " record -o " + file + " --attach " + graph.endpoint() + " --duration 120 >" + dir.file("rec.out") + " 2>&1 & echo $!");
+    const pid_t recorder = static_cast<pid_t>(std::stol(rec.out));
+    {
+      Continue guard{launcher};
+      int cycles_after_end = 0;
+      const auto give_up = after(90.0);
+      while (cycles_after_end < 3 && Clock::now() < give_up) {
+        if (graph.log().find("exited with code") != std::string::npos) ++cycles_after_end;
+        ASSERT_EQ(kill(launcher, SIGSTOP), 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        ASSERT_EQ(kill(launcher, SIGCONT), 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      ASSERT_EQ(cycles_after_end, 3) << "the loop's process did not end in 90 s\n" << graph.log();
+    }
+    const auto end = after(30.0);
+    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    EXPECT_EQ(graph.wait_exit(30.0), 0) << graph.log();
+    loop_said = graph.log() + graph.out();
+  }
+  // the loop's own count of its ticks (it ends when the scripted hand completes the task)
+  std::smatch said;
+  ASSERT_TRUE(std::regex_search(loop_said, said, std::regex("rt: 5000 Hz loop: ([0-9]+) ticks"))) << loop_said;
+  const std::vector<RecordedTick> ticks = recorded_ticks(file);
+  EXPECT_GT(ticks.size(), 20'000u) << "the hand walks the bridge for several seconds of the model";
+  EXPECT_EQ(ticks.size(), std::stoul(said[1].str())) << "every tick of the loop recorded, the last one included";
+  EXPECT_EQ(ticks_before_first_miss(ticks, 200'000), ticks.size()) << "every tick a period apart, every force recorded";
+  const Summary s = summarize(file);
+  EXPECT_EQ(s.first_state_seq, 1u);
+  EXPECT_EQ(s.state_gaps, 0u);
+}
+
 // `graph` recorded from its first tick to its end while live changes of seven kinds come, then
 // stopped (a clean stop once the last change is answered: a fixed duration ended the graph
 // before the eighth change on a loaded machine): resim re-applies each where it took effect
