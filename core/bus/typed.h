@@ -30,6 +30,9 @@ class Publisher {
       : bytes_(bytes), topic_(std::move(topic)), type_(Msg::descriptor()->full_name()) {
     bytes_.declare(topic_, std::string(type_));
   }
+  ~Publisher() { send_held(); }
+  Publisher(const Publisher&) = delete;
+  Publisher& operator=(const Publisher&) = delete;
 
   // fills msg.header (seq: +1 per call, from 1; stamp_ns: now, only if 0; source: the node
   // name of the BytePublisher), serialises and sends without blocking. false when the message
@@ -39,6 +42,7 @@ class Publisher {
   // A message object reused for the next publish keeps its stamp: set header.stamp_ns to
   // the sample time, or to 0 for "now", before each call.
   bool publish(Msg& msg) {
+    send_held();  // a copy still held goes first: none is ever lost
     // header
     msgs::Header& h = *msg.mutable_header();
     h.set_seq(++seq_);
@@ -48,9 +52,19 @@ class Publisher {
     const std::size_t size = msg.ByteSizeLong();
     if (size > buffer_.size()) buffer_.resize(size);
     msg.SerializeWithCachedSizesToArray(buffer_.data());
-    // the loop's hop first: its reader waits for it; then the bus, for every observer
-    if (hop_) hop_->send(buffer_.data(), size);
-    return bytes_.send(topic_, type_, buffer_.data(), size);
+    if (!hop_) return bytes_.send(topic_, type_, buffer_.data(), size);
+    // the loop's hop alone: its reader waits for it; the bus copy, for every observer, is
+    // held until the loop has its answer (send_held)
+    held_ = size;
+    return hop_->send(buffer_.data(), size);
+  }
+
+  // with a hop: sends the bus copy of the last message published, if it is still held. A loop
+  // calls it once it has its answer (or gave up on it), before it publishes again: the
+  // observers' copy (a ZeroMQ send, its I/O thread woken) then costs the round trip nothing
+  bool send_held() {
+    if (held_ == 0) return true;
+    return bytes_.send(topic_, type_, buffer_.data(), std::exchange(held_, 0));
   }
 
   // as publish(msg), numbered `seq` (the number the loop gave it, which a copy sent over its
@@ -61,7 +75,8 @@ class Publisher {
   }
 
   // every message published from now on goes over `hop` too (the loop's same-host link,
-  // which must outlive this publisher), before the bus; nullptr: the bus alone
+  // which must outlive this publisher), its bus copy held until send_held() or the next
+  // publish; nullptr: the bus alone
   void also_over(LoopLink* hop) { hop_ = hop; }
 
   // header.seq of the last message published (0 before the first)
@@ -79,6 +94,7 @@ class Publisher {
   std::uint64_t seq_ = 0;
   std::vector<std::uint8_t> buffer_;
   LoopLink* hop_ = nullptr;
+  std::size_t held_ = 0;  // the size of the bus copy held in buffer_ (0: none)
 };
 
 // msg sent over a same-host link, serialised into `buffer` (LoopLink::kMaxMessage bytes, the

@@ -252,6 +252,7 @@ void Ffd::tick(std::int64_t now) {
   const std::int64_t answer_by = io.scheduler->next_deadline_ns() - io.scheduler->spin_ns();
   while (await_answer(answer_by) && !apply_answer(now)) {
   }
+  io.state_pub.send_held();  // the observers' copy, once the force is written
   // still open: the next tick takes the answer that came by then (sent() closes it)
   if (now >= io.next_status) publish_status();
 }

@@ -131,13 +131,16 @@ class RttCase {
     const std::int64_t local_by = local.until;
     const int stop_fd = local.stop_fd;
     if (arm == kLink) {
-      // as the graph's FFD driver: published (the link first, then the bus), answered on the link
+      // as the graph's FFD driver: published over the link, answered there, then on the bus
       state_.mutable_header()->set_stamp_ns(now);
       link_states_.publish(state_);
       trip.sent(link_states_.last_seq(), now);
-      for (long n; (n = link_.receive(link_buffer_, sizeof link_buffer_, local_by, stop_fd)) > 0;) {
-        if (link_forces_.accept_payload(link_buffer_, static_cast<std::size_t>(n), command_) && trip.reply(command_.answered_seq(), rt::now_ns())) return true;
+      bool answered = false;
+      for (long n; !answered && (n = link_.receive(link_buffer_, sizeof link_buffer_, local_by, stop_fd)) > 0;) {
+        answered = link_forces_.accept_payload(link_buffer_, static_cast<std::size_t>(n), command_) && trip.reply(command_.answered_seq(), rt::now_ns());
       }
+      link_states_.send_held();  // the observers' copy, after the answer (as the driver)
+      if (answered) return true;
     } else if (arm == kPipe) {
       ++pipe_seq_;
       std::memcpy(raw_.data(), &pipe_seq_, sizeof pipe_seq_);

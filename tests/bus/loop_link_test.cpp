@@ -8,8 +8,11 @@
 #include <thread>
 
 #include "core/bus/loop_link.h"
+#include "core/bus/typed.h"
+#include "msgs/device_state.pb.h"
 #include "core/config/yaml.h"
 #include "core/rt/clock.h"
+#include "tests/bus/bus_test_util.h"
 #include "tests/support/alloc_guard.h"
 #include "tests/support/test_util.h"
 
@@ -147,6 +150,46 @@ TEST(LoopLink, SendAndReceiveAllocateNothing) {
     p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns);
   }
   EXPECT_EQ(guard.allocations(), 0u);
+}
+
+// a publisher that also sends over the loop's hop (the FFD driver's ffd/state) sends there
+// first and holds the bus copy until the loop has its answer (send_held): the observers' copy
+// costs the round trip nothing. No copy is lost: the next publish and the publisher's end
+// send one still held, in order
+TEST(LoopLink, APublishersBusCopyWaitsForSendHeldAndNoneIsLost) {
+  TempDir dir;
+  Pair p(dir);
+  BytePublisher bytes(test::bind_endpoint("ipc", dir), {.node = "ffd"});
+  ByteSubscriber observer_bytes;
+  Subscriber<msgs::DeviceState> observer(observer_bytes, "ffd/state");
+  observer_bytes.connect(bytes.endpoint());
+  observer_bytes.subscribe("ffd/state");
+  ASSERT_TRUE(test::eventually([&] { return bytes.has_subscribers("ffd/state"); }));
+  char buf[LoopLink::kMaxMessage];
+  msgs::DeviceState state = test::sample_state(0.01), got;
+  {
+    Publisher<msgs::DeviceState> states(bytes, "ffd/state");
+    states.also_over(&p.master);
+    ASSERT_TRUE(states.publish(state));
+    const long n = p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns);
+    ASSERT_GT(n, 0);
+    ASSERT_TRUE(got.ParseFromArray(buf, static_cast<int>(n)));
+    EXPECT_EQ(got.header().seq(), 1u);
+    EXPECT_FALSE(observer.receive(100)) << "the bus copy went before send_held";
+    ASSERT_TRUE(states.send_held());
+    auto first = observer.receive(test::kWait_ms);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->header().seq(), 1u);
+    EXPECT_TRUE(states.send_held()) << "nothing held: nothing to send";
+    ASSERT_TRUE(states.publish(state));  // seq 2, held
+    ASSERT_TRUE(states.publish(state));  // sends 2, holds 3
+  }  // the publisher's end sends 3
+  for (std::uint64_t seq : {2u, 3u}) {
+    auto m = observer.receive(test::kWait_ms);
+    ASSERT_TRUE(m) << "seq " << seq << " lost";
+    EXPECT_EQ(m->header().seq(), seq);
+  }
+  EXPECT_FALSE(observer.receive(100)) << "a copy was sent twice";
 }
 
 TEST(LoopLink, NobodyListeningLeavesTheFollowerUnconnectedAtItsDeadline) {
