@@ -14,7 +14,9 @@
                               worker that does not see the sweep's folder (a tmpfs over it in
                               its own mount namespace, another working directory): the same
                               bytes again, the files travelling by content; with
-                              --dask-files shared, the host and the missing path said
+                              --dask-files shared, the host and the missing path said;
+                              the folders come straight from workers this machine
+                              reaches, else through the scheduler
 Exit 77 (skipped, with the reason) when not root or the packages are missing (scripts/setup.sh).
 """
 import json
@@ -270,6 +272,28 @@ def test_dask(tmp, sweep_file):
 
     try:
         workers = [worker("w1"), worker("w2")]
+        # which way the jobs' folders come back: straight from workers this machine reaches,
+        # else through the scheduler (a closed port stands for a worker behind a firewall)
+        import dask_sweep
+
+        class Workers:
+            def __init__(self, *addresses):
+                self.addresses = addresses
+
+            def scheduler_info(self):
+                return {"workers": {a: {} for a in self.addresses}}
+
+        with socket.socket() as listening:
+            listening.bind(("127.0.0.1", 0))
+            listening.listen(1)
+            reached = f"tcp://127.0.0.1:{listening.getsockname()[1]}"
+            with socket.socket() as closed:
+                closed.bind(("127.0.0.1", 0))
+                unreached = f"tcp://127.0.0.1:{closed.getsockname()[1]}"
+                if not dask_sweep.reach_workers(Workers(reached)):
+                    fail("a worker listening on 127.0.0.1 is taken as out of reach")
+                if dask_sweep.reach_workers(Workers(reached, unreached)) or dask_sweep.reach_workers(Workers("tls://127.0.0.1:1")):
+                    fail("a worker out of reach (a closed port, an address other than tcp://) is taken as reached")
         out = os.path.join(tmp, "dask_out")
         code, err = sweep(sweep_file, "--out", out, "--executor", "dask://" + address, check=0)
         if "dashboard http://" not in err:
