@@ -74,27 +74,6 @@ ComponentNames component_names(const graph::NodeArgs& args) {
   return names;
 }
 
-// what the hand felt, accumulated by the non-real-time thread
-struct Felt {
-  std::uint64_t ticks = 0, frames = 0, dropped = 0, device_faults = 0, sim_faults = 0;
-  double force_sum_n = 0.0, force_max_n = 0.0, pins_sum = 0.0;
-  std::uint64_t on_top = 0;
-  bool completed = false;
-
-  void add(const graph::Observation& o) {
-    const double f = math::norm(o.step.force_n);
-    ticks += 1;
-    force_sum_n += f;
-    force_max_n = std::max(force_max_n, f);
-    pins_sum += __builtin_popcount(o.step.pins);
-    frames += o.step.frame_due;
-    on_top += o.step.on_top;
-    device_faults += o.sample.faults != 0;
-    sim_faults += o.step.fault;
-    completed = completed || o.step.event.kind == task::TaskEventKind::completed;
-  }
-};
-
 }  // namespace
 
 const NodeKind kContainer{.executable = "enact-rt", .default_name = "rt", .help = R"(usage: enact-rt [--name NAME] [--library=PATH...] [--component=NAME:PLUGIN...] --param NAME=VALUE...
@@ -150,6 +129,26 @@ struct Container::Io {
   msgs::DeviceState state_msg;
   msgs::TactileShown shown_msg;
   msgs::NodeStatus status_msg;
+  // what the hand felt, accumulated by the non-real-time thread
+  struct Felt {
+    std::uint64_t ticks = 0, frames = 0, dropped = 0, device_faults = 0, sim_faults = 0;
+    double force_sum_n = 0.0, force_max_n = 0.0, pins_sum = 0.0;
+    std::uint64_t on_top = 0;
+    bool completed = false;
+
+    void add(const graph::Observation& o) {
+      const double f = math::norm(o.step.force_n);
+      ticks += 1;
+      force_sum_n += f;
+      force_max_n = std::max(force_max_n, f);
+      pins_sum += __builtin_popcount(o.step.pins);
+      frames += o.step.frame_due;
+      on_top += o.step.on_top;
+      device_faults += o.sample.faults != 0;
+      sim_faults += o.step.fault;
+      completed = completed || o.step.event.kind == task::TaskEventKind::completed;
+    }
+  };
   Felt felt;
   graph::Observation o;
   Scene scene;
@@ -362,7 +361,7 @@ void Container::publish_limit() { io_->feed.stopped(limit_ns_.load()); }
 void Container::print_summary() {
   Io& io = *io_;
   const char* name = host_.name().c_str();
-  const Felt& felt = io.felt;
+  const Io::Felt& felt = io.felt;
   std::printf("%s: %s\n", name, rt::format(rt::summarize(io.stats, sched_.rate_hz)).c_str());
   const double n = static_cast<double>(std::max<std::uint64_t>(felt.ticks, 1));
   // on the top: of the task's surface (a scene without a task has none)
