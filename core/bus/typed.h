@@ -52,11 +52,14 @@ class Publisher {
     const std::size_t size = msg.ByteSizeLong();
     if (size > buffer_.size()) buffer_.resize(size);
     msg.SerializeWithCachedSizesToArray(buffer_.data());
-    if (!hop_) return bytes_.send(topic_, type_, buffer_.data(), size);
-    // the loop's hop alone: its reader waits for it; the bus copy, for every observer, is
-    // held until the loop has its answer (send_held)
-    held_ = size;
-    return hop_->send(buffer_.data(), size);
+    // over the loop's hop alone when it went there (its reader waits for it): the bus copy,
+    // for every observer, is held until the loop has its answer (send_held). Without a peer on
+    // the hop (not yet connected, a simulator restarting) the bus carries the loop: at once
+    if (hop_ && hop_->send(buffer_.data(), size)) {
+      held_ = size;
+      return true;
+    }
+    return bytes_.send(topic_, type_, buffer_.data(), size);
   }
 
   // with a hop: sends the bus copy of the last message published, if it is still held. A loop
@@ -76,7 +79,7 @@ class Publisher {
 
   // every message published from now on goes over `hop` too (the loop's same-host link,
   // which must outlive this publisher), its bus copy held until send_held() or the next
-  // publish; nullptr: the bus alone
+  // publish (sent at once when the hop has no peer); nullptr: the bus alone
   void also_over(LoopLink* hop) { hop_ = hop; }
 
   // header.seq of the last message published (0 before the first)

@@ -155,7 +155,7 @@ TEST(LoopLink, SendAndReceiveAllocateNothing) {
 // a publisher that also sends over the loop's hop (the FFD driver's ffd/state) sends there
 // first and holds the bus copy until the loop has its answer (send_held): the observers' copy
 // costs the round trip nothing. No copy is lost: the next publish and the publisher's end
-// send one still held, in order
+// send one still held, in order. Without a peer on the hop the bus copy goes at once
 TEST(LoopLink, APublishersBusCopyWaitsForSendHeldAndNoneIsLost) {
   TempDir dir;
   Pair p(dir);
@@ -190,6 +190,13 @@ TEST(LoopLink, APublishersBusCopyWaitsForSendHeldAndNoneIsLost) {
     EXPECT_EQ(m->header().seq(), seq);
   }
   EXPECT_FALSE(observer.receive(100)) << "a copy was sent twice";
+  // a hop without a peer (the simulator not connected yet, or restarting): the bus carries the
+  // loop, so its copy goes at once
+  LoopLink lonely = LoopLink::listen(loop_link_path(dir.path(), "lonely"));
+  Publisher<msgs::DeviceState> alone(bytes, "ffd/state");
+  alone.also_over(&lonely);
+  ASSERT_TRUE(alone.publish(state));
+  EXPECT_TRUE(observer.receive(test::kWait_ms)) << "held although nothing went over the hop";
 }
 
 TEST(LoopLink, NobodyListeningLeavesTheFollowerUnconnectedAtItsDeadline) {
