@@ -67,6 +67,13 @@ inline int free_port() {
 
 inline bool process_gone(pid_t pid) { return kill(pid, 0) == -1 && errno == ESRCH; }
 
+// whether `pid` is gone within timeout_s (polled every 20 ms)
+inline bool gone_within(pid_t pid, double timeout_s) {
+  const auto end = after(timeout_s);
+  while (!process_gone(pid) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return process_gone(pid);
+}
+
 // starts argv[0] (a path) in the background, stdout and stderr into the files `out` and
 // `err`, with `env` entries ("NAME=VALUE") added to its environment; its pid
 inline pid_t spawn(std::vector<std::string> argv, const std::string& out, const std::string& err, const std::vector<std::string>& env = {}) {

@@ -165,9 +165,7 @@ TEST(Recording, ColocatedGraphRecordedFromItsFirstTickReplaysExactly) {
     // the replay ends by itself at the end of the recording (exit 0), then the logger stops
     EXPECT_EQ(replay.wait_exit(60.0).value_or(-1), 0) << replay.log();
     kill(recorder, SIGINT);
-    const auto end = after(10.0);
-    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    EXPECT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    EXPECT_TRUE(gone_within(recorder, 10.0)) << read_file(dir.file("rec.out"));
     EXPECT_NE(replay.log().find("device states lost (seq gaps): 0;"), std::string::npos) << replay.log();
   }
   const Summary r = summarize(replayed);
@@ -322,9 +320,7 @@ TEST(Recording, InSimulatedTimeAStarvedObserverStillGetsTheLastTick) {
       }
       ASSERT_EQ(cycles_after_end, 3) << "the loop's process did not end in 90 s\n" << graph.log();
     }
-    const auto end = after(30.0);
-    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    ASSERT_TRUE(gone_within(recorder, 30.0)) << read_file(dir.file("rec.out"));
     EXPECT_EQ(graph.wait_exit(30.0), 0) << graph.log();
     loop_said = graph.log() + graph.out();
   }
@@ -362,9 +358,7 @@ void live_changes_replay_exactly(const std::string& graph_file, const std::strin
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
     graph.stop(10.0);  // the recorder ends with the graph
-    const auto end = after(20.0);
-    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    ASSERT_TRUE(gone_within(recorder, 20.0)) << read_file(dir.file("rec.out"));
   }
   const Summary s = summarize(file);
   EXPECT_EQ(s.first_state_seq, 1u);
@@ -413,9 +407,7 @@ void a_cut_replays_exactly(const std::string& graph_file, const std::string& sta
       ASSERT_EQ(kill(node, SIGSTOP), 0);
       std::this_thread::sleep_for(std::chrono::milliseconds(60));  // the watchdog trips after 10 ms
     }
-    const auto end = after(20.0);
-    while (!process_gone(recorder) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ASSERT_TRUE(process_gone(recorder)) << read_file(dir.file("rec.out"));
+    ASSERT_TRUE(gone_within(recorder, 20.0)) << read_file(dir.file("rec.out"));
     ASSERT_NE(graph.log().find(said), std::string::npos) << graph.log();
   }
   const Summary s = summarize(file);
@@ -457,9 +449,7 @@ void a_late_recording_replays_from_its_first_keyframe(const std::string& graph_f
     // Ctrl-C (a fixed --duration ended before the change on a busy machine: CI27)
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     kill(pid, SIGINT);
-    const auto end = after(20.0);
-    while (!process_gone(pid) && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ASSERT_TRUE(process_gone(pid)) << read_file(dir.file("rec.out"));
+    ASSERT_TRUE(gone_within(pid, 20.0)) << read_file(dir.file("rec.out"));
   }
   const std::string said = read_file(dir.file("rec.out"));
   EXPECT_NE(said.find("started mid-run"), std::string::npos) << said;
