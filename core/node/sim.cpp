@@ -172,7 +172,9 @@ bool Sim::next_state(std::int64_t deadline_ns) {
   }
   io.over_link = false;
   if (!io.link.connected()) return io.states.receive(io.state.fresh(), static_cast<int>((deadline_ns - rt::now_ns()) / 1'000'000));
-  for (long n; (n = io.link.receive(io.sample, sizeof io.sample, deadline_ns)) > 0;) {
+  // over the link the wait sets no timer: the stop's descriptor or the driver's end ends it
+  const int stop = graph::stop_fd();
+  for (long n; (n = io.link.receive(io.sample, sizeof io.sample, stop >= 0 ? bus::LoopLink::kNoDeadline : deadline_ns, stop)) > 0;) {
     rt::enter_rt_section();
     if (!io.states.accept_payload(io.sample, static_cast<std::size_t>(n), io.state.fresh())) {
       rt::leave_rt_section();

@@ -50,7 +50,7 @@ void bind_loop(ParamBindings<Config>& b) {
 // the ffd <-> sim hop, declared by both ends
 ParamSpec loop_transport_decl() {
   return {.name = "loop_transport", .type = ParamType::choice, .choices = {"auto", "local", "zeromq"},
-          .doc = "the ffd <-> sim hop: local (a same-host Unix link the loop threads read themselves: the machine's pipe floor), zeromq (the bus), "
+          .doc = "the ffd <-> sim hop: local (a same-host link through shared memory the loop threads read themselves: about the machine's pipe floor), zeromq (the bus), "
                  "auto (local: a graph's nodes share one host); observers see every message either way"};
 }
 

@@ -101,8 +101,8 @@ int run_peer(const std::string& dir, const std::string& scene, const PeerSetup& 
     bus::ReusedMessage<msgs::DeviceState> state;
     msgs::ForceCommand command;
     command.mutable_header()->set_source("sim");
-    while (!done.load() && link.connected()) {
-      const long n = link.receive(buffer, sizeof buffer, rt::now_ns() + 100'000'000);
+    while (!done.load() && !graph::stop_requested() && link.connected()) {
+      const long n = link.receive(buffer, sizeof buffer, bus::LoopLink::kNoDeadline, graph::stop_fd());
       if (n <= 0 || !link_states.accept_payload(buffer, static_cast<std::size_t>(n), state.fresh())) continue;
       const sim::StepOutput& o = own.step(state->header().stamp_ns(), graph::get(state->position()));
       graph::fill(command, state->header().seq(), o.force_n, o.fault);

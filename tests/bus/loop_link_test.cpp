@@ -1,6 +1,8 @@
 // LoopLink: the loop's same-host hop between the FFD driver (it listens) and the simulator.
 #include <gtest/gtest.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -119,6 +121,93 @@ TEST(LoopLink, AFollowerThatLeavesIsSeenAndANewOneTakesItsPlace) {
   ASSERT_TRUE(p.master.send("hello", 5));
   EXPECT_EQ(again.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 5);
   EXPECT_EQ(p.master.counters().peers, 2u);
+}
+
+TEST(LoopLink, MessagesOfEverySizeComeWholeAndInOrderRoundTheRingManyTimes) {
+  TempDir dir;
+  Pair p(dir);
+  // sizes from 1 byte to the largest, each filled with its own pattern; some 40 MB in all go
+  // round the 128 KiB ring hundreds of times, so records meet its end at every offset
+  char out[LoopLink::kMaxMessage], in[LoopLink::kMaxMessage];
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < 20'000; ++i) {
+    const std::size_t size = 1 + (i * 2654435761u) % LoopLink::kMaxMessage;
+    for (std::size_t b = 0; b < size; ++b) out[b] = static_cast<char>(i + b * 7);
+    ASSERT_TRUE(p.master.send(out, size)) << "message " << i;
+    if (i % 3 == 0) continue;  // a few left queued each time: the reader trails the writer
+    for (int k = 0; k < (i % 3 == 2 ? 2 : 1) && total < i + 1; ++k, ++total) {
+      const std::size_t want = 1 + (total * 2654435761u) % LoopLink::kMaxMessage;
+      ASSERT_EQ(p.follower.receive(in, sizeof in, rt::now_ns() + kSecond_ns), static_cast<long>(want)) << "message " << total;
+      for (std::size_t b = 0; b < want; ++b) ASSERT_EQ(in[b], static_cast<char>(total + b * 7)) << "message " << total << " byte " << b;
+    }
+  }
+  EXPECT_EQ(p.master.counters().dropped, 0u);
+  EXPECT_EQ(p.follower.counters().received, total);
+}
+
+TEST(LoopLink, AReaderThatSleepsIsWokenAndOneThatFindsItsMessageCostsNoDoorbell) {
+  TempDir dir;
+  Pair p(dir);
+  char buf[64];
+  // the follower is not waiting: messages wait in the ring, no doorbell rung
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(p.master.send("s", 1));
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(p.follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 1);
+  EXPECT_EQ(p.master.counters().doorbells, 0u);
+  // the follower sleeps in receive: the send rings it, and it wakes long before its deadline
+  std::int64_t woke = 0;
+  long got = 0;
+  std::thread reader([&] {
+    got = p.follower.receive(buf, sizeof buf, rt::now_ns() + 20 * kSecond_ns);
+    woke = rt::now_ns();
+  });
+  rt::sleep_until_ns(rt::now_ns() + 200'000'000);  // asleep in its wait by now
+  const std::int64_t sent = rt::now_ns();
+  ASSERT_TRUE(p.master.send("late", 4));
+  reader.join();
+  EXPECT_EQ(got, 4);
+  EXPECT_LT(woke - sent, 10 * kSecond_ns) << "the reader slept to its deadline: no doorbell";
+  EXPECT_EQ(p.master.counters().doorbells, 1u);
+}
+
+TEST(LoopLink, WhatAFollowerSentBeforeItLeftIsReadBeforeItsEnd) {
+  TempDir dir;
+  Pair p(dir);
+  ASSERT_TRUE(p.follower.send("last", 4));
+  p.follower = LoopLink();
+  char buf[64];
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 4);
+  EXPECT_EQ(p.master.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), -1);
+  EXPECT_FALSE(p.master.connected());
+}
+
+TEST(LoopLink, AStrangerOnTheSocketIsRefusedAndTheRealFollowerTakenAfter) {
+  TempDir dir;
+  LoopLink master = LoopLink::listen(loop_link_path(dir.path(), "ffd"));
+  // a process that connects and sends words but no shared memory (not a loop link, or an old one)
+  const int stranger = socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, master.path().c_str(), sizeof addr.sun_path - 1);
+  ASSERT_EQ(::connect(stranger, reinterpret_cast<const sockaddr*>(&addr), sizeof addr), 0);
+  ASSERT_EQ(::send(stranger, "hello", 5, 0), 5);
+  EXPECT_FALSE(master.wait_for_peer(rt::now_ns() + 50'000'000));
+  EXPECT_FALSE(master.connected());
+  char none[8];
+  EXPECT_EQ(recv(stranger, none, sizeof none, MSG_DONTWAIT), 0) << "the stranger's connection was not closed";
+  close(stranger);
+  // one that connects and says nothing does not hold the master either
+  const int silent = socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+  ASSERT_EQ(::connect(silent, reinterpret_cast<const sockaddr*>(&addr), sizeof addr), 0);
+  const std::int64_t before = rt::now_ns();
+  EXPECT_FALSE(master.accept_peer());
+  EXPECT_LT(rt::now_ns() - before, kSecond_ns);
+  // the real follower comes after it and is taken
+  LoopLink follower = LoopLink::connect(master.path(), rt::now_ns() + kSecond_ns);
+  ASSERT_TRUE(master.wait_for_peer(rt::now_ns() + kSecond_ns));
+  ASSERT_TRUE(master.send("hi", 2));
+  char buf[8];
+  EXPECT_EQ(follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 2);
+  close(silent);
 }
 
 TEST(LoopLink, AStoppedFollowerNeverBlocksTheMasterItsMessagesAreDropped) {
