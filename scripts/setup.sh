@@ -28,8 +28,8 @@ packages=(
   libusb-1.0-0-dev libyaml-cpp-dev libpng-dev
   # the Foxglove bridge: WebSocket server over standalone asio, JSON
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev
-  # recordings: MCAP chunk compression and CRC-32
-  libzstd-dev liblz4-dev zlib1g-dev
+  # recordings: MCAP chunk compression and CRC-32 (ISA-L's, zlib's to combine them)
+  libzstd-dev liblz4-dev zlib1g-dev libisal-dev
   # the live viewer: Dear ImGui (with its SDL2 and OpenGL 3 backends) and stb, SDL2, OpenGL
   # headers; Mesa's software OpenGL and Xvfb for snapshots and its tests without a screen
   libimgui-dev libstb-dev libsdl2-dev libgl-dev libgl1-mesa-dri libegl-mesa0 xvfb

@@ -7,6 +7,7 @@
 // LZ4F_compressFrame_usingCDict: a one-shot frame with a context kept between frames
 #define LZ4F_STATIC_LINKING_ONLY
 #include <lz4frame.h>
+#include <isa-l/crc.h>
 #include <zlib.h>
 #include <zstd.h>
 
@@ -15,15 +16,10 @@
 namespace enact::record {
 
 std::uint32_t crc32(std::uint32_t crc, const void* data, std::size_t size) {
-  const auto* p = static_cast<const Bytef*>(data);
-  // zlib takes uInt lengths: feed large buffers in pieces
-  while (size > 0) {
-    const uInt n = size > (1u << 30) ? (1u << 30) : static_cast<uInt>(size);
-    crc = static_cast<std::uint32_t>(::crc32(crc, p, n));
-    p += n;
-    size -= n;
-  }
-  return crc;
+  // ISA-L's, the same CRC as zlib's (continued the same way) with the CPU's carry-less
+  // multiply where it has one: about 10x zlib's speed on a 4 MiB chunk here, where zlib's took
+  // a sixth of an uncompressed recording's writing (docs/performance.md, "Recording")
+  return crc32_gzip_refl(crc, static_cast<const unsigned char*>(data), size);
 }
 
 std::uint32_t crc32_concat(std::uint32_t first, std::uint32_t second, std::uint64_t second_size) {

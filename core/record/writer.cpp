@@ -318,19 +318,27 @@ void Writer::make_chunk(Worker& w) {
   for (std::size_t k = 1; k < ends.size(); ++k) ends[k] += ends[k - 1];  // where each channel's entries start
   w.by_channel.resize(chunk.messages);
   each_record([&](std::size_t at, const char* fields) { w.by_channel[ends[get<std::uint16_t>(fields)]++] = {get<std::uint64_t>(fields + 2 + 4), at}; });
-  w.indexes.clear();
+  // each Message Index record: op, length, channel id, the entries' byte length, then 16
+  // bytes an entry, written in place (the string sized once: no append a field)
+  constexpr std::size_t kIndexHead = kRecordPrefix + 2 + 4;
+  std::size_t total = 0;
+  for (std::size_t channel = 0, from = 0; channel + 1 < ends.size(); from = ends[channel++]) {
+    if (ends[channel] != from) total += kIndexHead + 16 * (ends[channel] - from);
+  }
+  w.indexes.resize(total);
+  char* p = w.indexes.data();
   for (std::size_t channel = 0, from = 0; channel + 1 < ends.size(); from = ends[channel++]) {
     if (ends[channel] == from) continue;
-    ci.index_offsets.emplace_back(static_cast<std::uint16_t>(channel), ci.length + w.indexes.size());
-    append_record(w.indexes, Op::message_index, [&](Out& out) {
-      out.u16(static_cast<std::uint16_t>(channel));
-      const std::size_t block = out.begin_block();
-      for (std::size_t e = from; e < ends[channel]; ++e) {
-        out.u64(w.by_channel[e].first);
-        out.u64(w.by_channel[e].second);
-      }
-      out.end_block(block);
-    });
+    ci.index_offsets.emplace_back(static_cast<std::uint16_t>(channel), ci.length + static_cast<std::uint64_t>(p - w.indexes.data()));
+    const std::uint64_t entries = 16 * (ends[channel] - from);
+    p = put(p, static_cast<std::uint8_t>(Op::message_index));
+    p = put(p, std::uint64_t{2 + 4 + entries});
+    p = put(p, static_cast<std::uint16_t>(channel));
+    p = put(p, static_cast<std::uint32_t>(entries));
+    for (std::size_t e = from; e < ends[channel]; ++e) {
+      p = put(p, w.by_channel[e].first);
+      p = put(p, w.by_channel[e].second);
+    }
   }
   ci.index_length = w.indexes.size();
 }

@@ -97,6 +97,32 @@ TEST_P(RoundTrip, EveryMessageMetadataAndAttachmentComeBack) {
 INSTANTIATE_TEST_SUITE_P(Compressions, RoundTrip, ::testing::Values(Compression::none, Compression::lz4, Compression::zstd),
                          [](const auto& param_info) { return std::string(to_string(param_info.param)); });
 
+// the CRC-32 every chunk and the data section carry (ISA-L's) is zlib's, from any start, of
+// any length and alignment, and continues as zlib's does: a reader checks it with zlib
+TEST(McapCrc, IsZlibsForEveryLengthAlignmentAndContinuation) {
+  std::vector<unsigned char> data(3 << 20);
+  std::uint64_t x = 0x9E3779B97F4A7C15ull;
+  for (unsigned char& b : data) {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    b = static_cast<unsigned char>(x);
+  }
+  const auto zlib = [&](std::uint32_t crc, std::size_t at, std::size_t n) {
+    return static_cast<std::uint32_t>(::crc32(crc, data.data() + at, static_cast<uInt>(n)));
+  };
+  for (std::size_t n = 0; n < 600; ++n) {
+    for (const std::size_t at : std::vector<std::size_t>{0, 1, 3, 7, 13}) ASSERT_EQ(crc32(0, data.data() + at, n), zlib(0, at, n)) << n << " bytes from " << at;
+  }
+  for (const std::size_t n : std::vector<std::size_t>{4095, 4096, 65537, 1u << 20, (3u << 20) - 5}) {
+    EXPECT_EQ(crc32(0, data.data() + 5, n - 5), zlib(0, 5, n - 5)) << n;
+    // continued: the CRC of a first part, then the rest from it
+    const std::size_t half = n / 3;
+    EXPECT_EQ(crc32(crc32(0, data.data(), half), data.data() + half, n - half), zlib(0, 0, n)) << n;
+    EXPECT_EQ(crc32(0x12345678u, data.data(), n), zlib(0x12345678u, 0, n)) << n;
+  }
+}
+
 TEST(Mcap, FileStartsWithMagicAndHeaderAsTheSpecLaysThemOut) {
   TempDir dir;
   WriterOptions o;
