@@ -1,6 +1,7 @@
 #include "core/node/container.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -154,6 +155,7 @@ struct Container::Io {
   Scene scene;
   PinsShown levels;
   rt::LoopSummary summary;
+  std::array<rt::LoopSummary, 8> summaries_taken;  // a round's, published after its ticks
 };
 
 Container::Container(Host& host) : host_(host), observers_(host.name()) {
@@ -329,6 +331,12 @@ void Container::publish_status() {
 std::size_t Container::drain() {
   Io& io = *io_;
   std::size_t ticks = 0;
+  // the loop's summaries taken before its ticks, published after them: each then follows
+  // every tick the loop handed over before it (the last node/status counts the last state;
+  // taken after the ticks, a summary that came while they were published went out before the
+  // last of them)
+  std::size_t summaries = 0;
+  while (summaries < io.summaries_taken.size() && io.summaries.try_pop(io.summaries_taken[summaries])) ++summaries;
   // the parameter in force is what the loop runs at (a profile may have set it, FIFO refused)
   if (const int fifo = io.fifo_in_force.exchange(-1); fifo >= 0) host_.board().set(host_.name() + ".fifo_priority", std::to_string(fifo));
   io.feed.intake(io.changes);
@@ -350,7 +358,10 @@ std::size_t Container::drain() {
     io.shown_msg.mutable_header()->set_stamp_ns(io.levels.time_ns);
     io.shown_pub.publish(io.shown_msg);
   }
-  while (io.summaries.try_pop(io.summary)) publish_status();
+  for (std::size_t k = 0; k < summaries; ++k) {
+    io.summary = io.summaries_taken[k];
+    publish_status();
+  }
   return ticks;
 }
 

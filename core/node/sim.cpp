@@ -1,5 +1,6 @@
 #include "core/node/sim.h"
 
+#include <array>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -125,7 +126,7 @@ struct Sim::Io {
   // the feed's
   Answered taken;
   Scene scene;  // a snapshot the feed publishes
-  LoopStatus status_taken;
+  std::array<LoopStatus, 8> statuses_taken;  // a round's, published after its steps
   msgs::NodeStatus status;
 };
 
@@ -282,6 +283,10 @@ void Sim::loop_main() {
 std::size_t Sim::drain() {
   Io& io = *io_;
   io.feed.intake(io.changes);
+  // the loop's statuses taken before its steps, published after them: each then follows every
+  // step the loop handed over before it (as the container's summaries)
+  std::size_t statuses = 0;
+  while (statuses < io.statuses_taken.size() && io.statuses.try_pop(io.statuses_taken[statuses])) ++statuses;
   std::size_t n = 0;
   for (; io.steps.try_pop(io.taken); ++n) {
     io.feed.take_applied(io.applied);
@@ -291,8 +296,8 @@ std::size_t Sim::drain() {
   io.feed.take_applied(io.applied);
   io.feed.due(rt::now_ns());
   while (io.scenes.try_pop(io.scene)) io.feed.scene(io.scene);
-  while (io.statuses.try_pop(io.status_taken)) {
-    const Io::LoopStatus& s = io.status_taken;
+  for (std::size_t k = 0; k < statuses; ++k) {
+    const Io::LoopStatus& s = io.statuses_taken[k];
     graph::fill(io.status, host_.name(), s.loop, s.faults, physics::to_string(s.last_fault));
     host_.publish_status(io.status, {{graph::kDeviceState, s.states}});
   }
