@@ -83,7 +83,7 @@ void unmap(LinkShared*& shared) noexcept {
 }
 
 // the next record's payload and size in `ring`; size -1: none, -2: not a record (a peer that
-// wrote past its ring)
+// wrote past its records, or a counter that is not one this side wrote)
 const unsigned char* peek(const LinkRing& ring, std::uint64_t& head, long& size) noexcept {
   head = ring.head.load(std::memory_order_relaxed);
   if (head == ring.tail.load(std::memory_order_acquire)) {
@@ -92,13 +92,17 @@ const unsigned char* peek(const LinkRing& ring, std::uint64_t& head, long& size)
   }
   std::size_t at = head % LinkRing::kBytes;
   std::uint32_t n = 0;
+  if (at % 8 != 0) {  // the counters live in shared memory: never read past the ring on them
+    size = -2;
+    return nullptr;
+  }
   std::memcpy(&n, ring.bytes + at, sizeof n);
   if (n == kWrap) {  // the writer published the mark and the record after it together
     head += LinkRing::kBytes - at;
     at = 0;
     std::memcpy(&n, ring.bytes, sizeof n);
   }
-  if (n == 0 || n > LoopLink::kMaxMessage) {
+  if (n == 0 || n > LoopLink::kMaxMessage || at + record_bytes(n) > LinkRing::kBytes) {
     size = -2;
     return nullptr;
   }
