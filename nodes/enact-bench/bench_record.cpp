@@ -81,8 +81,8 @@ double seconds_since(std::int64_t t0) { return static_cast<double>(rt::now_ns() 
 // the last round's file removed before the clock starts: giving its pages back is no cost of
 // this case's (the zstd case truncated the none case's 294 MB file, inside its time); and the
 // pages the cases before left dirty written out (syncfs), so that no case is timed while the
-// kernel's writeback of another's takes one of the CPUs (without it the none case's rounds
-// ranged 0.26 to 0.98 of the raw write in one run, on a 2-CPU VM)
+// kernel's writeback of another's takes one of the CPUs. (It did not narrow the none case's
+// spread from round to round on a 2-CPU VM: 0.28 to 0.95 of the raw write within one run.)
 void remove_before_timing(const std::string& path) {
   std::filesystem::remove(path);
   const int dir = ::open(std::filesystem::path(path).parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
