@@ -27,7 +27,7 @@ namespace enact::bus {
 // since the start; a record that would not fit before the ring's end leaves a wrap mark there
 // and starts again at 0
 struct LinkRing {
-  static constexpr std::size_t kBytes = 128 * 1024;  // ~1100 states of 100 bytes, 31 of the largest
+  static constexpr std::size_t kBytes = LoopLink::kRingBytes;
   alignas(64) std::atomic<std::uint64_t> head{0};           // the reader's
   alignas(64) std::atomic<std::uint64_t> tail{0};           // the writer's
   alignas(64) std::atomic<std::uint32_t> reader_waiting{0}; // the reader sleeps on its doorbell

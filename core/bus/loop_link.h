@@ -38,6 +38,9 @@ class LoopLink {
  public:
   // the largest message a link carries (a DeviceState or ForceCommand is ~100 bytes)
   static constexpr std::size_t kMaxMessage = 4096;
+  // each direction's ring in the shared memory: records of an 8-byte header and the message
+  // padded to 8 bytes (~1100 states of 100 bytes, 31 of the largest)
+  static constexpr std::size_t kRingBytes = 128 * 1024;
   // a receive's deadline that arms no timer at all: its stop_fd or the peer's end ends it
   static constexpr std::int64_t kNoDeadline = INT64_MAX;
 

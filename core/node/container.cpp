@@ -335,8 +335,7 @@ std::size_t Container::drain() {
   // every tick the loop handed over before it (the last node/status counts the last state;
   // taken after the ticks, a summary that came while they were published went out before the
   // last of them)
-  std::size_t summaries = 0;
-  while (summaries < io.summaries_taken.size() && io.summaries.try_pop(io.summaries_taken[summaries])) ++summaries;
+  const std::size_t summaries = io.summaries.take(io.summaries_taken);
   // the parameter in force is what the loop runs at (a profile may have set it, FIFO refused)
   if (const int fifo = io.fifo_in_force.exchange(-1); fifo >= 0) host_.board().set(host_.name() + ".fifo_priority", std::to_string(fifo));
   io.feed.intake(io.changes);

@@ -285,8 +285,7 @@ std::size_t Sim::drain() {
   io.feed.intake(io.changes);
   // the loop's statuses taken before its steps, published after them: each then follows every
   // step the loop handed over before it (as the container's summaries)
-  std::size_t statuses = 0;
-  while (statuses < io.statuses_taken.size() && io.statuses.try_pop(io.statuses_taken[statuses])) ++statuses;
+  const std::size_t statuses = io.statuses.take(io.statuses_taken);
   std::size_t n = 0;
   for (; io.steps.try_pop(io.taken); ++n) {
     io.feed.take_applied(io.applied);

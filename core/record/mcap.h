@@ -2,6 +2,7 @@
 // Facts of the MCAP container format, major version 0 (https://mcap.dev/spec): the magic,
 // the record opcodes, and the little-endian serialization of record fields. Written from the
 // specification; shared by the writer and the reader.
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -40,6 +41,51 @@ enum class Op : std::uint8_t {
 // a record: opcode (1 byte) and content length (uint64) before the content
 inline constexpr std::size_t kRecordPrefix = 9;
 
+// a Message record's fields before its data: channel id, sequence, log time, publish time
+inline constexpr std::size_t kMessageFields = 2 + 4 + 8 + 8;
+
+// `v` little-endian at `p`; returns the byte after (one store on a little-endian CPU: GCC 12
+// left the byte loop a loop, a quarter of the index's making)
+template <class T>
+char* put(char* p, T v) {
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(p, &v, sizeof(T));
+  } else {
+    for (std::size_t i = 0; i < sizeof(T); ++i) p[i] = static_cast<char>((static_cast<std::uint64_t>(v) >> (8 * i)) & 0xFF);
+  }
+  return p + sizeof(T);
+}
+
+// the little-endian `T` at `p`
+template <class T>
+T get(const char* p) {
+  T v;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(&v, p, sizeof(T));
+  } else {
+    std::uint64_t u = 0;
+    for (std::size_t i = 0; i < sizeof(T); ++i) u |= static_cast<std::uint64_t>(static_cast<unsigned char>(p[i])) << (8 * i);
+    v = static_cast<T>(u);
+  }
+  return v;
+}
+
+// the bytes of a Message record with `data_size` bytes of data
+constexpr std::size_t message_record_size(std::size_t data_size) { return kRecordPrefix + kMessageFields + data_size; }
+
+// a Message record at `p` (message_record_size(data.size()) bytes); returns the byte after
+inline char* put_message(char* p, std::uint16_t channel_id, std::uint32_t sequence, std::uint64_t log_time, std::uint64_t publish_time,
+                         std::string_view data) {
+  p = put(p, static_cast<std::uint8_t>(Op::message));
+  p = put(p, std::uint64_t{kMessageFields + data.size()});
+  p = put(p, channel_id);
+  p = put(p, sequence);
+  p = put(p, log_time);
+  p = put(p, publish_time);
+  if (!data.empty()) std::memcpy(p, data.data(), data.size());
+  return p + data.size();
+}
+
 // CRC-32 (ISO-HDLC, zlib's), the checksum MCAP uses, continued from `crc`
 std::uint32_t crc32(std::uint32_t crc, const void* data, std::size_t size);
 
@@ -49,7 +95,7 @@ struct Out {
   template <class T>
   void num(T v) {
     char b[sizeof(T)];
-    for (std::size_t i = 0; i < sizeof(T); ++i) b[i] = static_cast<char>((static_cast<std::uint64_t>(v) >> (8 * i)) & 0xFF);
+    put(b, v);
     s.append(b, sizeof(T));
   }
   void u8(std::uint8_t v) { num(v); }
@@ -74,8 +120,7 @@ struct Out {
     return at;
   }
   void end_record(std::size_t length_at) {
-    const std::uint64_t n = s.size() - length_at - 8;
-    for (int i = 0; i < 8; ++i) s[length_at + i] = static_cast<char>((n >> (8 * i)) & 0xFF);
+    put(s.data() + length_at, std::uint64_t{s.size() - length_at - 8});
   }
   // a Map or Array: a uint32 byte length, then the elements; returns where the length goes
   std::size_t begin_block() {
@@ -84,8 +129,7 @@ struct Out {
     return at;
   }
   void end_block(std::size_t at) {
-    const std::uint32_t n = static_cast<std::uint32_t>(s.size() - at - 4);
-    for (int i = 0; i < 4; ++i) s[at + i] = static_cast<char>((n >> (8 * i)) & 0xFF);
+    put(s.data() + at, static_cast<std::uint32_t>(s.size() - at - 4));
   }
 };
 
@@ -102,10 +146,9 @@ struct In {
   template <class T>
   T num() {
     if (!has(sizeof(T))) return 0;
-    std::uint64_t v = 0;
-    for (std::size_t i = 0; i < sizeof(T); ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(s[at + i])) << (8 * i);
+    const T v = get<T>(s.data() + at);
     at += sizeof(T);
-    return static_cast<T>(v);
+    return v;
   }
   std::uint8_t u8() { return num<std::uint8_t>(); }
   std::uint16_t u16() { return num<std::uint16_t>(); }

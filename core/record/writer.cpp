@@ -13,24 +13,7 @@
 namespace enact::record {
 namespace {
 
-// a Message record's fields before its data: channel id, sequence, log time, publish time
-constexpr std::size_t kMessageFields = 2 + 4 + 8 + 8;
-
 std::uint64_t u64(std::int64_t t) { return static_cast<std::uint64_t>(t < 0 ? 0 : t); }
-
-// little-endian, as Out writes them, at `p`; returns the byte after
-template <class T>
-char* put(char* p, T v) {
-  for (std::size_t i = 0; i < sizeof(T); ++i) p[i] = static_cast<char>((static_cast<std::uint64_t>(v) >> (8 * i)) & 0xFF);
-  return p + sizeof(T);
-}
-
-template <class T>
-T get(const char* p) {
-  std::uint64_t v = 0;
-  for (std::size_t i = 0; i < sizeof(T); ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(p[i])) << (8 * i);
-  return static_cast<T>(v);
-}
 
 void map_field(Out& o, const StringMap& m) {
   const std::size_t at = o.begin_block();
@@ -188,15 +171,7 @@ void Writer::write(std::uint16_t channel_id, std::uint32_t sequence, std::int64_
   flush_if_due(log_time_ns);
   Chunk& c = open_;
   if (c.messages == 0) c.start = c.end = log_time_ns;
-  const std::uint64_t content = kMessageFields + data.size();
-  char* p = extend_chunk(kRecordPrefix + content);
-  p = put(p, static_cast<std::uint8_t>(Op::message));
-  p = put(p, content);
-  p = put(p, channel_id);
-  p = put(p, sequence);
-  p = put(p, u64(log_time_ns));
-  p = put(p, u64(publish_time_ns));
-  if (!data.empty()) std::memcpy(p, data.data(), data.size());
+  put_message(extend_chunk(message_record_size(data.size())), channel_id, sequence, u64(log_time_ns), u64(publish_time_ns), data);
   c.start = std::min(c.start, log_time_ns);
   c.end = std::max(c.end, log_time_ns);
   ++c.messages;

@@ -42,6 +42,14 @@ class SpscQueue {
     return true;
   }
 
+  // consumer: take the oldest items into `out`, as many as it holds at most; returns how many
+  template <std::size_t N>
+  std::size_t take(std::array<T, N>& out) {
+    std::size_t n = 0;
+    while (n < N && try_pop(out[n])) ++n;
+    return n;
+  }
+
   // the number of items, exact when neither side is running (from either thread)
   std::size_t size_approx() const {
     // head first: the tail read after it is never behind it

@@ -39,9 +39,11 @@ constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FI
    zstd, lz4 and no compression, and the same payload bytes written raw to a file (the
    machine's floor), each 5 times interleaved; medians and ranges (min..max) of messages/s
    and MB/s (of payload), and of each one's ratio to the raw write of the same round.
-   The writer's other floor, in the same rounds: the same chunks compressed in memory on
-   one thread per CPU (as the writer's workers), no file: a writer can be no faster than the
-   slower of that and the raw write.
+   A compressing writer's other floor, in the same rounds: its CPU work alone, no file,
+   spread over every CPU: the messages made into the chunks' records on one thread (the
+   writer's own thread's work), and the same chunks compressed in memory on one thread per
+   CPU (as the writer's workers). It can be no faster than the slower of that and the raw
+   write.
 2. Logger headroom, 3 times each: a publisher sends bridge-graph traffic (ffd/state +
    ffd/force, 5 kHz each, about 10,000 messages/s in all) at 10x its rate for 3 s through an
    attach point to the logger: none may be lost. Then as fast as it can for 3 s: the logger's
@@ -52,8 +54,9 @@ constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FI
    logger stopped, then the logger takes the backlog.
 JSON keys (medians): msgs_per_s_lz4, msgs_per_s_zstd, msgs_per_s_none, msgs_per_s_raw,
 ratio_vs_raw_write (lz4; and ratio_vs_raw_write_zstd, _none; each with _min and _max),
-mb_per_s_compress_zstd, mb_per_s_compress_lz4, ratio_vs_floor (lz4; and ratio_vs_floor_zstd,
-_none; each with _min and _max: the writer against the slower of its two floors),
+mb_per_s_compress_zstd, mb_per_s_compress_lz4, mb_per_s_make_records, ratio_vs_floor (lz4;
+and ratio_vs_floor_zstd, _none; each with _min and _max: the writer against the slower of
+its two floors),
 logger_msgs_per_s_at_10x, logger_gaps_at_10x, logger_lost_at_10x, logger_max_msgs_per_s
 (with _min and _max), logger_floor_msgs_per_s and logger_max_ratio_to_floor (each with _min
 and _max), logger_lost_flat_out, logger_headroom (max / bridge traffic),
@@ -131,29 +134,46 @@ double write_raw(const std::string& path, std::uint64_t n) {
   return seconds_since(t0);
 }
 
-// the same messages as the writer's chunks hold them (Message records, about 4 MiB a chunk),
-// made once, outside any clock
-std::vector<std::string> message_chunks(std::uint64_t n) {
-  std::vector<std::string> chunks(1);
-  std::string p;
+// the messages as the writer's chunks hold them: Message records in `chunk` (its room kept),
+// handed to `full` each time it reaches a chunk's size, and at the end
+template <class Full>
+void make_records(std::uint64_t n, Full full) {
+  const std::size_t chunk_bytes = record::WriterOptions{}.chunk_size_bytes;
+  std::string chunk, p;
+  chunk.reserve(chunk_bytes + record::message_record_size(kPayload));
   for (std::uint64_t i = 0; i < n; ++i) {
     fill_payload(p, i);
     const auto t = static_cast<std::uint64_t>(i) * 20'000;
-    char head[9 + 2 + 4 + 8 + 8] = {static_cast<char>(record::Op::message)};
-    const std::uint64_t length = sizeof head - 9 + p.size();
-    const auto seq = static_cast<std::uint32_t>(i);
-    std::memcpy(head + 1, &length, 8);  // little-endian, as MCAP (x86-64 and arm64 both are)
-    std::memcpy(head + 11, &seq, 4);
-    std::memcpy(head + 15, &t, 8);
-    std::memcpy(head + 23, &t, 8);
-    chunks.back().append(head, sizeof head).append(p);
-    if (chunks.back().size() >= record::WriterOptions{}.chunk_size_bytes) chunks.emplace_back();
+    const std::size_t at = chunk.size();
+    chunk.resize(at + record::message_record_size(p.size()));
+    record::put_message(chunk.data() + at, 0, static_cast<std::uint32_t>(i), t, t, p);
+    if (chunk.size() >= chunk_bytes || i + 1 == n) {
+      full(chunk);
+      chunk.clear();
+    }
   }
+}
+
+// the chunks, made once, outside any clock
+std::vector<std::string> message_chunks(std::uint64_t n) {
+  std::vector<std::string> chunks;
+  make_records(n, [&](const std::string& chunk) { chunks.push_back(chunk); });
   return chunks;
 }
 
-// the writer's other floor: seconds to compress `chunks` in memory, no file, with as many
-// threads as the writer has workers (one per CPU) and its own compressor
+// the work of the writer's own thread, timed: seconds to make the messages and their
+// records, chunk after chunk in one buffer, on one thread
+double make_only(std::uint64_t n) {
+  std::uint64_t bytes = 0;
+  const std::int64_t t0 = rt::now_ns();
+  make_records(n, [&](const std::string& chunk) { bytes += static_cast<unsigned char>(chunk[chunk.size() / 2]); });
+  const double secs = seconds_since(t0);
+  if (bytes == 1) std::fputs("", stderr);  // the records are used
+  return secs;
+}
+
+// the compressing writers' other work: seconds to compress `chunks` in memory, no file, with
+// as many threads as the writer has workers (one per CPU) and its own compressor
 double compress_only(const std::vector<std::string>& chunks, record::Compression c) {
   const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, record::kMaxWorkers);
   const std::int64_t t0 = rt::now_ns();
@@ -326,11 +346,13 @@ int bench_record(int argc, char** argv) {
   if (!a.has("dir")) temporary.emplace((std::filesystem::temp_directory_path() / "enact-bench-").string());
   const std::string dir = temporary ? temporary->path() : a.get("dir");
   // 1. writer: the four cases interleaved, 5 times; each one's ratio to the raw write of its
-  // round, and to its floor: the slower of the raw write and (lz4, zstd) compressing the same
-  // chunks on every CPU without writing them, timed in the same round
+  // round, and to its floor: the slower of the raw write and (lz4, zstd) its CPU work alone,
+  // spread over every CPU: making the records (one thread) and compressing them, no file,
+  // timed in the same round
   const char* names[4] = {"zstd", "lz4", "none", "raw"};
   const std::vector<std::string> chunks = message_chunks(n);
-  std::vector<double> rates[4], ratios[4], compress_rates[2], writer_floor_ratios[3];
+  const unsigned cpus = std::clamp(std::thread::hardware_concurrency(), 1u, record::kMaxWorkers);
+  std::vector<double> rates[4], ratios[4], compress_rates[2], make_rates, writer_floor_ratios[3];
   for (int rep = 0; rep < 5; ++rep) {
     std::fprintf(stderr, "\rwriter: run %d of 5 ...", rep + 1);
     double secs[4];
@@ -339,12 +361,16 @@ int bench_record(int argc, char** argv) {
     secs[2] = write_mcap(dir + "/w.mcap", record::Compression::none, n);
     secs[3] = write_raw(dir + "/w.raw", n);
     const double compress_secs[2] = {compress_only(chunks, record::Compression::zstd), compress_only(chunks, record::Compression::lz4)};
+    const double make_secs = make_only(n);
+    make_rates.push_back(static_cast<double>(n) / make_secs);
     for (int k = 0; k < 4; ++k) {
       rates[k].push_back(static_cast<double>(n) / secs[k]);
       ratios[k].push_back(secs[3] / secs[k]);
     }
     for (int k = 0; k < 3; ++k) {
-      const double floor_secs = k < 2 ? std::max(secs[3], compress_secs[k]) : secs[3];
+      // the CPU work of a compressing writer on `cpus` CPUs at best: the records made on one
+      // (make_secs of one CPU) and compressed on all (compress_secs of each)
+      const double floor_secs = k < 2 ? std::max(secs[3], make_secs / cpus + compress_secs[k]) : secs[3];
       if (k < 2) compress_rates[k].push_back(static_cast<double>(n) / compress_secs[k]);
       writer_floor_ratios[k].push_back(floor_secs / secs[k]);
     }
@@ -357,16 +383,17 @@ int bench_record(int argc, char** argv) {
   }
   for (int k = 0; k < 3; ++k) writer_floor_ratio.emplace_back(writer_floor_ratios[k]);
   for (int k = 0; k < 2; ++k) compress_rate.emplace_back(compress_rates[k]);
+  const Spread make_rate(make_rates);
   std::printf("writer: %llu messages of %zu bytes, 5 interleaved runs: median (min..max)\n", static_cast<unsigned long long>(n), kPayload);
   std::printf("  %-5s %-26s %-24s %s\n", "", "messages/s (M)", "MB/s of payload", "ratio to the raw write of its run");
   for (int k = 0; k < 4; ++k) {
     std::printf("  %-5s %-26s %-24s %s\n", names[k], spread_text(rate[k], 1e-6, "%.2f").c_str(), spread_text(rate[k], kPayload * 1e-6, "%.0f").c_str(),
                 k == 3 ? "1 (the machine's floor)" : spread_text(ratio[k], 1.0, "%.3f").c_str());
   }
-  std::printf("  compressing the same chunks on %u threads, no file (MB/s of payload): zstd %s, lz4 %s\n",
-              std::clamp(std::thread::hardware_concurrency(), 1u, record::kMaxWorkers), spread_text(compress_rate[0], kPayload * 1e-6, "%.0f").c_str(),
-              spread_text(compress_rate[1], kPayload * 1e-6, "%.0f").c_str());
-  std::printf("  each writer against its floor (the slower of the raw write and its compression alone): zstd %s, lz4 %s, none %s\n",
+  std::printf("  compressing the same chunks on %u threads, no file (MB/s of payload): zstd %s, lz4 %s\n", cpus,
+              spread_text(compress_rate[0], kPayload * 1e-6, "%.0f").c_str(), spread_text(compress_rate[1], kPayload * 1e-6, "%.0f").c_str());
+  std::printf("  making the messages' records on one thread, no file (MB/s of payload): %s\n", spread_text(make_rate, kPayload * 1e-6, "%.0f").c_str());
+  std::printf("  each writer against its floor (the slower of the raw write and, compressed, its CPU work alone on %u CPUs): zstd %s, lz4 %s, none %s\n", cpus,
               spread_text(writer_floor_ratio[0], 1.0, "%.3f").c_str(), spread_text(writer_floor_ratio[1], 1.0, "%.3f").c_str(), spread_text(writer_floor_ratio[2], 1.0, "%.3f").c_str());
   // 2. the logger at 10x the bridge graph's traffic, then flat out, 3 times each
   std::fprintf(stderr, "logger: 3 s at 10x the bridge traffic, 3 s flat out, the floor flat out, a backlog alone; 3 times ...\n");
@@ -418,6 +445,7 @@ int bench_record(int argc, char** argv) {
       j.field(key, ratio[k].median).field(std::string(key) + "_min", ratio[k].min).field(std::string(key) + "_max", ratio[k].max);
     }
     j.field("mb_per_s_compress_zstd", compress_rate[0].median * kPayload * 1e-6).field("mb_per_s_compress_lz4", compress_rate[1].median * kPayload * 1e-6);
+    j.field("mb_per_s_make_records", make_rate.median * kPayload * 1e-6);
     const std::pair<const char*, int> floor_keys[3] = {{"ratio_vs_floor", 1}, {"ratio_vs_floor_zstd", 0}, {"ratio_vs_floor_none", 2}};
     for (const auto& [key, k] : floor_keys) {
       j.field(key, writer_floor_ratio[k].median).field(std::string(key) + "_min", writer_floor_ratio[k].min).field(std::string(key) + "_max", writer_floor_ratio[k].max);

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -208,6 +209,46 @@ TEST(LoopLink, AStrangerOnTheSocketIsRefusedAndTheRealFollowerTakenAfter) {
   char buf[8];
   EXPECT_EQ(follower.receive(buf, sizeof buf, rt::now_ns() + kSecond_ns), 2);
   close(silent);
+}
+
+// the first mapping of the links' shared memory in this process (both ends map it here)
+char* link_memory(std::size_t& size) {
+  std::ifstream maps("/proc/self/maps");
+  for (std::string line; std::getline(maps, line);) {
+    if (line.find("memfd:enact-loop-link") == std::string::npos) continue;
+    const std::uintptr_t from = std::stoull(line.substr(0, line.find('-')), nullptr, 16);
+    const std::uintptr_t to = std::stoull(line.substr(line.find('-') + 1), nullptr, 16);
+    size = to - from;
+    return reinterpret_cast<char*>(from);
+  }
+  return nullptr;
+}
+
+TEST(LoopLink, ARecordThatRunsPastTheRingsEndEndsTheLinkAndNothingIsReadPastIt) {
+  TempDir dir;
+  Pair p(dir);
+  // the master's records fill the follower's ring up to the last 4096 bytes (records of an
+  // 8-byte header and a payload of a multiple of 8), then one leaves 8 bytes at its end
+  char out[LoopLink::kMaxMessage] = {}, in[LoopLink::kMaxMessage];
+  constexpr std::size_t kRecord = LoopLink::kMaxMessage;
+  for (std::size_t i = 0; i + 1 < LoopLink::kRingBytes / kRecord; ++i) {
+    ASSERT_TRUE(p.master.send(out, kRecord - 8));
+    ASSERT_EQ(p.follower.receive(in, sizeof in, rt::now_ns() + kSecond_ns), static_cast<long>(kRecord - 8));
+  }
+  const char marker[] = "corrupt me here!";
+  std::memcpy(out, marker, 16);
+  ASSERT_TRUE(p.master.send(out, kRecord - 16));
+  // a peer (or a stray write) makes its size one that runs 8 bytes past the ring's end: still
+  // no larger than a message may be
+  std::size_t size = 0;
+  char* memory = link_memory(size);
+  ASSERT_NE(memory, nullptr) << "no link memory in /proc/self/maps";
+  char* at = static_cast<char*>(memmem(memory, size, marker, 16));
+  ASSERT_NE(at, nullptr);
+  const std::uint32_t bad = LoopLink::kMaxMessage;
+  std::memcpy(at - 8, &bad, sizeof bad);
+  EXPECT_EQ(p.follower.receive(in, sizeof in, rt::now_ns() + kSecond_ns), -1) << "a record past the ring's end was read";
+  EXPECT_FALSE(p.follower.connected());
 }
 
 TEST(LoopLink, AStoppedFollowerNeverBlocksTheMasterItsMessagesAreDropped) {

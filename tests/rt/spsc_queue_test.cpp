@@ -1,9 +1,10 @@
-// The SPSC queue: FIFO order, full and empty edges, wrap-around, two threads passing a
-// million sequence numbers, and no allocation.
+// The SPSC queue: FIFO order, full and empty edges, taking a batch, wrap-around, two threads
+// passing a million sequence numbers, and no allocation.
 #include "core/rt/spsc_queue.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -42,6 +43,21 @@ TEST(SpscQueue, FullAndEmptyEdges) {
     EXPECT_EQ(out, want);
   }
   EXPECT_FALSE(q.try_pop(out));
+}
+
+TEST(SpscQueue, TakeFillsAnArrayInOrderAndLeavesTheRest) {
+  SpscQueue<int, 8> q;
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(q.try_push(i));
+  std::array<int, 4> out{-1, -1, -1, -1};
+  // as many as the array holds, oldest first; the others stay queued
+  ASSERT_EQ(q.take(out), 4u);
+  EXPECT_EQ(out, (std::array<int, 4>{0, 1, 2, 3}));
+  EXPECT_EQ(q.size_approx(), 2u);
+  out.fill(-1);
+  // fewer queued than room: only those, the rest of the array untouched
+  ASSERT_EQ(q.take(out), 2u);
+  EXPECT_EQ(out, (std::array<int, 4>{4, 5, -1, -1}));
+  EXPECT_EQ(q.take(out), 0u);
 }
 
 TEST(SpscQueue, WrapsAroundManyTimes) {
