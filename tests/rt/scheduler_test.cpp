@@ -113,7 +113,9 @@ TEST(PeriodicScheduler, ItsWakeTimerIsReadableWhenTheNextSleepEndsAndTheDeadline
   for (int tick = 0; tick < 5; ++tick) {
     const std::int64_t woke = s.wait();
     ASSERT_GE(woke, s.deadline_ns());  // never before its deadline
-    ASSERT_EQ(s.deadline_ns(), first + tick * 10'000'000);
+    // on the plain scheduler's grid; a tick the machine held past a whole period (a loaded CI
+    // machine did, once) skips deadlines as the plain one does
+    ASSERT_EQ(s.deadline_ns(), first + (tick + static_cast<std::int64_t>(s.skipped())) * 10'000'000);
     const std::int64_t ends = s.next_deadline_ns() - s.spin_ns();
     const int fd = s.reply_wait(ends).stop_fd;
     ASSERT_GE(fd, 0) << "armed for the next sleep's end while the tick spun";
@@ -125,7 +127,6 @@ TEST(PeriodicScheduler, ItsWakeTimerIsReadableWhenTheNextSleepEndsAndTheDeadline
     ASSERT_TRUE(readable(fd, 1000));
     EXPECT_GE(now_ns(), ends);
   }
-  EXPECT_EQ(s.overruns(), 0u);
   // a late tick: the deadlines passed are skipped as without the timer, and the timer is
   // armed for the sleep before the first deadline still ahead, not the one skipped
   sleep_until_ns(now_ns() + 35'000'000);
