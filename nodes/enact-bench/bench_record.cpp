@@ -43,7 +43,9 @@ constexpr const char* kBenchRecordHelp = R"(usage: enact bench record [--json FI
    spread over every CPU: the messages made into the chunks' records on one thread (the
    writer's own thread's work), and the same chunks compressed in memory on one thread per
    CPU (as the writer's workers). It can be no faster than the slower of that and the raw
-   write.
+   write. Before each case's clock: the last file removed, what earlier cases left dirty
+   written out. The machine line says whether freed memory goes back to a host (a VM's
+   free page reporting), which makes the cases that take new pages vary.
 2. Logger headroom, 3 times each: a publisher sends bridge-graph traffic (ffd/state +
    ffd/force, 5 kHz each, about 10,000 messages/s in all) at 10x its rate for 3 s through an
    attach point to the logger: none may be lost. Then as fast as it can for 3 s: the logger's
@@ -60,7 +62,7 @@ its two floors),
 logger_msgs_per_s_at_10x, logger_gaps_at_10x, logger_lost_at_10x, logger_max_msgs_per_s
 (with _min and _max), logger_floor_msgs_per_s and logger_max_ratio_to_floor (each with _min
 and _max), logger_lost_flat_out, logger_headroom (max / bridge traffic),
-logger_alone_msgs_per_s (with _min and _max), logger_lost_alone.
+logger_alone_msgs_per_s (with _min and _max), logger_lost_alone, free_page_reporting.
 
 options:
   --messages N   messages per writer run (default 2000000)
@@ -84,8 +86,7 @@ double seconds_since(std::int64_t t0) { return static_cast<double>(rt::now_ns() 
 // the last round's file removed before the clock starts: giving its pages back is no cost of
 // this case's (the zstd case truncated the none case's 294 MB file, inside its time); and the
 // pages the cases before left dirty written out (syncfs), so that no case is timed while the
-// kernel's writeback of another's takes one of the CPUs. (It did not narrow the none case's
-// spread from round to round on a 2-CPU VM: 0.28 to 0.95 of the raw write within one run.)
+// kernel's writeback of another's takes one of the CPUs
 void remove_before_timing(const std::string& path) {
   std::filesystem::remove(path);
   const int dir = ::open(std::filesystem::path(path).parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -93,6 +94,30 @@ void remove_before_timing(const std::string& path) {
     ::syncfs(dir);
     ::close(dir);
   }
+}
+
+// what this machine does with memory freed: a VM whose balloon reports free pages to its host
+// hands them back within seconds, and the next touch of such a page faults in the host (on
+// the 2-vCPU Firecracker VM of docs/performance.md a first touch of 1 GiB took 1410 ms against
+// 320 ms for memory freed moments before, and the uncompressed writer, the case that takes
+// the most new pages, ran at 0.15-0.60 of the raw write with reporting on and 1.06 with it off)
+// the order of the free pages reported to a host; -1: none (not a VM that reports them)
+int page_reporting_order() {
+  std::ifstream order("/sys/module/page_reporting/parameters/page_reporting_order");
+  int o = -1;
+  return order >> o ? o : -1;
+}
+
+// above the largest order the buddy allocator has (10), nothing is ever reported
+bool pages_reported() { return page_reporting_order() >= 0 && page_reporting_order() <= 10; }
+
+std::string page_reporting_text() {
+  const int o = page_reporting_order();
+  if (o < 0) return "no free page reporting to a host";
+  if (!pages_reported()) return "free page reporting to the host off (order " + std::to_string(o) + ")";
+  return "free page reporting to the host ON (order " + std::to_string(o) +
+         "): the cases that take new pages vary with the host's faults (off, as root: echo 11 > "
+         "/sys/module/page_reporting/parameters/page_reporting_order)";
 }
 
 // seconds to write n messages as MCAP
@@ -430,7 +455,7 @@ int bench_record(int argc, char** argv) {
   std::printf("  alone, through a backlog (1 s flat out, then the logger): %s k messages/s kept, %llu of %llu (lost %llu)\n",
               spread_text(alone, 1e-3, "%.0f").c_str(), static_cast<unsigned long long>(backlog_kept), static_cast<unsigned long long>(backlog_sent),
               static_cast<unsigned long long>(backlog_sent - backlog_kept));
-  std::printf("machine: %u cores; files in %s\n", std::thread::hardware_concurrency(), dir.c_str());
+  std::printf("machine: %u cores; %s; files in %s\n", std::thread::hardware_concurrency(), page_reporting_text().c_str(), dir.c_str());
   if (a.has("json")) {
     Json j;
     j.begin_object();
@@ -459,7 +484,7 @@ int bench_record(int argc, char** argv) {
     j.field("logger_lost_flat_out", static_cast<long long>(flat_sent - flat_kept)).field("logger_headroom", flat.median / kBridgeMsgsPerS);
     j.field("logger_alone_msgs_per_s", alone.median).field("logger_alone_msgs_per_s_min", alone.min).field("logger_alone_msgs_per_s_max", alone.max);
     j.field("logger_lost_alone", static_cast<long long>(backlog_sent - backlog_kept));
-    j.field("cores", static_cast<int>(std::thread::hardware_concurrency()));
+    j.field("cores", static_cast<int>(std::thread::hardware_concurrency())).field("free_page_reporting", pages_reported());
     j.end_object();
     std::ofstream(a.get("json")) << j.str() << "\n";
   }
