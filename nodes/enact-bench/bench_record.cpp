@@ -96,11 +96,13 @@ void remove_before_timing(const std::string& path) {
   }
 }
 
-// what this machine does with memory freed: a VM whose balloon reports free pages to its host
+// What this machine does with memory freed: a VM whose balloon reports free pages to its host
 // hands them back within seconds, and the next touch of such a page faults in the host (on
 // the 2-vCPU Firecracker VM of docs/performance.md a first touch of 1 GiB took 1410 ms against
 // 320 ms for memory freed moments before, and the uncompressed writer, the case that takes
-// the most new pages, ran at 0.15-0.60 of the raw write with reporting on and 1.06 with it off)
+// the most new pages, ran at 0.51-0.57 of the raw write with reporting on, 0.91 with it off:
+// medians of 3 runs).
+
 // the order of the free pages reported to a host; -1: none (not a VM that reports them)
 int page_reporting_order() {
   std::ifstream order("/sys/module/page_reporting/parameters/page_reporting_order");
@@ -193,7 +195,7 @@ double make_only(std::uint64_t n) {
   const std::int64_t t0 = rt::now_ns();
   make_records(n, [&](const std::string& chunk) { bytes += static_cast<unsigned char>(chunk[chunk.size() / 2]); });
   const double secs = seconds_since(t0);
-  if (bytes == 1) std::fputs("", stderr);  // the records are used
+  if (bytes == 1) std::fputs("", stderr);  // uses the records: the compiler keeps their making
   return secs;
 }
 
