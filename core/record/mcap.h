@@ -45,7 +45,7 @@ inline constexpr std::size_t kRecordPrefix = 9;
 inline constexpr std::size_t kMessageFields = 2 + 4 + 8 + 8;
 
 // `v` little-endian at `p`; returns the byte after (one store on a little-endian CPU: GCC 12
-// left the byte loop a loop, a quarter of the index's making)
+// left the byte loop a loop, most of the time the writer's message indexes took)
 template <class T>
 char* put(char* p, T v) {
   if constexpr (std::endian::native == std::endian::little) {

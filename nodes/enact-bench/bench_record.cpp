@@ -110,13 +110,13 @@ int page_reporting_order() {
   return order >> o ? o : -1;
 }
 
-// above the largest order the buddy allocator has (10), nothing is ever reported
-bool pages_reported() { return page_reporting_order() >= 0 && page_reporting_order() <= 10; }
+// whether pages of `order` are reported: above the largest order the buddy allocator has
+// (10), nothing ever is
+bool pages_reported(int order) { return order >= 0 && order <= 10; }
 
-std::string page_reporting_text() {
-  const int o = page_reporting_order();
+std::string page_reporting_text(int o) {
   if (o < 0) return "no free page reporting to a host";
-  if (!pages_reported()) return "free page reporting to the host off (order " + std::to_string(o) + ")";
+  if (!pages_reported(o)) return "free page reporting to the host off (order " + std::to_string(o) + ")";
   return "free page reporting to the host ON (order " + std::to_string(o) +
          "): the cases that take new pages vary with the host's faults (off, as root: echo 11 > "
          "/sys/module/page_reporting/parameters/page_reporting_order)";
@@ -199,10 +199,9 @@ double make_only(std::uint64_t n) {
   return secs;
 }
 
-// the compressing writers' other work: seconds to compress `chunks` in memory, no file, with
-// as many threads as the writer has workers (one per CPU) and its own compressor
-double compress_only(const std::vector<std::string>& chunks, record::Compression c) {
-  const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, record::kMaxWorkers);
+// the compressing writers' other work: seconds to compress `chunks` in memory, no file, on
+// `threads` threads (as many as the writer has workers) each with the writer's own compressor
+double compress_only(const std::vector<std::string>& chunks, record::Compression c, unsigned threads) {
   const std::int64_t t0 = rt::now_ns();
   std::vector<std::thread> pool;
   for (unsigned k = 0; k < threads; ++k) {
@@ -378,7 +377,9 @@ int bench_record(int argc, char** argv) {
   // timed in the same round
   const char* names[4] = {"zstd", "lz4", "none", "raw"};
   const std::vector<std::string> chunks = message_chunks(n);
+  // the writer's workers: one per CPU
   const unsigned cpus = std::clamp(std::thread::hardware_concurrency(), 1u, record::kMaxWorkers);
+  const int reporting_order = page_reporting_order();
   std::vector<double> rates[4], ratios[4], compress_rates[2], make_rates, writer_floor_ratios[3];
   for (int rep = 0; rep < 5; ++rep) {
     std::fprintf(stderr, "\rwriter: run %d of 5 ...", rep + 1);
@@ -387,7 +388,7 @@ int bench_record(int argc, char** argv) {
     secs[1] = write_mcap(dir + "/w.mcap", record::Compression::lz4, n);
     secs[2] = write_mcap(dir + "/w.mcap", record::Compression::none, n);
     secs[3] = write_raw(dir + "/w.raw", n);
-    const double compress_secs[2] = {compress_only(chunks, record::Compression::zstd), compress_only(chunks, record::Compression::lz4)};
+    const double compress_secs[2] = {compress_only(chunks, record::Compression::zstd, cpus), compress_only(chunks, record::Compression::lz4, cpus)};
     const double make_secs = make_only(n);
     make_rates.push_back(static_cast<double>(n) / make_secs);
     for (int k = 0; k < 4; ++k) {
@@ -457,7 +458,7 @@ int bench_record(int argc, char** argv) {
   std::printf("  alone, through a backlog (1 s flat out, then the logger): %s k messages/s kept, %llu of %llu (lost %llu)\n",
               spread_text(alone, 1e-3, "%.0f").c_str(), static_cast<unsigned long long>(backlog_kept), static_cast<unsigned long long>(backlog_sent),
               static_cast<unsigned long long>(backlog_sent - backlog_kept));
-  std::printf("machine: %u cores; %s; files in %s\n", std::thread::hardware_concurrency(), page_reporting_text().c_str(), dir.c_str());
+  std::printf("machine: %u cores; %s; files in %s\n", std::thread::hardware_concurrency(), page_reporting_text(reporting_order).c_str(), dir.c_str());
   if (a.has("json")) {
     Json j;
     j.begin_object();
@@ -486,7 +487,7 @@ int bench_record(int argc, char** argv) {
     j.field("logger_lost_flat_out", static_cast<long long>(flat_sent - flat_kept)).field("logger_headroom", flat.median / kBridgeMsgsPerS);
     j.field("logger_alone_msgs_per_s", alone.median).field("logger_alone_msgs_per_s_min", alone.min).field("logger_alone_msgs_per_s_max", alone.max);
     j.field("logger_lost_alone", static_cast<long long>(backlog_sent - backlog_kept));
-    j.field("cores", static_cast<int>(std::thread::hardware_concurrency())).field("free_page_reporting", pages_reported());
+    j.field("cores", static_cast<int>(std::thread::hardware_concurrency())).field("free_page_reporting", pages_reported(reporting_order));
     j.end_object();
     std::ofstream(a.get("json")) << j.str() << "\n";
   }
